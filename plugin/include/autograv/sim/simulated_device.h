@@ -1,0 +1,85 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/haptic_device.h"
+#include "autograv/sim/simulated_hand.h"
+#include "autograv/tick_source.h"
+
+namespace autograv::sim {
+
+/// Faults a simulated driver can be told to show, for error-path tests.
+enum class DeviceFault : std::uint8_t {
+  kNone,
+  kStopsAnswering,  ///< Every getter and setForce returns false.
+  kNanPosition,     ///< getPosition returns true with NaN components.
+  kFrozenPosition,  ///< getPosition keeps returning the last sample (a stale driver).
+};
+
+/// A simulated 3-DoF device with a known ground-truth apparent gravity field. The HapticDevice
+/// side behaves like a real driver (quantized encoders, noise, estimated velocity, saturation);
+/// the true*() side is for tests and reports only and must never feed an estimator.
+class SimulatedDevice : public HapticDevice {
+ public:
+  /// Integrates the dynamics over `dt_s` with the internal fixed step, holding the last commanded
+  /// force (zero-order hold) and the hand's force. Real-time safe. Unit: [s]
+  virtual void advance(double dt_s) noexcept = 0;
+  /// Simulated time since construction. Unit: [s]
+  virtual double time_s() const noexcept = 0;
+
+  /// Ground-truth apparent gravity G(X) at an end-effector position. Unit: [N]
+  virtual Eigen::Vector3d trueGravity(const Eigen::Vector3d& position_m) const = 0;
+  /// Ground-truth apparent (Cartesian) mass at a position. Unit: [kg]
+  virtual Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const = 0;
+  /// True, unquantized end-effector position and velocity. Unit: [m], [m/s]
+  virtual Eigen::Vector3d truePosition_m() const noexcept = 0;
+  virtual Eigen::Vector3d trueVelocity_m_per_s() const noexcept = 0;
+  /// Puts the end-effector at rest at `position_m` (tests and scripted demos). Unit: [m]
+  virtual void resetState(const Eigen::Vector3d& position_m) = 0;
+
+  /// Force the actuators actually produced after saturation, last step. Unit: [N]
+  virtual Eigen::Vector3d appliedForce_n() const noexcept = 0;
+  /// Number of setForce calls whose force was clamped by actuator saturation.
+  virtual std::uint64_t saturationCount() const noexcept = 0;
+
+  /// The simulated user's hand acting on this device.
+  virtual SimulatedHand& hand() noexcept = 0;
+  /// Makes the driver misbehave from now on (kNone heals it).
+  virtual void injectFault(DeviceFault fault) noexcept = 0;
+  /// Presses or releases simulated user switch `index`.
+  virtual void setUserSwitch(int index, bool pressed) noexcept = 0;
+};
+
+/// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.
+std::vector<std::string> simulatedDeviceNames();
+
+/// Builds a preset simulated device; the same seed gives the same run, bit for bit.
+/// Throws autograv::Error listing the valid names for an unknown one. Not real-time safe.
+std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name,
+                                                     std::uint64_t seed = 1);
+
+/// Paces a servo loop on a simulated device: each tick advances the physics by one period,
+/// either as fast as the CPU allows (tests) or locked to the wall clock (demos).
+class SimulatedTickSource final : public TickSource {
+ public:
+  enum class Mode { kAsFastAsPossible, kRealTime };
+  SimulatedTickSource(SimulatedDevice& device, double period_s, Mode mode);
+  bool waitForNextTick() override;
+  double period_s() const override { return period_s_; }
+  double now_s() const override;
+
+ private:
+  SimulatedDevice& device_;
+  double period_s_;
+  Mode mode_;
+  double start_time_s_;
+  long long wall_start_ns_ = 0;
+  long long ticks_ = 0;
+};
+
+}  // namespace autograv::sim
