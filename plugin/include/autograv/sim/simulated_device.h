@@ -32,7 +32,9 @@ class SimulatedDevice : public HapticDevice {
   /// Simulated time since construction. Unit: [s]
   virtual double time_s() const noexcept = 0;
 
-  /// Ground-truth apparent gravity G(X) at an end-effector position. Unit: [N]
+  /// Ground-truth apparent gravity G(X) at an end-effector position, with the paper's sign
+  /// (eq. 1, M Xdd + G = F): the force the actuators must apply to hold the end-effector still,
+  /// so it points mostly up (+z); the weight a user feels is -G. Unit: [N]
   virtual Eigen::Vector3d trueGravity(const Eigen::Vector3d& position_m) const = 0;
   /// Ground-truth apparent (Cartesian) mass at a position. Unit: [kg]
   virtual Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const = 0;
@@ -53,6 +55,18 @@ class SimulatedDevice : public HapticDevice {
   virtual void injectFault(DeviceFault fault) noexcept = 0;
   /// Presses or releases simulated user switch `index`.
   virtual void setUserSwitch(int index, bool pressed) noexcept = 0;
+
+  /// True when the end-effector has pressed against the mechanical end stops (a stiff spring
+  /// beyond the workspace radius) since construction or the last resetState.
+  virtual bool endStopHit() const noexcept = 0;
+  /// Centre of the workspace sphere of radius specifications().workspace_radius_m. Unit: [m]
+  virtual Eigen::Vector3d workspaceCenter_m() const noexcept = 0;
+  /// Step of the fixed-step integration inside advance(). Unit: [s]
+  virtual double internalStep_s() const noexcept = 0;
+  /// setCalibrated(false) makes the device behave as one fresh from power-up that was never
+  /// homed: calibrate() returns false and positions carry an offset until calibrate(true).
+  virtual void setCalibrated(bool calibrated) noexcept = 0;
+  virtual bool isCalibrated() const noexcept = 0;
 };
 
 /// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.
