@@ -24,9 +24,11 @@ class InitializationEstimator {
   };
 
   /// Uses k0, n_S, eps_S, the minimum step duration and the servo period of `parameters`.
-  /// Throws autograv::Error on bad parameters. Not real-time safe.
+  /// `damping_n_s_per_m` adds light viscous damping to the field: it does not move the steady
+  /// state (eq. 7 holds unchanged) but lets a device with little friction settle. `ramp_s` is the
+  /// fade-in time of the field. Throws autograv::Error on bad parameters. Not real-time safe.
   InitializationEstimator(const EstimationParameters& parameters, double max_force_n,
-                          double ramp_s = 0.3);
+                          double ramp_s = 0.3, double damping_n_s_per_m = 5.0);
 
   /// Centres the field on `center_m` (X0) and starts ramping it in. Real-time safe.
   void start(const Eigen::Vector3d& center_m) noexcept;
@@ -44,6 +46,7 @@ class InitializationEstimator {
  private:
   EstimationParameters parameters_;
   double max_force_n_;
+  double damping_n_s_per_m_;
   long ramp_ticks_;
   long tick_ = 0;
   SteadyStateDetector detector_;

@@ -7,7 +7,8 @@ namespace autograv {
 /// Step-response specification of the linearized closed loop Xdd = beta (X_D - X) - alpha Xd
 /// (paper eq. 5), used to design alpha and beta (paper Section II, Figs. 2-3).
 struct StepResponseSpec {
-  /// Settling time into the +-2 % band around the target. Unit: [s]
+  /// Settling time into the +-2 % band, by the classic 4 / (zeta omega_n) rule (the exact 2 %
+  /// time differs by a few percent: simulateStepResponse gives it). Unit: [s]
   double settling_time_s = 0.2;
   /// Percent overshoot of the unit-step response, e.g. 5 for 5 %. Unit: [%]
   double overshoot_percent = 5.0;

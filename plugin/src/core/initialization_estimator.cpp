@@ -14,14 +14,17 @@ constexpr int kMaxInvalidSamples = 20;
 }  // namespace
 
 InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
-                                                 double max_force_n, double ramp_s)
+                                                 double max_force_n, double ramp_s,
+                                                 double damping_n_s_per_m)
     : parameters_(parameters),
       max_force_n_(max_force_n),
+      damping_n_s_per_m_(damping_n_s_per_m),
       ramp_ticks_(std::max(1L, std::lround(ramp_s / parameters.servo_period_s))),
       detector_(parameters.n_s, parameters.eps_s_m_per_s, parameters.min_step_duration_s,
                 parameters.servo_period_s) {
   if (!(parameters.k0_n_per_m > 0.0)) throw Error("initialization: k0 must be positive (N/m)");
   if (!(max_force_n > 0.0)) throw Error("initialization: the device's max force must be positive");
+  if (!(damping_n_s_per_m >= 0.0)) throw Error("initialization: damping must be >= 0 (N s/m)");
 }
 
 void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
@@ -50,7 +53,7 @@ InitializationEstimator::Status InitializationEstimator::step(const ServoSample&
   const double ramp = std::min(1.0, static_cast<double>(tick_) / ramp_ticks_);
   const Eigen::Vector3d offset_m = center_m_ - sample.position_m;
   sag_m_ = offset_m.norm();
-  force_n = ramp * parameters_.k0_n_per_m * offset_m;
+  force_n = ramp * (parameters_.k0_n_per_m * offset_m - damping_n_s_per_m_ * sample.velocity_m_per_s);
   clampForce(force_n, max_force_n_);
   last_force_n_ = force_n;
   if (done_) return Status::kDone;

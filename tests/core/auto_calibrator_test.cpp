@@ -1,0 +1,162 @@
+#include "autograv/auto_calibrator.h"
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "ideal_point_mass.h"
+
+namespace autograv {
+namespace {
+
+constexpr double kPeriod = 1e-3;
+
+struct Fixture {
+  testing::IdealPointMass device;
+  WorkspaceGrid grid{Eigen::Vector3d(0.0, 0.0, -0.01), 0.06, 3};
+  EstimationParameters parameters;
+  AutoCalibrator calibrator{grid, parameters, 12.0};
+
+  AutoCalibrator::Status run(long max_ticks, int stop_after_vertices = -1) {
+    AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
+    int finished = 0;
+    for (long tick = 0; tick < max_ticks; ++tick) {
+      Eigen::Vector3d force;
+      status = calibrator.step(device.sample(), force);
+      device.advance(force, kPeriod);
+      if (status == AutoCalibrator::Status::kVertexFinished && ++finished == stop_after_vertices) {
+        break;
+      }
+      if (status == AutoCalibrator::Status::kFinished || status == AutoCalibrator::Status::kDeviceFault) break;
+    }
+    return status;
+  }
+};
+
+TEST(AutoCalibratorTest, CalibratesEveryVertexOfTheGrid) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, 0.8 * f.device.gravity(f.device.position_m));
+  EXPECT_EQ(f.run(2'000'000), AutoCalibrator::Status::kFinished);
+  const GravityMap map = f.calibrator.makeMap(MapMetadata{});
+  EXPECT_TRUE(map.isComplete());
+  for (int i = 0; i < f.grid.vertexCount(); ++i) {
+    const Eigen::Vector3d truth = f.device.gravity(f.grid.vertexPosition(i));
+    EXPECT_LT((map.vertices()[i].gravity_n - truth).norm(), f.parameters.eps_g_n) << "vertex " << i;
+  }
+  // The field is affine, so the measured Lipschitz constant is the largest |J e_k|.
+  EXPECT_NEAR(f.calibrator.lipschitzEstimate_n_per_m(),
+              f.device.gradient_n_per_m.colwise().norm().maxCoeff(), 0.5);
+  EXPECT_LT(f.calibrator.peakForce_n(), 12.0);
+}
+
+TEST(AutoCalibratorTest, ExtrapolationSavesIterationsWithoutChangingTheResult) {
+  Fixture plain;
+  AutoCalibrator::Options options;
+  options.extrapolate_initial_estimate = false;
+  AutoCalibrator copy_only(plain.grid, plain.parameters, 12.0, options);
+  Fixture smart;
+  int iterations[2] = {0, 0};
+  Fixture* runs[2] = {&plain, &smart};
+  AutoCalibrator* calibrators[2] = {&copy_only, &smart.calibrator};
+  for (int k = 0; k < 2; ++k) {
+    Fixture& f = *runs[k];
+    f.device.position_m = f.grid.center_m();
+    calibrators[k]->start(f.device.position_m, f.device.gravity(f.device.position_m));
+    for (long tick = 0; tick < 2'000'000; ++tick) {
+      Eigen::Vector3d force;
+      if (calibrators[k]->step(f.device.sample(), force) == AutoCalibrator::Status::kFinished) break;
+      f.device.advance(force, kPeriod);
+    }
+    for (const auto& vertex : calibrators[k]->vertices()) iterations[k] += vertex.iterations;
+    EXPECT_EQ(calibrators[k]->makeMap({}).convergedCount(), 27);
+  }
+  EXPECT_LT(iterations[1], iterations[0]);
+}
+
+TEST(AutoCalibratorTest, RestoredVerticesAreKeptBitForBitAndNotRevisited) {
+  Fixture first;
+  first.device.position_m = first.grid.center_m();
+  first.calibrator.start(first.device.position_m, first.device.gravity(first.device.position_m));
+  first.run(2'000'000, 10);  // "crash" after 10 vertices
+  const std::vector<VertexEstimate> checkpoint = first.calibrator.vertices();
+  int done = 0;
+  for (const auto& v : checkpoint) done += v.outcome == VertexOutcome::kConverged;
+  ASSERT_EQ(done, 10);
+
+  Fixture second;
+  second.calibrator.restore(checkpoint);
+  EXPECT_EQ(second.calibrator.toVisitCount(), 17);
+  second.device.position_m = second.grid.center_m();
+  second.calibrator.start(second.device.position_m, second.device.gravity(second.device.position_m));
+  EXPECT_EQ(second.run(2'000'000), AutoCalibrator::Status::kFinished);
+  for (std::size_t i = 0; i < checkpoint.size(); ++i) {
+    if (checkpoint[i].outcome != VertexOutcome::kConverged) continue;
+    EXPECT_EQ(second.calibrator.vertices()[i].gravity_n, checkpoint[i].gravity_n);
+    EXPECT_EQ(second.calibrator.vertices()[i].iterations, checkpoint[i].iterations);
+  }
+  EXPECT_TRUE(second.calibrator.makeMap({}).isComplete());
+  EXPECT_THROW(second.calibrator.restore(std::vector<VertexEstimate>(5)), Error);
+}
+
+TEST(AutoCalibratorTest, PauseHoldsAndResumeCarriesOn) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  f.run(700);
+  f.calibrator.pause();
+  Eigen::Vector3d force;
+  for (int k = 0; k < 2000; ++k) {
+    EXPECT_EQ(f.calibrator.step(f.device.sample(), force), AutoCalibrator::Status::kPaused);
+    f.device.advance(force, kPeriod);
+  }
+  const Eigen::Vector3d held = f.device.position_m;
+  for (int k = 0; k < 500; ++k) {
+    f.calibrator.step(f.device.sample(), force);
+    f.device.advance(force, kPeriod);
+  }
+  EXPECT_LT((f.device.position_m - held).norm(), 1e-4);  // held still within 0.1 mm
+  f.calibrator.resume();
+  EXPECT_EQ(f.run(2'000'000), AutoCalibrator::Status::kFinished);
+  EXPECT_TRUE(f.calibrator.makeMap({}).isComplete());
+}
+
+TEST(AutoCalibratorTest, AbortKeepsHoldingAndVisitOnlyRedoesChosenVertices) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.visitOnly({4, 13});
+  EXPECT_EQ(f.calibrator.toVisitCount(), 2);
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  EXPECT_EQ(f.run(2'000'000), AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(f.calibrator.makeMap({}).convergedCount(), 2);
+  f.calibrator.abort();
+  Eigen::Vector3d force;
+  EXPECT_EQ(f.calibrator.step(f.device.sample(), force), AutoCalibrator::Status::kAborted);
+  EXPECT_GT(force.norm(), 1.0);  // still carrying the weight, not dropping it
+  EXPECT_THROW(f.calibrator.visitOnly({27}), Error);
+}
+
+TEST(AutoCalibratorTest, DeviceFaultStopsTheRunWithZeroForce) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  f.run(3000);
+  Eigen::Vector3d force = Eigen::Vector3d::Ones();
+  AutoCalibrator::Status status = AutoCalibrator::Status::kMoving;
+  for (int k = 0; k < 100; ++k) status = f.calibrator.step(ServoSample{}, force);
+  EXPECT_EQ(status, AutoCalibrator::Status::kDeviceFault);
+  EXPECT_EQ(force, Eigen::Vector3d::Zero());
+}
+
+TEST(AutoCalibratorTest, StepAllocatesNothing) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  testing::AllocationCounter counter;
+  const AutoCalibrator::Status status = f.run(2'000'000);
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(status, AutoCalibrator::Status::kFinished);
+}
+
+}  // namespace
+}  // namespace autograv

@@ -1,0 +1,142 @@
+#include "autograv/vertex_estimator.h"
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "ideal_point_mass.h"
+
+namespace autograv {
+namespace {
+
+constexpr double kPeriod = 1e-3;
+
+VertexEstimator::Status runToEnd(VertexEstimator& estimator, testing::IdealPointMass& device,
+                                 long max_ticks = 200000) {
+  VertexEstimator::Status status = VertexEstimator::Status::kSettling;
+  for (long tick = 0; tick < max_ticks && !estimator.finished(); ++tick) {
+    Eigen::Vector3d force;
+    status = estimator.step(device.sample(), force);
+    device.advance(force, kPeriod);
+  }
+  return status;
+}
+
+TEST(VertexEstimatorTest, ConvergesToTheApparentGravityAtTheVertex) {
+  testing::IdealPointMass device;
+  device.position_m = Eigen::Vector3d(0.0116, -0.0092, -0.0683) - Eigen::Vector3d(0, 0, -0.03);
+  EstimationParameters parameters;  // the paper's
+  VertexEstimator estimator(parameters, 12.0);
+  const Eigen::Vector3d vertex(0.0, 0.0, 0.0);
+  // A 40 % wrong initial estimate, as a coarse eq. (7) might give.
+  estimator.start(vertex, 0.6 * device.gravity(vertex));
+  EXPECT_EQ(runToEnd(estimator, device), VertexEstimator::Status::kConverged);
+  const VertexEstimate& result = estimator.estimate();
+  EXPECT_EQ(result.outcome, VertexOutcome::kConverged);
+  // Noise-free, the fixed point of eq. (12) is G(X_D); the stop rule leaves < eps_G.
+  EXPECT_LT((result.gravity_n - device.gravity(vertex)).norm(), parameters.eps_g_n);
+  EXPECT_GE(result.iterations, parameters.n_g + 1);
+  ASSERT_EQ(static_cast<int>(result.history.size()), result.iterations);
+  // Delta_j shrinks geometrically (paper Sec. IV): each error below the first.
+  EXPECT_LT(result.history.back().position_error_m, 1e-3 * result.history.front().position_error_m + 1e-9);
+  EXPECT_NEAR(result.history.back().mass_estimate_kg, device.gravity(vertex).norm() / 9.81, 1e-3);
+  for (const auto& record : result.history) EXPECT_GE(record.duration_s, parameters.min_step_duration_s - 1e-9);
+}
+
+TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
+  testing::IdealPointMass device;
+  EstimationParameters parameters;
+  VertexEstimator estimator(parameters, 12.0);
+  const Eigen::Vector3d vertex(0.01, 0.0, 0.0);
+  const Eigen::Vector3d initial = device.gravity(vertex) + Eigen::Vector3d(0.2, 0.0, -0.3);
+  estimator.start(vertex, initial);
+  Eigen::Vector3d force;
+  while (estimator.step(device.sample(), force) != VertexEstimator::Status::kUpdated) {
+    device.advance(force, kPeriod);
+  }
+  // At the steady state of iteration 0 the PD force balances gravity: G_hat_1 = G(X_inf).
+  const IterationRecord& first = estimator.estimate().history.front();
+  EXPECT_LT((first.gravity_estimate_n - device.gravity(device.position_m)).norm(), 2e-3);
+  // ... and X_inf is offset by (G - G_hat_0) / K_P with K_P = beta |G_hat_0| / g (eq. 11).
+  const double stiffness = parameters.beta_per_s2 * initial.norm() / 9.81;
+  EXPECT_NEAR(first.position_error_m, (device.gravity(device.position_m) - initial).norm() / stiffness,
+              2e-5);
+}
+
+TEST(VertexEstimatorTest, StopsAtTheIterationCapAndKeepsTheEstimate) {
+  testing::IdealPointMass device;
+  EstimationParameters parameters;
+  parameters.max_iterations = 6;
+  parameters.eps_g_n = 1e-9;  // unreachable
+  VertexEstimator estimator(parameters, 12.0);
+  estimator.start(Eigen::Vector3d::Zero(), 0.5 * device.gravity(Eigen::Vector3d::Zero()));
+  EXPECT_EQ(runToEnd(estimator, device), VertexEstimator::Status::kIterationCap);
+  EXPECT_EQ(estimator.estimate().outcome, VertexOutcome::kIterationCap);
+  EXPECT_EQ(estimator.estimate().iterations, 6);
+  EXPECT_LT((estimator.estimate().gravity_n - device.gravity(Eigen::Vector3d::Zero())).norm(), 0.01);
+}
+
+TEST(VertexEstimatorTest, DeviceThatStopsAnsweringEndsTheVertexWithZeroForce) {
+  testing::IdealPointMass device;
+  VertexEstimator estimator(EstimationParameters{}, 12.0);
+  estimator.start(Eigen::Vector3d::Zero(), device.gravity(Eigen::Vector3d::Zero()));
+  Eigen::Vector3d force;
+  for (int k = 0; k < 50; ++k) {
+    estimator.step(device.sample(), force);
+    device.advance(force, kPeriod);
+  }
+  const Eigen::Vector3d held = force;
+  ServoSample dead;  // valid = false
+  EXPECT_EQ(estimator.step(dead, force), VertexEstimator::Status::kSettling);
+  EXPECT_EQ(force, held);  // rides over a short dropout with the last force
+  VertexEstimator::Status status = VertexEstimator::Status::kSettling;
+  for (int k = 0; k < 30 && status == VertexEstimator::Status::kSettling; ++k) {
+    status = estimator.step(dead, force);
+  }
+  EXPECT_EQ(status, VertexEstimator::Status::kDeviceFault);
+  EXPECT_EQ(force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(estimator.estimate().outcome, VertexOutcome::kDeviceFault);
+}
+
+TEST(VertexEstimatorTest, PersistentSaturationIsReported) {
+  testing::IdealPointMass device;
+  device.gravity_at_origin_n = Eigen::Vector3d(0, 0, -5.0);
+  VertexEstimator estimator(EstimationParameters{}, 3.0);  // cannot hold 5 N
+  estimator.start(Eigen::Vector3d::Zero(), device.gravity(Eigen::Vector3d::Zero()));
+  EXPECT_EQ(runToEnd(estimator, device, 5000), VertexEstimator::Status::kSaturated);
+}
+
+TEST(VertexEstimatorTest, ZeroInitialEstimateStillGivesAControllableLoop) {
+  // Constraint (6): |G_hat| = 0 would give zero gains; the floor keeps the loop alive.
+  testing::IdealPointMass device;
+  VertexEstimator estimator(EstimationParameters{}, 12.0);
+  Eigen::Vector3d force;
+  estimator.start(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  estimator.step(device.sample(), force);
+  EXPECT_GT(estimator.stiffness_n_per_m(), 0.0);
+}
+
+TEST(VertexEstimatorTest, StepAllocatesNothing) {
+  testing::IdealPointMass device;
+  EstimationParameters parameters;
+  VertexEstimator estimator(parameters, 12.0);
+  estimator.start(Eigen::Vector3d::Zero(), 0.7 * device.gravity(Eigen::Vector3d::Zero()));
+  Eigen::Vector3d force;
+  testing::AllocationCounter counter;
+  for (int tick = 0; tick < 20000 && !estimator.finished(); ++tick) {
+    estimator.step(device.sample(), force);
+    device.advance(force, kPeriod);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_TRUE(estimator.finished());
+}
+
+TEST(VertexEstimatorTest, RejectsBadParameters) {
+  EstimationParameters parameters;
+  parameters.beta_per_s2 = -1.0;
+  EXPECT_THROW(VertexEstimator(parameters, 12.0), Error);
+  EXPECT_THROW(VertexEstimator(EstimationParameters{}, 0.0), Error);
+}
+
+}  // namespace
+}  // namespace autograv
