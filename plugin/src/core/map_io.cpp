@@ -1,0 +1,139 @@
+#include "autograv/map_io.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "autograv/error.h"
+#include "map_json.h"
+
+namespace autograv {
+
+namespace {
+
+std::string systemError(int error_number) { return std::strerror(error_number); }
+
+/// Removes the temporary file unless release() was called.
+class TemporaryFileGuard {
+ public:
+  explicit TemporaryFileGuard(std::string path) : path_(std::move(path)) {}
+  ~TemporaryFileGuard() {
+    if (!path_.empty()) ::unlink(path_.c_str());
+  }
+  TemporaryFileGuard(const TemporaryFileGuard&) = delete;
+  TemporaryFileGuard& operator=(const TemporaryFileGuard&) = delete;
+  void release() { path_.clear(); }
+
+ private:
+  std::string path_;
+};
+
+/// Writes `text` to `path` so that `path` holds either its previous content or all of `text`,
+/// whatever happens: a unique temporary file in the same folder (rename is atomic only within one
+/// file system), written, fsync'ed, renamed over the target, then the folder fsync'ed so that the
+/// rename itself survives a power cut.
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const std::filesystem::path target(path);
+  if (target.filename().empty()) {
+    throw Error("saving map '" + path + "': the path names a folder, not a file");
+  }
+  const std::filesystem::path folder =
+      target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  const std::string pattern =
+      (folder / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
+  std::vector<char> temporary(pattern.begin(), pattern.end());
+  temporary.push_back('\0');
+  const int fd = ::mkstemp(temporary.data());
+  if (fd < 0) {
+    throw Error("saving map '" + path + "': cannot create a temporary file in '" + folder.string() +
+                "': " + systemError(errno) + " (does the folder exist and is it writable?)");
+  }
+  TemporaryFileGuard guard(temporary.data());
+  // mkstemp creates 0600; a map is not secret, make it readable like any other file.
+  ::fchmod(fd, 0644);
+  const char* data = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      const int error_number = errno;
+      ::close(fd);
+      throw Error("saving map '" + path + "': write failed: " + systemError(error_number) +
+                  " (disk full?); the previous file is untouched");
+    }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  if (::fsync(fd) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    throw Error("saving map '" + path + "': fsync failed: " + systemError(error_number) +
+                "; the previous file is untouched");
+  }
+  if (::close(fd) != 0) {
+    throw Error("saving map '" + path + "': close failed: " + systemError(errno) +
+                "; the previous file is untouched");
+  }
+  if (::rename(temporary.data(), path.c_str()) != 0) {
+    throw Error("saving map '" + path + "': cannot rename the temporary file into place: " +
+                systemError(errno) + "; the previous file is untouched");
+  }
+  guard.release();
+  // Best effort: some file systems refuse fsync on a folder; the data itself is already safe.
+  const int folder_fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY);
+  if (folder_fd >= 0) {
+    ::fsync(folder_fd);
+    ::close(folder_fd);
+  }
+}
+
+}  // namespace
+
+std::uint64_t fnv1a64(const std::string& bytes) noexcept {
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+std::string mapToJson(const GravityMap& map) { return detail::mapToDocument(map).dump(2) + "\n"; }
+
+GravityMap mapFromJson(const std::string& text, const std::string& source,
+                       const MapLoadOptions& options) {
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw Error("map file '" + source +
+                "': not valid JSON (truncated or corrupted?): " + error.what());
+  }
+  return detail::mapFromDocument(document, source, options);
+}
+
+GravityMap loadMap(const std::string& path, const MapLoadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw Error("map file '" + path + "': cannot open: " + systemError(errno) +
+                " (run `autograv calibrate --out " + path + "` to make one)");
+  }
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) throw Error("map file '" + path + "': read error: " + systemError(errno));
+  return mapFromJson(content.str(), path, options);
+}
+
+void saveMap(const GravityMap& map, const std::string& path) {
+  writeFileAtomically(path, mapToJson(map));
+}
+
+}  // namespace autograv

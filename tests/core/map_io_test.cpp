@@ -1,0 +1,380 @@
+#include "autograv/map_io.h"
+
+#include <stdlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "autograv/error.h"
+#include "core/map_json.h"
+
+namespace autograv {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// A 5x5x5 map with distinct, awkward values everywhere so that a round trip checks every field.
+GravityMap makeMap(const std::string& model = "sim:omni") {
+  const WorkspaceGrid grid(Eigen::Vector3d(0.001, -0.0125, 0.03), 0.09, 5);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    v.gravity_n = Eigen::Vector3d(0.01 * i, -1.0 / (i + 3), -2.0 - std::sqrt(i + 0.5));
+    v.iterations = i % 7;
+    v.seconds = 0.1 * i + 1.0 / 3.0;
+    v.outcome = static_cast<VertexOutcome>(i % 6);
+    for (int j = 0; j < v.iterations; ++j) {
+      IterationRecord record;
+      record.position_error_m = 1e-3 / (j + 1);
+      record.mass_estimate_kg = 0.2 + 1e-17 * j;
+      record.gravity_estimate_n = Eigen::Vector3d(1e-300, -0.0, 3.0e8 + j);
+      record.duration_s = 0.1 + j;
+      v.history.push_back(record);
+    }
+  }
+  MapMetadata metadata;
+  metadata.device_model = model;
+  metadata.device_serial = "SN-0042 \"quoted\" ünïcode";
+  metadata.created_utc = "2026-11-23T13:25:00Z";
+  metadata.parameters.alpha_per_s = 41.5;
+  metadata.parameters.n_s = 23;
+  metadata.parameters.eps_g_n = 0.1 + 0.2;
+  metadata.parameters.max_iterations = 77;
+  return GravityMap(grid, std::move(vertices), metadata);
+}
+
+class TemporaryFolder {
+ public:
+  TemporaryFolder() {
+    std::string pattern = (fs::temp_directory_path() / "autograv-map-io-XXXXXX").string();
+    path_ = ::mkdtemp(pattern.data());
+  }
+  ~TemporaryFolder() { fs::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(path_))
+      names.push_back(entry.path().filename());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// Runs `load` and returns the autograv::Error message, or "" when it did not throw.
+std::string errorOf(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+void expectSameMap(const GravityMap& a, const GravityMap& b) {
+  EXPECT_EQ(a.grid().center_m(), b.grid().center_m());
+  EXPECT_EQ(a.grid().side_m(), b.grid().side_m());
+  EXPECT_EQ(a.grid().resolution(), b.grid().resolution());
+  EXPECT_EQ(a.metadata().device_model, b.metadata().device_model);
+  EXPECT_EQ(a.metadata().device_serial, b.metadata().device_serial);
+  EXPECT_EQ(a.metadata().created_utc, b.metadata().created_utc);
+  const EstimationParameters& p = a.metadata().parameters;
+  const EstimationParameters& q = b.metadata().parameters;
+  EXPECT_EQ(p.alpha_per_s, q.alpha_per_s);
+  EXPECT_EQ(p.beta_per_s2, q.beta_per_s2);
+  EXPECT_EQ(p.k0_n_per_m, q.k0_n_per_m);
+  EXPECT_EQ(p.n_s, q.n_s);
+  EXPECT_EQ(p.eps_s_m_per_s, q.eps_s_m_per_s);
+  EXPECT_EQ(p.n_g, q.n_g);
+  EXPECT_EQ(p.eps_g_n, q.eps_g_n);
+  EXPECT_EQ(p.min_step_duration_s, q.min_step_duration_s);
+  EXPECT_EQ(p.max_step_duration_s, q.max_step_duration_s);
+  EXPECT_EQ(p.max_iterations, q.max_iterations);
+  EXPECT_EQ(p.servo_period_s, q.servo_period_s);
+  EXPECT_EQ(p.lipschitz_prior_n_per_m, q.lipschitz_prior_n_per_m);
+  ASSERT_EQ(a.vertices().size(), b.vertices().size());
+  for (std::size_t i = 0; i < a.vertices().size(); ++i) {
+    const VertexEstimate& u = a.vertices()[i];
+    const VertexEstimate& v = b.vertices()[i];
+    EXPECT_EQ(u.gravity_n, v.gravity_n) << "vertex " << i;  // bit-exact, not approximate
+    EXPECT_EQ(u.iterations, v.iterations);
+    EXPECT_EQ(u.seconds, v.seconds);
+    EXPECT_EQ(u.outcome, v.outcome);
+    ASSERT_EQ(u.history.size(), v.history.size());
+    for (std::size_t j = 0; j < u.history.size(); ++j) {
+      EXPECT_EQ(u.history[j].position_error_m, v.history[j].position_error_m);
+      EXPECT_EQ(u.history[j].mass_estimate_kg, v.history[j].mass_estimate_kg);
+      EXPECT_EQ(u.history[j].gravity_estimate_n, v.history[j].gravity_estimate_n);
+      EXPECT_EQ(u.history[j].duration_s, v.history[j].duration_s);
+      EXPECT_EQ(std::signbit(u.history[j].gravity_estimate_n.y()),
+                std::signbit(v.history[j].gravity_estimate_n.y()));
+    }
+  }
+}
+
+TEST(MapIoTest, Fnv1a64MatchesPublishedTestVectors) {
+  EXPECT_EQ(fnv1a64(""), 0xcbf29ce484222325ULL);
+  EXPECT_EQ(fnv1a64("a"), 0xaf63dc4c8601ec8cULL);
+  EXPECT_EQ(fnv1a64("foobar"), 0x85944171f73967e8ULL);
+}
+
+TEST(MapIoTest, SaveThenLoadGivesTheSameMapBitForBit) {
+  TemporaryFolder folder;
+  const GravityMap original = makeMap();
+  saveMap(original, folder.file("map.json"));
+  const GravityMap loaded = loadMap(folder.file("map.json"));
+  expectSameMap(original, loaded);
+  // Saving what was loaded writes the very same bytes (the format is canonical).
+  saveMap(loaded, folder.file("again.json"));
+  EXPECT_EQ(readText(folder.file("map.json")), readText(folder.file("again.json")));
+}
+
+TEST(MapIoTest, FileHoldsTheDocumentedFieldsAndChecksum) {
+  const json document = json::parse(mapToJson(makeMap()));
+  EXPECT_EQ(document.at("format"), "autograv-gravity-map");
+  EXPECT_EQ(document.at("schema_version"), kMapSchemaVersion);
+  EXPECT_EQ(document.at("units").at("force"), "N");
+  EXPECT_EQ(document.at("device").at("model"), "sim:omni");
+  EXPECT_EQ(document.at("grid").at("resolution"), 5);
+  EXPECT_EQ(document.at("parameters").at("n_s"), 23);
+  EXPECT_EQ(document.at("vertices").size(), 125u);
+  EXPECT_EQ(document.at("vertices").at(17).at("outcome"), "device_fault");
+  EXPECT_EQ(document.at("vertices").at(17).at("history").size(), 3u);
+  // The checksum is FNV-1a 64 over the compact dump of everything but the checksum itself.
+  json content = document;
+  content.erase("checksum");
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                static_cast<unsigned long long>(fnv1a64(content.dump())));
+  EXPECT_EQ(document.at("checksum").at("algorithm"), "fnv1a-64");
+  EXPECT_EQ(document.at("checksum").at("value"), hex);
+}
+
+TEST(MapIoTest, InMemoryTextRoundTrips) {
+  const GravityMap original = makeMap();
+  expectSameMap(original, mapFromJson(mapToJson(original), "memory"));
+}
+
+// One corrupted field per case: the checksum is re-stamped so that the field check itself is what
+// must fire, and the message must name the JSON pointer of the field and what was expected.
+struct Corruption {
+  const char* name;
+  std::function<void(json&)> edit;
+  const char* pointer;
+  const char* expected;
+};
+
+TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
+  const std::vector<Corruption> cases = {
+      {"gravity as text", [](json& d) { d["vertices"][17]["gravity_n"] = "down"; },
+       "field /vertices/17/gravity_n:", "array of 3 finite numbers (unit: N)"},
+      {"gravity too short", [](json& d) { d["vertices"][3]["gravity_n"].erase(2); },
+       "field /vertices/3/gravity_n:", "array of 3"},
+      {"gravity component null", [](json& d) { d["vertices"][4]["gravity_n"][1] = nullptr; },
+       "field /vertices/4/gravity_n/1:", "finite number"},
+      {"resolution 1", [](json& d) { d["grid"]["resolution"] = 1; },
+       "field /grid/resolution:", "integer in [2, 64]"},
+      {"resolution float", [](json& d) { d["grid"]["resolution"] = 5.0; },
+       "field /grid/resolution:", "integer"},
+      {"negative side", [](json& d) { d["grid"]["side_m"] = -0.09; },
+       "field /grid/side_m:", "> 0 (unit: m)"},
+      {"centre 2-D",
+       [](json& d) {
+         d["grid"]["center_m"] = json::array({0.0, 0.0});
+       },
+       "field /grid/center_m:", "array of 3"},
+      {"one vertex missing", [](json& d) { d["vertices"].erase(124); },
+       "field /vertices:", "125 vertex objects"},
+      {"unknown outcome", [](json& d) { d["vertices"][9]["outcome"] = "done"; },
+       "field /vertices/9/outcome:", "one of pending, converged"},
+      {"negative iterations", [](json& d) { d["vertices"][9]["iterations"] = -1; },
+       "field /vertices/9/iterations:", "integer"},
+      {"negative seconds", [](json& d) { d["vertices"][9]["seconds"] = -1.0; },
+       "field /vertices/9/seconds:", ">= 0"},
+      {"vertices swapped", [](json& d) { std::swap(d["vertices"][1], d["vertices"][2]); },
+       "field /vertices/1/index:", "vertices are stored in index order"},
+      {"moved vertex", [](json& d) { d["vertices"][5]["position_m"][0] = 1.0; },
+       "field /vertices/5/position_m:", "grid position of vertex 5"},
+      {"history record",
+       [](json& d) { d["vertices"][13]["history"][0]["mass_estimate_kg"] = -0.2; },
+       "field /vertices/13/history/0/mass_estimate_kg:", ">= 0 (unit: kg)"},
+      {"history extra field", [](json& d) { d["vertices"][13]["history"][1]["note"] = 1; },
+       "field /vertices/13/history/1/note:", "unexpected field"},
+      {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
+       "field /units/length:", "\"m\""},
+      {"newer schema", [](json& d) { d["schema_version"] = 2; },
+       "field /schema_version:", "reads schema version 1 only"},
+      {"not a map", [](json& d) { d.erase("format"); },
+       "field /format:", "not an autograv map file"},
+      {"misspelt member", [](json& d) { d["grid"]["sides_m"] = 0.1; },
+       "field /grid/sides_m:", "unexpected field"},
+      {"missing parameter", [](json& d) { d["parameters"].erase("n_g"); },
+       "field /parameters/n_g:", "missing"},
+      {"zero alpha", [](json& d) { d["parameters"]["alpha_per_s"] = 0.0; },
+       "field /parameters/alpha_per_s:", "> 0 (unit: 1/s)"},
+      {"step bounds crossed", [](json& d) { d["parameters"]["max_step_duration_s"] = 0.01; },
+       "field /parameters/max_step_duration_s:", ">= /parameters/min_step_duration_s"},
+      {"bad timestamp", [](json& d) { d["created_utc"] = "yesterday"; },
+       "field /created_utc:", "ISO 8601"},
+      {"empty model", [](json& d) { d["device"]["model"] = ""; },
+       "field /device/model:", "non-empty string"},
+      {"huge integer", [](json& d) { d["parameters"]["n_s"] = 18446744073709551615ULL; },
+       "field /parameters/n_s:", "integer in [1, 1000000]"},
+      {"not an object",
+       [](json& d) {
+         d = json::array({1, 2});
+       },
+       "field /:", "a JSON object"},
+  };
+  const json valid = json::parse(mapToJson(makeMap()));
+  for (const Corruption& corruption : cases) {
+    json document = valid;
+    corruption.edit(document);
+    if (document.is_object()) detail::stampChecksum(document);
+    const std::string message = errorOf([&] { mapFromJson(document.dump(1), "maps/omni.json"); });
+    EXPECT_NE(message.find("map file 'maps/omni.json'"), std::string::npos)
+        << corruption.name << ": " << message;
+    EXPECT_NE(message.find(corruption.pointer), std::string::npos)
+        << corruption.name << ": " << message;
+    EXPECT_NE(message.find(corruption.expected), std::string::npos)
+        << corruption.name << ": " << message;
+  }
+}
+
+TEST(MapIoTest, AnEditThatStillParsesFailsTheChecksum) {
+  json document = json::parse(mapToJson(makeMap()));
+  document["vertices"][17]["gravity_n"][2] = -2.5;  // plausible, but not what was written
+  const std::string message = errorOf([&] { mapFromJson(document.dump(), "m.json"); });
+  EXPECT_NE(message.find("field /checksum/value"), std::string::npos) << message;
+  EXPECT_NE(message.find("modified or corrupted"), std::string::npos) << message;
+}
+
+TEST(MapIoTest, ByteFlipsAndTruncationsNeverLoad) {
+  TemporaryFolder folder;
+  const std::string text = mapToJson(makeMap());
+  // Every truncation fails as invalid JSON (the document closes only at its last brace).
+  for (const std::size_t length :
+       {std::size_t{0}, std::size_t{1}, text.size() / 3, text.size() / 2, text.size() - 3}) {
+    writeText(folder.file("cut.json"), text.substr(0, length));
+    const std::string message = errorOf([&] { loadMap(folder.file("cut.json")); });
+    EXPECT_NE(message.find("not valid JSON"), std::string::npos) << length << ": " << message;
+    EXPECT_NE(message.find(folder.file("cut.json")), std::string::npos) << message;
+  }
+  // Changing a digit either fails (a field error or the checksum) or changes nothing that was
+  // written: the 17th significant digit of a double can change without changing the value, and
+  // the checksum covers values (the canonical dump), not bytes.
+  const GravityMap original = makeMap();
+  int refused = 0;
+  int harmless = 0;
+  for (std::size_t i = 0; i < text.size(); i += 211) {
+    if (text[i] < '0' || text[i] > '8') continue;
+    std::string corrupted = text;
+    corrupted[i] = static_cast<char>(corrupted[i] + 1);
+    try {
+      const GravityMap loaded = mapFromJson(corrupted, "flip");
+      expectSameMap(original, loaded);
+      ++harmless;
+    } catch (const Error&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 10);
+  EXPECT_LT(harmless, refused / 4);
+}
+
+TEST(MapIoTest, MissingFileNamesThePathAndTheFix) {
+  const std::string message = errorOf([] { loadMap("/nonexistent/omni.json"); });
+  EXPECT_NE(message.find("/nonexistent/omni.json"), std::string::npos) << message;
+  EXPECT_NE(message.find("cannot open"), std::string::npos) << message;
+  EXPECT_NE(message.find("autograv calibrate"), std::string::npos) << message;
+}
+
+TEST(MapIoTest, AMapForAnotherModelIsRefusedUnlessAllowed) {
+  TemporaryFolder folder;
+  saveMap(makeMap("sim:omni"), folder.file("omni.json"));
+  MapLoadOptions options;
+  options.expected_device_model = "sim:omega";
+  const std::string message = errorOf([&] { loadMap(folder.file("omni.json"), options); });
+  EXPECT_NE(message.find("field /device/model"), std::string::npos) << message;
+  EXPECT_NE(message.find("\"sim:omni\""), std::string::npos) << message;
+  EXPECT_NE(message.find("\"sim:omega\""), std::string::npos) << message;
+  options.allow_model_mismatch = true;
+  EXPECT_EQ(loadMap(folder.file("omni.json"), options).metadata().device_model, "sim:omni");
+  options = MapLoadOptions{};
+  options.expected_device_model = "sim:omni";
+  EXPECT_EQ(loadMap(folder.file("omni.json"), options).metadata().device_model, "sim:omni");
+}
+
+TEST(MapIoTest, SaveReplacesAtomicallyAndLeavesNoTemporaryFiles) {
+  TemporaryFolder folder;
+  const std::string path = folder.file("map.json");
+  saveMap(makeMap("first"), path);
+  saveMap(makeMap("second"), path);
+  EXPECT_EQ(loadMap(path).metadata().device_model, "second");
+  EXPECT_EQ(folder.entries(), std::vector<std::string>{"map.json"});
+  EXPECT_EQ(fs::status(path).permissions() & fs::perms::others_read, fs::perms::others_read);
+}
+
+TEST(MapIoTest, AFailedSaveKeepsThePreviousFile) {
+  TemporaryFolder folder;
+  const std::string path = folder.file("map.json");
+  saveMap(makeMap(), path);
+  const std::string before = readText(path);
+
+  // A map that cannot make a valid file (NaN in a history record) is refused before writing.
+  const GravityMap good = makeMap();
+  std::vector<VertexEstimate> vertices = good.vertices();
+  vertices[20].history.at(0).duration_s = NAN;
+  const GravityMap bad(good.grid(), vertices, good.metadata());
+  const std::string message = errorOf([&] { saveMap(bad, path); });
+  EXPECT_NE(message.find("/vertices/20/history/0/duration_s"), std::string::npos) << message;
+  EXPECT_EQ(readText(path), before);
+
+  // No device model: refused, with the fix in the message.
+  const GravityMap anonymous(good.grid(), good.vertices(), MapMetadata{});
+  EXPECT_NE(errorOf([&] { saveMap(anonymous, path); }).find("device_model is empty"),
+            std::string::npos);
+  EXPECT_EQ(readText(path), before);
+  EXPECT_EQ(folder.entries(), std::vector<std::string>{"map.json"});
+
+  // A folder that does not exist: named in the message.
+  const std::string nowhere = folder.file("missing/map.json");
+  EXPECT_NE(errorOf([&] { saveMap(good, nowhere); }).find(folder.file("missing")),
+            std::string::npos);
+}
+
+TEST(MapIoTest, AnEmptyCreationTimeIsStampedWithTheCurrentTime) {
+  const GravityMap good = makeMap();
+  MapMetadata metadata = good.metadata();
+  metadata.created_utc.clear();
+  const GravityMap unstamped(good.grid(), good.vertices(), metadata);
+  const std::string created = mapFromJson(mapToJson(unstamped), "m").metadata().created_utc;
+  ASSERT_EQ(created.size(), 20u) << created;
+  EXPECT_EQ(created[10], 'T');
+  EXPECT_EQ(created.back(), 'Z');
+  EXPECT_GE(created.substr(0, 4), "2024");
+}
+
+}  // namespace
+}  // namespace autograv
