@@ -44,7 +44,8 @@ class SimulatedHand {
     const Eigen::Vector3d to_goal = goal_m_ - target_m_;
     const double step_m = speed_m_per_s_ * dt_s;
     const double distance_m = to_goal.norm();
-    target_m_ = distance_m <= step_m ? goal_m_ : Eigen::Vector3d(target_m_ + to_goal * (step_m / distance_m));
+    target_m_ = distance_m <= step_m ? goal_m_
+                                     : Eigen::Vector3d(target_m_ + to_goal * (step_m / distance_m));
     if (!holding_) return Eigen::Vector3d::Zero();
     return stiffness_n_per_m * (target_m_ - position_m) - damping_n_s_per_m * velocity_m_per_s;
   }

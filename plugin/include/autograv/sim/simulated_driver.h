@@ -1,0 +1,180 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "autograv/device_specifications.h"
+#include "autograv/sim/simulated_device.h"
+#include "autograv/sim/simulated_hand.h"
+
+namespace autograv::sim {
+
+/// Deterministic pseudo-random numbers: xoshiro256** seeded through splitmix64, Gaussian samples
+/// by the Box-Muller transform. Same seed, same sequence on every platform (no std::
+/// distributions, whose output is implementation-defined). Real-time safe.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) noexcept;
+  std::uint64_t nextBits() noexcept;
+  /// Uniform in [0, 1).
+  double uniform() noexcept;
+  /// Standard normal.
+  double gaussian() noexcept;
+
+ private:
+  std::array<std::uint64_t, 4> state_{};
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
+/// Velocity estimation as device drivers do it (e.g. Force Dimension's "windowing" mode): the
+/// displacement of the quantized position over a fixed time window, smoothed by a first-order
+/// low-pass. It reads exactly zero when the position did not change over the window, so a device
+/// at rest reports a velocity of exactly zero. Fixed-size history: real-time safe.
+class VelocityEstimator {
+ public:
+  /// `window_s`: finite-difference window; `time_constant_s`: low-pass time constant (0 = none).
+  /// Units: [s]
+  VelocityEstimator(double window_s, double time_constant_s) noexcept;
+  /// Forgets the history; the next estimate starts from zero. Real-time safe.
+  void reset() noexcept;
+  /// Adds a sample taken at `time_s` and returns the new estimate. Units: [s], [m], [m/s]
+  const Eigen::Vector3d& update(double time_s, const Eigen::Vector3d& position_m) noexcept;
+  const Eigen::Vector3d& estimate_m_per_s() const noexcept { return filtered_; }
+
+ private:
+  static constexpr int kCapacity = 512;
+  std::array<Eigen::Vector3d, kCapacity> positions_{};
+  std::array<double, kCapacity> times_{};
+  int oldest_ = 0;
+  int count_ = 0;
+  double window_s_;
+  double time_constant_s_;
+  Eigen::Vector3d filtered_ = Eigen::Vector3d::Zero();
+};
+
+/// What the simulated driver and its electronics do, independently of the mechanism.
+struct DriverParameters {
+  /// Rate of the fixed-step integration inside advance(). Unit: [Hz]
+  double internal_rate_hz = 10000.0;
+  /// Encoder noise before quantization, a Gauss-Markov process (electrical and mechanical jitter
+  /// is correlated in time, not white). Standard deviation in encoder counts.
+  double noise_sigma_counts = 0.05;
+  /// Correlation time of that noise. Unit: [s]
+  double noise_correlation_time_s = 0.01;
+  /// Velocity estimator window. Unit: [s]
+  double velocity_window_s = 0.02;
+  /// Velocity estimator low-pass time constant. Unit: [s]
+  double velocity_time_constant_s = 0.001;
+  /// Position offset the readings carry until the device is homed (see setCalibrated). Unit: [m]
+  Eigen::Vector3d uncalibrated_offset_m = Eigen::Vector3d(0.012, -0.007, 0.021);
+};
+
+/// The driver side shared by the simulated devices: open/close, homing, encoder sampling with
+/// noise, velocity estimation, actuator saturation, faults, user switches, the hand and the
+/// fixed-step clock. A mechanism subclass supplies the physics (one integration step) and its
+/// encoders (quantized reading from noisy counts).
+///
+/// Sampling: the driver reads the encoders when the application asks for a position or a velocity,
+/// at most once per internal step, as a real driver reads them on each servo-loop query; the
+/// velocity estimator sees exactly those samples.
+class SimulatedDriver : public SimulatedDevice {
+ public:
+  /// Not real-time safe.
+  bool open() override;
+  /// Sends zero force and closes. Not real-time safe.
+  bool close() override;
+  /// True once homed. A device made uncalibrated by setCalibrated(false) returns false until
+  /// calibrate(true) homes it. Not real-time safe.
+  bool calibrate(bool force = false) override;
+
+  /// Measured (noisy, quantized) position. False when closed or when the device stops answering;
+  /// true with NaN under kNanPosition; the last sample under kFrozenPosition. Real-time safe.
+  bool getPosition(Eigen::Vector3d& position_m) override;
+  /// Velocity estimated from the measured positions; same fault behaviour as getPosition (NaN
+  /// under kNanPosition, the last estimate under kFrozenPosition). Real-time safe.
+  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override;
+  /// Switches 0..kSwitchCount-1; false for other indices, when closed or not answering.
+  /// Real-time safe.
+  bool getUserSwitch(int index, bool& pressed) override;
+  /// Commands a force, clamped to the maximum force keeping its direction (counted). A non-finite
+  /// force is refused: false, and the actuators go to zero. False when closed or not answering
+  /// (the device's watchdog then zeroes the force). Real-time safe.
+  bool setForce(const Eigen::Vector3d& force_n) override;
+  const DeviceSpecifications& specifications() const override { return specifications_; }
+
+  /// Real-time safe.
+  void advance(double dt_s) noexcept override;
+  /// Real-time safe. Unit: [s]
+  double time_s() const noexcept override;
+  /// Real-time safe. Unit: [N]
+  Eigen::Vector3d appliedForce_n() const noexcept override { return applied_force_n_; }
+  /// Real-time safe.
+  std::uint64_t saturationCount() const noexcept override { return saturation_count_; }
+  SimulatedHand& hand() noexcept override { return hand_; }
+  /// Real-time safe.
+  void injectFault(DeviceFault fault) noexcept override;
+  /// Real-time safe.
+  void setUserSwitch(int index, bool pressed) noexcept override;
+  /// Puts the end-effector at rest at `position_m`, forgets the velocity history and the end-stop
+  /// flag. Throws autograv::Error for a non-finite or unreachable position. Not real-time safe.
+  void resetState(const Eigen::Vector3d& position_m) override;
+  /// Real-time safe.
+  bool endStopHit() const noexcept override { return end_stop_hit_; }
+  /// Real-time safe. Unit: [s]
+  double internalStep_s() const noexcept override { return step_s_; }
+  /// Not real-time safe.
+  void setCalibrated(bool calibrated) noexcept override { calibrated_ = calibrated; }
+  /// Real-time safe.
+  bool isCalibrated() const noexcept override { return calibrated_; }
+  /// Real-time safe.
+  DeviceFault fault() const noexcept { return fault_; }
+
+  static constexpr int kSwitchCount = 4;
+
+ protected:
+  /// Throws autograv::Error when the specifications or parameters are not usable.
+  SimulatedDriver(DeviceSpecifications specifications, const DriverParameters& parameters,
+                  std::uint64_t seed);
+
+  /// One fixed integration step of the mechanism under the Cartesian force `force_n` (actuators
+  /// plus hand). Sets end_stop_hit_ when the end stops act. Real-time safe. Units: [N], [s]
+  virtual void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept = 0;
+  /// Quantized end-effector position from the encoders, each encoder reading perturbed by
+  /// `noise_counts` (encoder counts) before quantization. Real-time safe. Unit: [m]
+  virtual Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept = 0;
+  /// Puts the mechanism at rest at `position_m`; throws autograv::Error if it cannot.
+  virtual void resetMechanism(const Eigen::Vector3d& position_m) = 0;
+
+  bool end_stop_hit_ = false;
+
+ private:
+  void sampleEncoders() noexcept;
+
+  DeviceSpecifications specifications_;
+  double step_s_;
+  std::uint64_t steps_ = 0;
+  double pending_s_ = 0.0;
+  Random random_;
+  double noise_sigma_counts_;
+  double noise_correlation_time_s_;
+  Eigen::Vector3d noise_counts_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d uncalibrated_offset_m_;
+  VelocityEstimator velocity_;
+  SimulatedHand hand_;
+  Eigen::Vector3d applied_force_n_ = Eigen::Vector3d::Zero();
+  std::uint64_t saturation_count_ = 0;
+  std::uint64_t last_sample_step_ = 0;
+  bool has_sample_ = false;
+  Eigen::Vector3d measured_position_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frozen_position_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frozen_velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  DeviceFault fault_ = DeviceFault::kNone;
+  std::array<bool, kSwitchCount> switches_{};
+  bool open_ = false;
+  bool calibrated_ = true;
+};
+
+}  // namespace autograv::sim

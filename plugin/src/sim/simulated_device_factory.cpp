@@ -1,0 +1,20 @@
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "autograv/error.h"
+#include "autograv/sim/point_mass_device.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv::sim {
+
+std::vector<std::string> simulatedDeviceNames() { return {"sim:omega"}; }
+
+std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, std::uint64_t seed) {
+  if (name == "sim:omega") return std::make_unique<PointMassDevice>(omegaParameters(), seed);
+  std::string valid;
+  for (const auto& known : simulatedDeviceNames()) valid += (valid.empty() ? "" : ", ") + known;
+  throw Error("unknown simulated device '" + name + "'; valid names: " + valid);
+}
+
+}  // namespace autograv::sim

@@ -1,0 +1,295 @@
+#include "autograv/sim/simulated_driver.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "autograv/error.h"
+
+namespace autograv::sim {
+
+namespace {
+
+std::uint64_t splitMix64(std::uint64_t& state) noexcept {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t rotateLeft(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
+
+bool finitePositive(double value) { return std::isfinite(value) && value > 0.0; }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Random
+
+Random::Random(std::uint64_t seed) noexcept {
+  std::uint64_t state = seed;
+  for (auto& word : state_) word = splitMix64(state);
+}
+
+std::uint64_t Random::nextBits() noexcept {
+  const std::uint64_t result = rotateLeft(state_[1] * 5, 7) * 9;
+  const std::uint64_t t = state_[1] << 17;
+  state_[2] ^= state_[0];
+  state_[3] ^= state_[1];
+  state_[1] ^= state_[2];
+  state_[0] ^= state_[3];
+  state_[2] ^= t;
+  state_[3] = rotateLeft(state_[3], 45);
+  return result;
+}
+
+double Random::uniform() noexcept {
+  // The top 53 bits fill a double's mantissa exactly.
+  return static_cast<double>(nextBits() >> 11) * 0x1.0p-53;
+}
+
+double Random::gaussian() noexcept {
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_;
+  }
+  constexpr double kTwoPi = 6.283185307179586476925286766559;
+  const double u1 = 1.0 - uniform();  // (0, 1]: the logarithm stays finite
+  const double u2 = uniform();
+  const double radius = std::sqrt(-2.0 * std::log(u1));
+  spare_ = radius * std::sin(kTwoPi * u2);
+  has_spare_ = true;
+  return radius * std::cos(kTwoPi * u2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// VelocityEstimator
+
+VelocityEstimator::VelocityEstimator(double window_s, double time_constant_s) noexcept
+    : window_s_(window_s), time_constant_s_(time_constant_s) {}
+
+void VelocityEstimator::reset() noexcept {
+  oldest_ = 0;
+  count_ = 0;
+  filtered_.setZero();
+}
+
+const Eigen::Vector3d& VelocityEstimator::update(double time_s,
+                                                 const Eigen::Vector3d& position_m) noexcept {
+  const double previous_time_s =
+      count_ > 0 ? times_[static_cast<std::size_t>((oldest_ + count_ - 1) % kCapacity)] : time_s;
+  if (count_ == kCapacity) {  // Full: the window shrinks to what the history holds.
+    oldest_ = (oldest_ + 1) % kCapacity;
+    --count_;
+  }
+  const int newest = (oldest_ + count_) % kCapacity;
+  positions_[static_cast<std::size_t>(newest)] = position_m;
+  times_[static_cast<std::size_t>(newest)] = time_s;
+  ++count_;
+  // Keep exactly one sample at least a window old: the difference spans the whole window.
+  // (The tolerance keeps a sample exactly one window old despite rounding of the clock.)
+  while (count_ > 2 &&
+         time_s - times_[static_cast<std::size_t>((oldest_ + 1) % kCapacity)] >= window_s_ - 1e-9) {
+    oldest_ = (oldest_ + 1) % kCapacity;
+    --count_;
+  }
+  if (count_ < 2) {
+    filtered_.setZero();
+    return filtered_;
+  }
+  const Eigen::Vector3d& old_position = positions_[static_cast<std::size_t>(oldest_)];
+  const double span_s = time_s - times_[static_cast<std::size_t>(oldest_)];
+  if (!(span_s > 0.0) || position_m == old_position) {
+    // No encoder change over the window: a driver reports exactly zero, not a decaying tail.
+    filtered_.setZero();
+    return filtered_;
+  }
+  const Eigen::Vector3d raw = (position_m - old_position) / span_s;
+  const double dt_s = time_s - previous_time_s;
+  const double gain = time_constant_s_ > 0.0 ? dt_s / (time_constant_s_ + dt_s) : 1.0;
+  filtered_ += gain * (raw - filtered_);
+  return filtered_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// SimulatedDriver
+
+SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
+                                 const DriverParameters& parameters, std::uint64_t seed)
+    : specifications_(std::move(specifications)),
+      step_s_(1.0 / parameters.internal_rate_hz),
+      random_(seed),
+      noise_sigma_counts_(parameters.noise_sigma_counts),
+      noise_correlation_time_s_(parameters.noise_correlation_time_s),
+      uncalibrated_offset_m_(parameters.uncalibrated_offset_m),
+      velocity_(parameters.velocity_window_s, parameters.velocity_time_constant_s) {
+  validateSpecifications(specifications_);
+  const std::string name = specifications_.model_name;
+  if (!finitePositive(parameters.internal_rate_hz) || parameters.internal_rate_hz < 1000.0) {
+    throw Error(name + ": internal_rate_hz must be at least 1000 Hz (servo loops run at 1 kHz)");
+  }
+  if (!std::isfinite(parameters.noise_sigma_counts) || parameters.noise_sigma_counts < 0.0) {
+    throw Error(name + ": noise_sigma_counts must be finite and >= 0");
+  }
+  if (!finitePositive(parameters.noise_correlation_time_s)) {
+    throw Error(name + ": noise_correlation_time_s must be finite and > 0");
+  }
+  if (!finitePositive(parameters.velocity_window_s)) {
+    throw Error(name + ": velocity_window_s must be finite and > 0");
+  }
+  if (!std::isfinite(parameters.velocity_time_constant_s) ||
+      parameters.velocity_time_constant_s < 0.0) {
+    throw Error(name + ": velocity_time_constant_s must be finite and >= 0");
+  }
+  if (!parameters.uncalibrated_offset_m.allFinite()) {
+    throw Error(name + ": uncalibrated_offset_m must be finite");
+  }
+  // Start the noise in its stationary distribution so that the first samples are typical.
+  for (int axis = 0; axis < 3; ++axis)
+    noise_counts_[axis] = noise_sigma_counts_ * random_.gaussian();
+}
+
+bool SimulatedDriver::open() {
+  open_ = true;
+  return true;
+}
+
+bool SimulatedDriver::close() {
+  applied_force_n_.setZero();
+  open_ = false;
+  return true;
+}
+
+bool SimulatedDriver::calibrate(bool force) {
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering) return false;
+  if (force) {
+    calibrated_ = true;
+    has_sample_ = false;  // The offset changes: the velocity history is no longer comparable.
+    velocity_.reset();
+  }
+  return calibrated_;
+}
+
+void SimulatedDriver::sampleEncoders() noexcept {
+  if (has_sample_ && last_sample_step_ == steps_) return;
+  // Gauss-Markov noise, exact discretization over the time since the last sample.
+  const double since_s =
+      has_sample_ ? static_cast<double>(steps_ - last_sample_step_) * step_s_ : step_s_;
+  const double decay = std::exp(-since_s / noise_correlation_time_s_);
+  const double drive = noise_sigma_counts_ * std::sqrt(1.0 - decay * decay);
+  for (int axis = 0; axis < 3; ++axis) {
+    noise_counts_[axis] = decay * noise_counts_[axis] + drive * random_.gaussian();
+  }
+  measured_position_m_ = readEncoders(noise_counts_);
+  if (!calibrated_) measured_position_m_ += uncalibrated_offset_m_;
+  velocity_.update(time_s(), measured_position_m_);
+  last_sample_step_ = steps_;
+  has_sample_ = true;
+}
+
+bool SimulatedDriver::getPosition(Eigen::Vector3d& position_m) {
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering) return false;
+  if (fault_ == DeviceFault::kNanPosition) {
+    position_m.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return true;
+  }
+  if (fault_ == DeviceFault::kFrozenPosition) {
+    position_m = frozen_position_m_;
+    return true;
+  }
+  sampleEncoders();
+  position_m = measured_position_m_;
+  return true;
+}
+
+bool SimulatedDriver::getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) {
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering) return false;
+  if (fault_ == DeviceFault::kNanPosition) {
+    velocity_m_per_s.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return true;
+  }
+  if (fault_ == DeviceFault::kFrozenPosition) {
+    velocity_m_per_s = frozen_velocity_m_per_s_;
+    return true;
+  }
+  sampleEncoders();
+  velocity_m_per_s = velocity_.estimate_m_per_s();
+  return true;
+}
+
+bool SimulatedDriver::getUserSwitch(int index, bool& pressed) {
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering) return false;
+  if (index < 0 || index >= kSwitchCount) return false;
+  pressed = switches_[static_cast<std::size_t>(index)];
+  return true;
+}
+
+bool SimulatedDriver::setForce(const Eigen::Vector3d& force_n) {
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering) {
+    applied_force_n_.setZero();
+    return false;
+  }
+  if (!force_n.allFinite()) {
+    applied_force_n_.setZero();
+    return false;
+  }
+  const double max_n = specifications_.max_linear_force_n;
+  const double norm_n = force_n.norm();
+  if (norm_n > max_n) {
+    applied_force_n_ = force_n * (max_n / norm_n);
+    ++saturation_count_;
+  } else {
+    applied_force_n_ = force_n;
+  }
+  return true;
+}
+
+void SimulatedDriver::advance(double dt_s) noexcept {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  pending_s_ += dt_s;
+  // The tolerance absorbs the rounding of sums like 10 x 0.0001 s.
+  const double whole = std::floor(pending_s_ / step_s_ + 1e-6);
+  if (whole < 1.0) return;
+  const auto steps = static_cast<std::uint64_t>(whole);
+  pending_s_ = std::max(0.0, pending_s_ - whole * step_s_);
+  for (std::uint64_t i = 0; i < steps; ++i) {
+    Eigen::Vector3d force_n = applied_force_n_;
+    if (hand_.holding()) {
+      force_n += hand_.update(step_s_, truePosition_m(), trueVelocity_m_per_s());
+    } else {
+      hand_.update(step_s_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    }
+    integrateStep(force_n, step_s_);
+    ++steps_;
+  }
+}
+
+double SimulatedDriver::time_s() const noexcept { return static_cast<double>(steps_) * step_s_; }
+
+void SimulatedDriver::injectFault(DeviceFault fault) noexcept {
+  if (fault == DeviceFault::kFrozenPosition && fault_ != DeviceFault::kFrozenPosition) {
+    sampleEncoders();
+    frozen_position_m_ = measured_position_m_;
+    frozen_velocity_m_per_s_ = velocity_.estimate_m_per_s();
+  }
+  if (fault == DeviceFault::kStopsAnswering) applied_force_n_.setZero();
+  fault_ = fault;
+}
+
+void SimulatedDriver::setUserSwitch(int index, bool pressed) noexcept {
+  if (index < 0 || index >= kSwitchCount) return;
+  switches_[static_cast<std::size_t>(index)] = pressed;
+}
+
+void SimulatedDriver::resetState(const Eigen::Vector3d& position_m) {
+  if (!position_m.allFinite()) {
+    throw Error(specifications_.model_name + ": resetState needs a finite position");
+  }
+  resetMechanism(position_m);
+  end_stop_hit_ = false;
+  has_sample_ = false;
+  velocity_.reset();
+}
+
+}  // namespace autograv::sim

@@ -1,0 +1,425 @@
+#include "autograv/sim/point_mass_device.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/SVD>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "autograv/estimation_parameters.h"
+#include "autograv/sim/paper_frame.h"
+
+namespace autograv::sim {
+namespace {
+
+constexpr double kServo_s = 0.001;
+
+PointMassDevice makeOpenOmega(std::uint64_t seed = 7) {
+  PointMassDevice device(omegaParameters(), seed);
+  EXPECT_TRUE(device.open());
+  EXPECT_TRUE(device.calibrate());
+  return device;
+}
+
+TEST(PointMassDeviceTest, ApparentMassAtThePaperTargetIs214Grams) {
+  const PointMassDevice device(omegaParameters(), 1);
+  const Eigen::Vector3d target = paperTargetPoint_m();
+  const Eigen::Vector3d gravity = device.trueGravity(target);
+  EXPECT_NEAR(gravity.norm(), 0.214 * kStandardGravity, 1e-12);
+  EXPECT_TRUE(device.trueApparentMass(target).isApprox(0.214 * Eigen::Matrix3d::Identity(), 1e-12));
+  // The holding force points up (eq. 1: F = G holds the end-effector still).
+  EXPECT_GT(gravity.z(), 0.9 * gravity.norm());
+}
+
+TEST(PointMassDeviceTest, GravityIsTheGradientOfAPotential) {
+  const PointMassDevice device(omegaParameters(), 1);
+  const double h = 1e-6;
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.01, -0.02, 0.03),
+                                   Eigen::Vector3d(-0.05, 0.03, -0.04), paperStartPoint_m()}) {
+    Eigen::Vector3d numeric;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(axis);
+      numeric[axis] =
+          (device.potentialEnergy_j(p + step) - device.potentialEnergy_j(p - step)) / (2 * h);
+    }
+    EXPECT_LT((numeric - device.trueGravity(p)).norm(), 1e-8) << p.transpose();
+  }
+}
+
+TEST(PointMassDeviceTest, FieldVariesAcrossTheWorkspaceLikeAMechanism) {
+  const PointMassDevice device(omegaParameters(), 1);
+  const double radius = device.specifications().workspace_radius_m;
+  double smallest = 1e9, largest = 0.0, max_horizontal = 0.0, max_gradient = 0.0;
+  double min_gradient = 1e9;
+  for (int i = -3; i <= 3; ++i) {
+    for (int j = -3; j <= 3; ++j) {
+      for (int k = -3; k <= 3; ++k) {
+        const Eigen::Vector3d p = Eigen::Vector3d(i, j, k) * (radius / 3.0);
+        if (p.norm() > radius) continue;
+        const Eigen::Vector3d g = device.trueGravity(p);
+        smallest = std::min(smallest, g.norm());
+        largest = std::max(largest, g.norm());
+        max_horizontal = std::max(max_horizontal, g.head<2>().norm());
+        // Spectral norm of the Jacobian dG/dX by central differences.
+        Eigen::Matrix3d jacobian;
+        for (int axis = 0; axis < 3; ++axis) {
+          const Eigen::Vector3d step = 1e-6 * Eigen::Vector3d::Unit(axis);
+          jacobian.col(axis) = (device.trueGravity(p + step) - device.trueGravity(p - step)) / 2e-6;
+        }
+        const double norm = jacobian.jacobiSvd().singularValues()(0);
+        max_gradient = std::max(max_gradient, norm);
+        min_gradient = std::min(min_gradient, norm);
+      }
+    }
+  }
+  const double mean = 0.5 * (smallest + largest);
+  EXPECT_GT((largest - smallest) / mean, 0.2);  // tens of percent...
+  EXPECT_LT((largest - smallest) / mean, 0.8);  // ...but not a different device
+  EXPECT_GT(max_horizontal, 0.2);               // x/y components of a few tenths of a newton
+  EXPECT_GT(min_gradient, 5.0);                 // N/m: the gradient makes the method iterate
+  EXPECT_LT(max_gradient, 30.0);
+}
+
+TEST(PointMassDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
+  PointMassDevice device = makeOpenOmega();
+  const Eigen::Vector3d start = paperTargetPoint_m();
+  device.resetState(start);
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d::Zero()));
+  const Eigen::Vector3d gravity = device.trueGravity(start);
+  const double mass = device.trueApparentMass(start)(0, 0);
+  const auto& p = device.parameters();
+  const Eigen::Vector3d acceleration =
+      -(gravity.norm() - p.coulomb_friction_n) / mass * gravity.normalized();
+  const double h = device.internalStep_s();
+  for (int ms = 1; ms <= 5; ++ms) {
+    device.advance(kServo_s);
+    const double t = ms * kServo_s;
+    // Dry friction opposes the motion, which is along -G; viscous friction is negligible here.
+    EXPECT_LT((device.trueVelocity_m_per_s() - acceleration * t).norm(),
+              0.001 * acceleration.norm() * t)
+        << "t=" << t;
+    // Semi-implicit Euler lags by half a step: x = x0 + a t (t + h) / 2 exactly.
+    const Eigen::Vector3d expected = start + 0.5 * acceleration * t * (t + h);
+    EXPECT_LT((device.truePosition_m() - expected).norm(), 0.001 * (expected - start).norm())
+        << "t=" << t;
+  }
+  // 5 ms of free fall at ~g: about 0.12 mm.
+  EXPECT_NEAR((device.truePosition_m() - start).norm(), 0.5 * 0.005 * 0.005 * 9.81, 3e-6);
+  // Without friction the prediction would be off by Fc/|G| = 0.24 %: the check above sees it.
+  EXPECT_GT(p.coulomb_friction_n / gravity.norm(), 0.001);
+}
+
+TEST(PointMassDeviceTest, CommandingTheTrueGravityHoldsItStill) {
+  PointMassDevice device = makeOpenOmega();
+  const Eigen::Vector3d start(0.0123, -0.0271, 0.0189);
+  device.resetState(start);
+  Eigen::Vector3d first;
+  ASSERT_TRUE(device.getPosition(first));
+  double max_reading_change = 0.0;
+  for (int ms = 0; ms < 1000; ++ms) {
+    Eigen::Vector3d measured;
+    ASSERT_TRUE(device.getPosition(measured));
+    ASSERT_TRUE(device.setForce(device.trueGravity(measured)));
+    device.advance(kServo_s);
+    max_reading_change = std::max(max_reading_change, (measured - first).cwiseAbs().maxCoeff());
+  }
+  const double resolution = device.parameters().encoder_resolution_m;
+  EXPECT_LT((device.truePosition_m() - start).norm(), resolution);
+  EXPECT_LE(max_reading_change, resolution * 1.000001);
+}
+
+TEST(PointMassDeviceTest, SaturationClampsTheMagnitudeKeepsTheDirectionAndCounts) {
+  PointMassDevice device = makeOpenOmega();
+  const Eigen::Vector3d small(1.0, -2.0, 3.0);
+  ASSERT_TRUE(device.setForce(small));
+  EXPECT_EQ(device.appliedForce_n(), small);
+  EXPECT_EQ(device.saturationCount(), 0u);
+  const Eigen::Vector3d large(30.0, 0.0, -40.0);  // 50 N
+  ASSERT_TRUE(device.setForce(large));
+  EXPECT_NEAR(device.appliedForce_n().norm(), 12.0, 1e-12);
+  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-12));
+  EXPECT_EQ(device.saturationCount(), 1u);
+  ASSERT_TRUE(device.setForce(large));
+  EXPECT_EQ(device.saturationCount(), 2u);
+  // The clamped force is what moves the mass.
+  device.resetState(Eigen::Vector3d::Zero());
+  device.advance(0.002);
+  const Eigen::Vector3d expected_direction =
+      (device.appliedForce_n() - device.trueGravity(Eigen::Vector3d::Zero())).normalized();
+  EXPECT_GT(device.truePosition_m().normalized().dot(expected_direction), 0.999);
+}
+
+TEST(PointMassDeviceTest, NonFiniteForceIsRefusedAndZeroed) {
+  PointMassDevice device = makeOpenOmega();
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d(1.0, 1.0, 1.0)));
+  EXPECT_FALSE(device.setForce(Eigen::Vector3d(NAN, 0.0, 0.0)));
+  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
+}
+
+// A PD loop on measured positions toward a moving target, with the hand pulling meanwhile: the
+// noise reaches the trajectory through the feedback.
+std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
+  PointMassDevice device = makeOpenOmega(seed);
+  std::vector<Eigen::Vector3d> trajectory;
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.02, 0.0, 0.0), 0.05);
+  for (int ms = 0; ms < 1500; ++ms) {
+    if (ms == 500) device.hand().release();
+    Eigen::Vector3d x, v;
+    EXPECT_TRUE(device.getPosition(x));
+    EXPECT_TRUE(device.getLinearVelocity(v));
+    const Eigen::Vector3d target(0.01 * std::sin(ms * 0.004), 0.0, -0.01);
+    device.setForce(150.0 * (target - x) - 8.0 * v + Eigen::Vector3d(0, 0, 2.0));
+    device.advance(kServo_s);
+    trajectory.push_back(device.truePosition_m());
+    trajectory.push_back(x);
+  }
+  return trajectory;
+}
+
+TEST(PointMassDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
+  const auto a = runScript(42);
+  const auto b = runScript(42);
+  const auto c = runScript(43);
+  ASSERT_EQ(a.size(), b.size());
+  bool identical = true, differs = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    identical = identical && (a[i].array() == b[i].array()).all();
+    differs = differs || (a[i].array() != c[i].array()).any();
+  }
+  EXPECT_TRUE(identical);
+  EXPECT_TRUE(differs);
+}
+
+TEST(PointMassDeviceTest, ChunkingOfAdvanceDoesNotChangeTheTrajectory) {
+  PointMassDevice a = makeOpenOmega(3);
+  PointMassDevice b = makeOpenOmega(3);
+  for (int i = 0; i < 100; ++i) a.advance(0.001);
+  b.advance(0.1);
+  EXPECT_EQ(a.time_s(), b.time_s());
+  EXPECT_TRUE((a.truePosition_m().array() == b.truePosition_m().array()).all());
+  EXPECT_NEAR(a.time_s(), 0.1, 1e-12);
+}
+
+TEST(PointMassDeviceTest, ServoPathAllocatesNothing) {
+  PointMassDevice device = makeOpenOmega();
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.01, 0.01, 0.0), 0.05);
+  Eigen::Vector3d x, v;
+  bool pressed = false;
+  testing::AllocationCounter counter;
+  for (int ms = 0; ms < 2000; ++ms) {
+    device.getPosition(x);
+    device.getLinearVelocity(v);
+    device.getUserSwitch(0, pressed);
+    device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0) - 5.0 * v);
+    device.advance(kServo_s);
+    if (ms == 1000) device.injectFault(DeviceFault::kFrozenPosition);
+  }
+  device.injectFault(DeviceFault::kNone);
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(PointMassDeviceTest, VelocityIsExactlyZeroAtRestAndTracksConstantVelocity) {
+  PointMassDevice device = makeOpenOmega();
+  // Mid-count on every axis: the encoder noise (0.05 counts) never reaches a transition.
+  device.resetState(Eigen::Vector3d(0.0, 0.0, -0.03));
+  Eigen::Vector3d x, v;
+  for (int ms = 0; ms < 300; ++ms) {
+    ASSERT_TRUE(device.getPosition(x));
+    ASSERT_TRUE(device.getLinearVelocity(v));
+    EXPECT_EQ(v, Eigen::Vector3d::Zero()) << "ms=" << ms;
+    device.setForce(device.trueGravity(x));
+    device.advance(kServo_s);
+  }
+  // The hand drags it at 50 mm/s along a diagonal; gravity is cancelled.
+  const Eigen::Vector3d direction = Eigen::Vector3d(1.0, 1.0, 0.5).normalized();
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(device.truePosition_m() + 0.04 * direction, 0.05);
+  double worst = 0.0;
+  for (int ms = 0; ms < 700; ++ms) {
+    ASSERT_TRUE(device.getPosition(x));
+    ASSERT_TRUE(device.getLinearVelocity(v));
+    if (ms >= 300) worst = std::max(worst, (v - 0.05 * direction).norm());
+    device.setForce(device.trueGravity(x));
+    device.advance(kServo_s);
+  }
+  EXPECT_LT(worst, 0.002);  // m/s: 4 % of the speed; 0.5 mm/s is one count over the window
+}
+
+TEST(PointMassDeviceTest, VelocityReadsZeroWheneverTheCountsDidNotChangeOverTheWindow) {
+  PointMassDevice device = makeOpenOmega(11);
+  // Near a count transition on x, so that the noise makes the reading flicker now and then.
+  device.resetState(Eigen::Vector3d(0.000005, 0.0, -0.03));
+  std::vector<Eigen::Vector3d> readings;
+  int zero = 0, checked = 0;
+  for (int ms = 0; ms < 1000; ++ms) {
+    Eigen::Vector3d x, v;
+    ASSERT_TRUE(device.getPosition(x));
+    ASSERT_TRUE(device.getLinearVelocity(v));
+    readings.push_back(x);
+    const int window = 21;  // 20 ms at 1 kHz, both ends included
+    if (static_cast<int>(readings.size()) >= window) {
+      bool unchanged = true;
+      for (int k = 1; k < window; ++k)
+        unchanged = unchanged && readings[readings.size() - 1 - k] == x;
+      if (unchanged) {
+        ++checked;
+        EXPECT_EQ(v, Eigen::Vector3d::Zero());
+      }
+    }
+    zero += v.isZero(0.0) ? 1 : 0;
+    device.setForce(device.trueGravity(device.truePosition_m()));
+    device.advance(kServo_s);
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(zero, 1000);  // the flicker is there, so the check above was not vacuous
+  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.000005, 0.0, -0.03)).norm(), 1e-9);
+}
+
+TEST(PointMassDeviceTest, StopsAnsweringFailsEveryCallAndZeroesTheForce) {
+  PointMassDevice device = makeOpenOmega();
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
+  device.injectFault(DeviceFault::kStopsAnswering);
+  Eigen::Vector3d x, v;
+  bool pressed = false;
+  EXPECT_FALSE(device.getPosition(x));
+  EXPECT_FALSE(device.getLinearVelocity(v));
+  EXPECT_FALSE(device.getUserSwitch(0, pressed));
+  EXPECT_FALSE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
+  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
+  device.injectFault(DeviceFault::kNone);
+  EXPECT_TRUE(device.getPosition(x));
+  EXPECT_TRUE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
+}
+
+TEST(PointMassDeviceTest, NanPositionReturnsTrueWithNaN) {
+  PointMassDevice device = makeOpenOmega();
+  device.injectFault(DeviceFault::kNanPosition);
+  Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+  EXPECT_TRUE(device.getPosition(x));
+  EXPECT_TRUE(x.array().isNaN().all());
+  EXPECT_TRUE(device.getLinearVelocity(v));
+  EXPECT_TRUE(v.array().isNaN().all());
+}
+
+TEST(PointMassDeviceTest, FrozenPositionKeepsTheLastSampleWhileTheDeviceMoves) {
+  PointMassDevice device = makeOpenOmega();
+  device.setForce(Eigen::Vector3d::Zero());
+  device.advance(0.01);  // falling
+  Eigen::Vector3d before, v;
+  ASSERT_TRUE(device.getPosition(before));
+  device.injectFault(DeviceFault::kFrozenPosition);
+  device.advance(0.05);
+  Eigen::Vector3d after;
+  ASSERT_TRUE(device.getPosition(after));
+  EXPECT_EQ(after, before);
+  EXPECT_GT((device.truePosition_m() - before).norm(), 0.005);
+  device.injectFault(DeviceFault::kNone);
+  ASSERT_TRUE(device.getPosition(after));
+  EXPECT_NEAR((after - device.truePosition_m()).norm(), 0.0, 2e-5);
+}
+
+TEST(PointMassDeviceTest, ReleasedWithZeroForceFallsOntoTheEndStop) {
+  PointMassDevice device = makeOpenOmega();
+  device.setForce(Eigen::Vector3d::Zero());
+  EXPECT_FALSE(device.endStopHit());
+  device.advance(2.0);
+  EXPECT_TRUE(device.endStopHit());
+  const double radius = device.specifications().workspace_radius_m;
+  const double distance = device.truePosition_m().norm();
+  EXPECT_GT(distance, radius);
+  EXPECT_LT(distance, radius + 0.002);  // about |G| / k_stop = 1 mm in
+  EXPECT_LT(device.truePosition_m().z(), -0.05);
+  device.resetState(Eigen::Vector3d::Zero());
+  EXPECT_FALSE(device.endStopHit());
+}
+
+TEST(PointMassDeviceTest, HandPullsTheEndEffectorAlongItsPath) {
+  PointMassDevice device = makeOpenOmega();
+  device.hand().grab(device.truePosition_m());
+  const Eigen::Vector3d goal(0.03, -0.02, 0.01);
+  device.hand().moveTo(goal, 0.1);
+  device.advance(1.0);
+  EXPECT_TRUE(device.hand().atGoal());
+  // The grip spring carries the weight: it sags by G/k below the goal.
+  const Eigen::Vector3d sag = -device.trueGravity(goal) / device.hand().stiffness_n_per_m;
+  EXPECT_LT((device.truePosition_m() - (goal + sag)).norm(), 2e-4);
+  device.hand().release();
+  device.advance(0.05);
+  EXPECT_LT(device.truePosition_m().z(), goal.z() + sag.z() - 0.005);
+}
+
+TEST(PointMassDeviceTest, UncalibratedDeviceNeedsForcedHoming) {
+  PointMassDevice device(omegaParameters(), 1);
+  device.setCalibrated(false);
+  ASSERT_TRUE(device.open());
+  EXPECT_FALSE(device.isCalibrated());
+  EXPECT_FALSE(device.calibrate());
+  Eigen::Vector3d x;
+  ASSERT_TRUE(device.getPosition(x));
+  EXPECT_GT((x - device.truePosition_m()).norm(), 0.01);
+  EXPECT_TRUE(device.calibrate(true));
+  EXPECT_TRUE(device.calibrate());
+  device.advance(0.001);
+  ASSERT_TRUE(device.getPosition(x));
+  EXPECT_LT((x - device.truePosition_m()).norm(), 2e-5);
+}
+
+TEST(PointMassDeviceTest, ClosedDeviceAnswersNothingAndSwitchesWork) {
+  PointMassDevice device(omegaParameters(), 1);
+  Eigen::Vector3d x;
+  bool pressed = true;
+  EXPECT_FALSE(device.getPosition(x));
+  EXPECT_FALSE(device.setForce(Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(device.open());
+  EXPECT_TRUE(device.getUserSwitch(0, pressed));
+  EXPECT_FALSE(pressed);
+  device.setUserSwitch(1, true);
+  EXPECT_TRUE(device.getUserSwitch(1, pressed));
+  EXPECT_TRUE(pressed);
+  EXPECT_FALSE(device.getUserSwitch(SimulatedDriver::kSwitchCount, pressed));
+  EXPECT_FALSE(device.getUserSwitch(-1, pressed));
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d(0, 0, 1)));
+  ASSERT_TRUE(device.close());
+  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
+  EXPECT_FALSE(device.getPosition(x));
+}
+
+TEST(PointMassDeviceTest, ResetStateRejectsUnreachablePositions) {
+  PointMassDevice device(omegaParameters(), 1);
+  EXPECT_THROW(device.resetState(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
+  EXPECT_THROW(device.resetState(Eigen::Vector3d(NAN, 0.0, 0.0)), Error);
+}
+
+TEST(PointMassDeviceTest, BadParametersAreRefusedWithTheirName) {
+  PointMassParameters parameters = omegaParameters();
+  parameters.gravity_gradient_n_per_m(0, 1) = 7.0;  // not symmetric
+  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
+  parameters = omegaParameters();
+  parameters.static_friction_n = 0.001;  // below Coulomb
+  try {
+    PointMassDevice device(parameters, 1);
+    FAIL() << "expected autograv::Error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("static_friction_n"), std::string::npos);
+  }
+}
+
+TEST(PointMassDeviceTest, SpecificationsDescribeAnOmega3) {
+  const PointMassDevice device(omegaParameters(), 1);
+  const auto& spec = device.specifications();
+  EXPECT_EQ(spec.model_name, "sim:omega");
+  EXPECT_FALSE(spec.manufacturer.empty());
+  EXPECT_EQ(spec.max_linear_force_n, 12.0);
+  EXPECT_EQ(spec.workspace_radius_m, 0.075);
+  EXPECT_EQ(spec.max_linear_stiffness_n_per_m, 14500.0);
+  EXPECT_EQ(spec.max_linear_damping_n_s_per_m, 20.0);
+  EXPECT_EQ(device.internalStep_s(), 1e-4);
+  EXPECT_EQ(device.workspaceCenter_m(), Eigen::Vector3d::Zero());
+}
+
+}  // namespace
+}  // namespace autograv::sim
