@@ -68,6 +68,8 @@ class AutoCalibrator {
   /// Stops the run; keeps holding the end-effector where it is. Real-time safe.
   void abort() noexcept;
 
+  /// What the calibrator is doing now (never kVertexFinished, which step() reports once).
+  Status state() const noexcept { return state_; }
   int vertexCount() const noexcept { return grid_.vertexCount(); }
   /// Vertices this run has to visit, and how many of them are done.
   int toVisitCount() const noexcept { return static_cast<int>(order_.size()); }

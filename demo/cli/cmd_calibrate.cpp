@@ -1,0 +1,238 @@
+// autograv calibrate: the whole off-line autocalibration on a simulated device.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "autograv/error.h"
+#include "autograv/map_io.h"
+#include "autograv/sim/procedures.h"
+#include "cli_support.h"
+#include "commands.h"
+#include "estimation_options.h"
+
+namespace autograv::cli {
+
+namespace {
+
+std::atomic<bool> g_stop_requested{false};
+extern "C" void requestStop(int) { g_stop_requested.store(true); }
+
+struct CalibrateOptions {
+  std::string device = "sim:omega";
+  int grid = 0;         // 0: the device's default
+  double side_mm = 0.0; // 0: the device's default
+  std::uint64_t seed = 1;
+  std::string out_path;
+  std::string report_path;
+  bool resume = false;
+  bool copy_initial_estimate = false;
+  EstimationParameters parameters;
+};
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+double median(std::vector<int> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void runCalibrateCommand(const CalibrateOptions& options) {
+  auto device = openSimulatedDevice(options.device, options.seed);
+  const DeviceSpecifications& specs = device->specifications();
+  // Default grid: the cube inscribed in the workspace sphere, shrunk to 80 % to stay clear of the
+  // end stops; 5 vertices per axis.
+  const double default_side_m =
+      std::round(0.8 * 2.0 * specs.workspace_radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+  sim::CalibrationRunOptions run;
+  run.grid_center_m = device->workspaceCenter_m();
+  run.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : default_side_m;
+  run.grid_resolution = options.grid > 0 ? options.grid : 5;
+  run.parameters = options.parameters;
+  run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
+  const WorkspaceGrid grid(run.grid_center_m, run.grid_side_m, run.grid_resolution);
+
+  MapMetadata metadata;
+  metadata.device_model = specs.model_name;
+  metadata.device_serial = specs.serial_number;
+  metadata.parameters = options.parameters;
+  const std::string checkpoint_path = options.out_path + ".partial";
+  if (options.resume) {
+    if (!std::filesystem::exists(checkpoint_path)) {
+      throw Error("--resume: no checkpoint " + checkpoint_path + " (nothing to resume)");
+    }
+    MapLoadOptions load;
+    load.expected_device_model = specs.model_name;
+    const GravityMap partial = loadMap(checkpoint_path, load);
+    if (partial.grid().resolution() != grid.resolution() ||
+        std::abs(partial.grid().side_m() - grid.side_m()) > 1e-9 ||
+        !partial.grid().center_m().isApprox(grid.center_m(), 1e-9)) {
+      throw Error("--resume: checkpoint " + checkpoint_path +
+                  " was made for another grid; use the same --grid and --side-mm");
+    }
+    run.resume_from = partial.vertices();
+    std::fprintf(stderr, "resuming: %d of %d vertices already done (%s)\n",
+                 partial.convergedCount(), grid.vertexCount(), checkpoint_path.c_str());
+  }
+
+  std::printf("Calibrating %s: grid %d^3 = %d vertices, side %.1f mm (cell %.1f mm), seed %llu\n",
+              specs.model_name.c_str(), grid.resolution(), grid.vertexCount(), grid.side_m() * 1e3,
+              grid.spacing_m() * 1e3, static_cast<unsigned long long>(options.seed));
+  std::fflush(stdout);
+  ProgressBar progress("vertex");
+  run.on_progress = [&](const AutoCalibrator& calibrator) {
+    char detail[128];
+    const double delta_mm = calibrator.estimator().lastPositionError_m() * 1e3;
+    if (calibrator.state() == AutoCalibrator::Status::kEstimating && std::isfinite(delta_mm)) {
+      std::snprintf(detail, sizeof detail, "vertex #%d iter %d, delta %.3f mm, sim %.0f s",
+                    calibrator.currentVertex(), calibrator.estimator().iteration(), delta_mm,
+                    calibrator.elapsed_s());
+    } else {
+      std::snprintf(detail, sizeof detail, "%s, sim %.0f s", toString(calibrator.state()),
+                    calibrator.elapsed_s());
+    }
+    progress.update(calibrator.visitedCount(), calibrator.toVisitCount(), detail);
+  };
+  run.on_vertex_finished = [&](const AutoCalibrator& calibrator, int) {
+    metadata.created_utc = utcNow();
+    saveMap(calibrator.makeMap(metadata), checkpoint_path);  // atomic: temp file + rename
+  };
+  g_stop_requested.store(false);
+  run.stop_requested = &g_stop_requested;
+  std::signal(SIGINT, requestStop);
+  std::signal(SIGTERM, requestStop);
+
+  const auto wall_start = std::chrono::steady_clock::now();
+  const sim::CalibrationRunResult result = sim::runSimulatedCalibration(*device, run);
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  progress.finish();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+
+  metadata.created_utc = utcNow();
+  const GravityMap map(grid, result.vertices, metadata);
+  if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
+    saveMap(map, checkpoint_path);
+    throw Error(std::string(result.stopped ? "interrupted" : "the device stopped answering") +
+                ": " + std::to_string(map.convergedCount()) + " of " +
+                std::to_string(grid.vertexCount()) + " vertices are saved in " + checkpoint_path +
+                "; run the same command with --resume to continue");
+  }
+  saveMap(map, options.out_path);
+  std::error_code ignored;
+  std::filesystem::remove(checkpoint_path, ignored);
+
+  std::vector<int> iterations;
+  std::vector<int> failed;
+  double vertex_seconds = 0.0;
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+    iterations.push_back(v.iterations);
+    vertex_seconds += v.seconds;
+    if (v.outcome != VertexOutcome::kConverged) failed.push_back(i);
+  }
+  const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
+  const int iterations_max = *std::max_element(iterations.begin(), iterations.end());
+
+  std::printf("\n%-34s %s\n", "map", options.out_path.c_str());
+  std::printf("%-34s %d / %d\n", "vertices converged", map.convergedCount(), grid.vertexCount());
+  std::printf("%-34s %.1f / %d (paper: 14 at one vertex)\n", "iterations per vertex (median/max)",
+              median(iterations), iterations_max);
+  std::printf("%-34s %.1f s (%.2f s per vertex), wall %.1f s\n", "simulated time",
+              result.simulated_seconds, vertex_seconds / grid.vertexCount(), wall_s);
+  std::printf("%-34s %.2f %% (vertex %d)\n", "worst vertex |G_hat - G| / |G|",
+              100.0 * accuracy.max_error_rel, accuracy.worst_vertex);
+  std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
+              100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
+  std::printf("%-34s %.1f N/m (beta |G| / (2 g) = %.1f N/m)\n", "Lipschitz constant c (measured)",
+              result.lipschitz_n_per_m,
+              options.parameters.beta_per_s2 * result.initialization.gravity_n.norm() /
+                  (2.0 * kStandardGravity));
+  std::printf("%-34s %.2f N of %.2f N, %llu clamps\n", "peak force", result.peak_force_n,
+              specs.max_linear_force_n, static_cast<unsigned long long>(result.saturation_count));
+  for (int index : failed) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(index)];
+    std::printf("  vertex %d: %s after %d iterations\n", index, toString(v.outcome), v.iterations);
+  }
+
+  nlohmann::json failed_json = nlohmann::json::array();
+  for (int index : failed) {
+    failed_json.push_back(
+        {{"vertex", index},
+         {"outcome", toString(map.vertices()[static_cast<std::size_t>(index)].outcome)}});
+  }
+  const nlohmann::json report = {
+      {"device", specs.model_name},
+      {"seed", options.seed},
+      {"map", options.out_path},
+      {"grid", {{"resolution", grid.resolution()}, {"side_m", grid.side_m()},
+                {"center_m", {grid.center_m().x(), grid.center_m().y(), grid.center_m().z()}}}},
+      {"vertices", grid.vertexCount()},
+      {"converged", map.convergedCount()},
+      {"failed", failed_json},
+      {"iterations_median", median(iterations)},
+      {"iterations_max", iterations_max},
+      {"simulated_seconds", result.simulated_seconds},
+      {"seconds_per_vertex", vertex_seconds / grid.vertexCount()},
+      {"wall_seconds", wall_s},
+      {"max_error_rel", accuracy.max_error_rel},
+      {"worst_vertex", accuracy.worst_vertex},
+      {"rms_residual_rel", accuracy.rms_residual_rel},
+      {"mean_true_gravity_n", accuracy.mean_true_norm_n},
+      {"lipschitz_n_per_m", result.lipschitz_n_per_m},
+      {"peak_force_n", result.peak_force_n},
+      {"max_force_n", specs.max_linear_force_n},
+      {"saturation_count", result.saturation_count},
+      {"initial_gravity_n", {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
+                             result.initialization.gravity_n.z()}},
+      {"parameters", parametersJson(options.parameters)}};
+  writeJsonReport(options.report_path, report);
+}
+
+void addCalibrateCommand(CLI::App& app) {
+  auto options = std::make_shared<CalibrateOptions>();
+  CLI::App* command = app.add_subcommand(
+      "calibrate", "Run the whole off-line autocalibration on a simulated device and save the map");
+  command->add_option("--device", options->device, "Simulated device")
+      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
+      ->capture_default_str();
+  command->add_option("--grid", options->grid, "Vertices per axis (default 5)")
+      ->check(CLI::Range(2, 16));
+  command->add_option("--side-mm", options->side_mm,
+                      "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
+  command->add_option("--report", options->report_path, "Write a JSON report here");
+  command->add_flag("--resume", options->resume,
+                    "Continue an interrupted run from <out>.partial, keeping its vertices");
+  command->add_flag("--copy-initial-estimate", options->copy_initial_estimate,
+                    "Start each vertex from the previous estimate exactly as eq. (9) says, "
+                    "instead of extrapolating from the two previous vertices");
+  addEstimationOptions(*command, options->parameters);
+  command->callback([options] { runCalibrateCommand(*options); });
+}
+
+}  // namespace
+
+AUTOGRAV_REGISTER_COMMAND(30, addCalibrateCommand);
+
+}  // namespace autograv::cli

@@ -1,0 +1,53 @@
+#include "estimation_options.h"
+
+namespace autograv::cli {
+
+void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
+  command.add_option("--alpha", p.alpha_per_s, "PD damping alpha, K_D = alpha M [1/s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command.add_option("--beta", p.beta_per_s2, "PD stiffness beta, K_P = beta M [1/s^2]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      .add_option_function<double>(
+          "--k0", [&p](double n_per_mm) { p.k0_n_per_m = n_per_mm * 1e3; },
+          "Initialization field stiffness [N/mm] (default 0.5)")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--n-s", p.n_s, "Slow samples that make a steady state")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  command
+      .add_option_function<double>(
+          "--eps-s", [&p](double mm_per_s) { p.eps_s_m_per_s = mm_per_s * 1e-3; },
+          "Steady-state speed threshold [mm/s] (default 0.1)")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--n-g", p.n_g, "Small updates that end a vertex")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command
+      .add_option_function<double>(
+          "--eps-g", [&p](double grams) { p.eps_g_n = grams * 1e-3 * kStandardGravity; },
+          "Estimate-change threshold [g-force] (default 0.5)")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--max-iterations", p.max_iterations, "Iteration cap per vertex")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+}
+
+nlohmann::json parametersJson(const EstimationParameters& p) {
+  return {{"alpha_per_s", p.alpha_per_s},
+          {"beta_per_s2", p.beta_per_s2},
+          {"k0_n_per_m", p.k0_n_per_m},
+          {"n_s", p.n_s},
+          {"eps_s_m_per_s", p.eps_s_m_per_s},
+          {"n_g", p.n_g},
+          {"eps_g_n", p.eps_g_n},
+          {"min_step_duration_s", p.min_step_duration_s},
+          {"max_step_duration_s", p.max_step_duration_s},
+          {"max_iterations", p.max_iterations},
+          {"servo_period_s", p.servo_period_s},
+          {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m}};
+}
+
+}  // namespace autograv::cli

@@ -1,0 +1,111 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/auto_calibrator.h"
+#include "autograv/estimation_parameters.h"
+#include "autograv/gravity_map.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv::sim {
+
+/// Result of the manual initialization (paper Sec. III-A) done by the simulated hand.
+struct InitializationResult {
+  bool ok = false;
+  std::string message;                                  ///< Why not, when !ok.
+  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0 (eq. 7). Unit: [N]
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();   ///< X0. Unit: [m]
+  Eigen::Vector3d settled_m = Eigen::Vector3d::Zero();  ///< X_inf. Unit: [m]
+  double seconds = 0.0;                                 ///< Simulated. Unit: [s]
+};
+
+/// The manual step as a person would do it: the simulated hand grabs the end-effector, carries it
+/// to `center_m`, the k0 field fades in, the hand lets go, and eq. (7) gives G_hat_0 once the
+/// end-effector settles. Runs the servo loop on simulated time. Not real-time safe.
+InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
+                                                 const EstimationParameters& parameters,
+                                                 const Eigen::Vector3d& center_m,
+                                                 double timeout_s = 30.0);
+
+/// The paper's Section V experiment on a simulated device.
+struct PaperExperimentResult {
+  InitializationResult initialization;
+  VertexEstimate estimate;                                   ///< Outcome, iterations, history.
+  Eigen::Vector3d target_m = Eigen::Vector3d::Zero();        ///< X_D. Unit: [m]
+  Eigen::Vector3d gravity_true_n = Eigen::Vector3d::Zero();  ///< G(X_D). Unit: [N]
+  double mass_true_kg = 0.0;       ///< |G(X_D)| / g, the "force sensor" of Fig. 9. Unit: [kg]
+  double simulated_seconds = 0.0;  ///< Unit: [s]
+};
+
+/// Initializes at the paper's start point [-9.2, -68.3, 11.6] mm (the user's choice of X0), then
+/// runs the inner loop at X_D = [0, -30, 0] mm (paper frame) from there.
+/// Not real-time safe.
+PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
+                                         const EstimationParameters& parameters);
+
+struct CalibrationRunOptions {
+  Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
+  double grid_side_m = 0.06;
+  int grid_resolution = 4;
+  EstimationParameters parameters;
+  AutoCalibrator::Options calibrator;
+  /// Finished vertices of an earlier, interrupted run (empty: start afresh).
+  std::vector<VertexEstimate> resume_from;
+  /// Called every `progress_period_s` of simulated time, and when a vertex finishes.
+  std::function<void(const AutoCalibrator&)> on_progress;
+  double progress_period_s = 0.5;
+  /// Called after each finished vertex (checkpoint it here: it runs between servo ticks).
+  std::function<void(const AutoCalibrator&, int vertex)> on_vertex_finished;
+  /// Set to true from another thread or a signal handler to stop after the current tick.
+  const std::atomic<bool>* stop_requested = nullptr;
+  /// Gives up when the whole run exceeds this much simulated time. Unit: [s]
+  double timeout_s = 3600.0;
+};
+
+struct CalibrationRunResult {
+  AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
+  InitializationResult initialization;
+  std::vector<VertexEstimate> vertices;
+  double simulated_seconds = 0.0;      ///< Initialization included. Unit: [s]
+  double lipschitz_n_per_m = 0.0;      ///< Paper's c, measured. Unit: [N/m]
+  double peak_force_n = 0.0;           ///< Largest force commanded. Unit: [N]
+  std::uint64_t saturation_count = 0;  ///< setForce calls the device clamped.
+  bool stopped = false;                ///< stop_requested was honoured.
+};
+
+/// Whole off-line autocalibration on a simulated device: feasibility checks (refused with a
+/// message before the device moves by itself), manual initialization by the simulated hand, then
+/// the outer loop over every vertex. Throws autograv::Error when a check fails or the
+/// initialization cannot finish. Not real-time safe.
+CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
+                                             const CalibrationRunOptions& options);
+
+/// The feasibility checks of Sections IV and VI for a grid, with G_hat_0 standing in for the
+/// unknown field (its norm grown by `field_margin` for the variation over the grid). Returns the
+/// messages of the failed checks (empty when all pass). Not real-time safe.
+std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
+                                              double max_force_n,
+                                              const Eigen::Vector3d& initial_gravity_n,
+                                              double field_margin = 1.3);
+
+/// Accuracy of a map against the device's ground truth.
+struct AccuracyReport {
+  double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
+  int worst_vertex = -1;
+  double rms_residual_rel = 0.0;  ///< RMS of |G_hat(X) - G(X)| at random points / mean |G|.
+  double mean_true_norm_n = 0.0;  ///< Unit: [N]
+  int samples = 0;
+};
+
+/// Compares `map` with `device.trueGravity` at every vertex and at `samples` seeded random points
+/// inside the grid. Not real-time safe.
+AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& device,
+                               int samples = 1000, std::uint64_t seed = 1);
+
+}  // namespace autograv::sim

@@ -1,0 +1,232 @@
+#include "autograv/sim/procedures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "autograv/error.h"
+#include "autograv/initialization_estimator.h"
+#include "autograv/pd_design.h"
+#include "autograv/servo_sample.h"
+#include "autograv/sim/paper_frame.h"
+#include "autograv/vertex_estimator.h"
+
+namespace autograv::sim {
+
+namespace {
+
+// How a person does the manual step: carry the stylus at 5 cm/s, hold it still for half a second,
+// switch the field on, keep holding while it fades in, then let go.
+constexpr double kHandSpeed_m_per_s = 0.05;
+constexpr double kHandHold_s = 0.5;
+constexpr double kFieldRamp_s = 0.3;
+
+/// One servo tick on simulated time: read, control, command, advance.
+template <typename Control>
+void servoTick(SimulatedDevice& device, double period_s, Control&& control) {
+  const ServoSample sample = readServoSample(device);
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  control(sample, force_n);
+  device.setForce(force_n);
+  device.advance(period_s);
+}
+
+}  // namespace
+
+InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
+                                                 const EstimationParameters& parameters,
+                                                 const Eigen::Vector3d& center_m,
+                                                 double timeout_s) {
+  const double period_s = parameters.servo_period_s;
+  const double start_s = device.time_s();
+  const auto zero_force = [](const ServoSample&, Eigen::Vector3d& force_n) { force_n.setZero(); };
+  InitializationResult result;
+  SimulatedHand& hand = device.hand();
+  if (!hand.holding()) hand.grab(device.truePosition_m());
+  hand.moveTo(center_m, kHandSpeed_m_per_s);
+  while (!hand.atGoal() && device.time_s() - start_s < timeout_s) {
+    servoTick(device, period_s, zero_force);
+  }
+  for (double t = 0.0; t < kHandHold_s; t += period_s) servoTick(device, period_s, zero_force);
+
+  InitializationEstimator estimator(parameters, device.specifications().max_linear_force_n,
+                                    kFieldRamp_s);
+  const ServoSample at_center = readServoSample(device);
+  if (!at_center.valid) {
+    result.message = "the device did not answer while the hand held it at the centre";
+    return result;
+  }
+  estimator.start(at_center.position_m);
+  const double field_on_s = device.time_s();
+  InitializationEstimator::Status status = InitializationEstimator::Status::kRampingIn;
+  while (status != InitializationEstimator::Status::kDone &&
+         status != InitializationEstimator::Status::kDeviceFault &&
+         device.time_s() - start_s < timeout_s) {
+    if (hand.holding() && device.time_s() - field_on_s > kFieldRamp_s + 0.1) hand.release();
+    servoTick(device, period_s, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      status = estimator.step(sample, force_n);
+    });
+  }
+  result.seconds = device.time_s() - start_s;
+  result.center_m = estimator.center_m();
+  if (status == InitializationEstimator::Status::kDeviceFault) {
+    result.message = "the device stopped answering during the initialization";
+    return result;
+  }
+  if (status != InitializationEstimator::Status::kDone) {
+    std::ostringstream message;
+    message << "the end-effector did not settle in the k0 field within " << timeout_s
+            << " s (raise eps_S or k0)";
+    result.message = message.str();
+    return result;
+  }
+  result.ok = true;
+  result.gravity_n = estimator.gravityEstimate_n();
+  result.settled_m = estimator.center_m() - result.gravity_n / parameters.k0_n_per_m;
+  return result;
+}
+
+PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
+                                         const EstimationParameters& parameters) {
+  PaperExperimentResult result;
+  const double start_s = device.time_s();
+  // The user picks the (random) start point and initializes there: X0 = start (Sec. III-A, V).
+  device.resetState(paperStartPoint_m());
+  device.hand().grab(device.truePosition_m());
+  result.initialization = initializeWithSimulatedHand(device, parameters, paperStartPoint_m());
+  if (!result.initialization.ok) {
+    throw Error("paper experiment: initialization failed: " + result.initialization.message);
+  }
+  result.target_m = paperTargetPoint_m();
+  result.gravity_true_n = device.trueGravity(result.target_m);
+  result.mass_true_kg = result.gravity_true_n.norm() / kStandardGravity;
+
+  VertexEstimator estimator(parameters, device.specifications().max_linear_force_n);
+  estimator.start(result.target_m, result.initialization.gravity_n);
+  const double timeout_s = parameters.max_iterations * parameters.max_step_duration_s;
+  const double loop_start_s = device.time_s();
+  while (!estimator.finished() && device.time_s() - loop_start_s < timeout_s) {
+    servoTick(device, parameters.servo_period_s,
+              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+                estimator.step(sample, force_n);
+              });
+  }
+  result.estimate = estimator.estimate();
+  result.simulated_seconds = device.time_s() - start_s;
+  return result;
+}
+
+std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
+                                              double max_force_n,
+                                              const Eigen::Vector3d& initial_gravity_n,
+                                              double field_margin) {
+  std::vector<std::string> problems;
+  const double gravity_n = initial_gravity_n.norm();
+  // Convergence needs the smallest |G| over the grid, saturation the largest.
+  const FeasibilityCheck convergence = checkConvergence(
+      parameters.beta_per_s2, gravity_n / field_margin, parameters.lipschitz_prior_n_per_m);
+  if (!convergence.ok) problems.push_back(convergence.message);
+  const FeasibilityCheck saturation =
+      checkSaturation(parameters.beta_per_s2, gravity_n * field_margin, cell_m, max_force_n);
+  if (!saturation.ok) problems.push_back(saturation.message);
+  return problems;
+}
+
+CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
+                                             const CalibrationRunOptions& options) {
+  const WorkspaceGrid grid(options.grid_center_m, options.grid_side_m, options.grid_resolution);
+  const EstimationParameters& parameters = options.parameters;
+  const double max_force_n = device.specifications().max_linear_force_n;
+  const double start_s = device.time_s();
+  CalibrationRunResult result;
+
+  result.initialization = initializeWithSimulatedHand(device, parameters, grid.center_m());
+  if (!result.initialization.ok) {
+    throw Error("calibration: manual initialization failed: " + result.initialization.message);
+  }
+  const auto problems = checkCalibrationPlan(parameters, grid.spacing_m(), max_force_n,
+                                             result.initialization.gravity_n);
+  if (!problems.empty()) {
+    std::string message = "calibration refused before the device moves by itself:";
+    for (const auto& problem : problems) message += "\n  - " + problem;
+    throw Error(message);
+  }
+
+  AutoCalibrator calibrator(grid, parameters, max_force_n, options.calibrator);
+  if (!options.resume_from.empty()) calibrator.restore(options.resume_from);
+  const ServoSample first = readServoSample(device);
+  calibrator.start(first.valid ? first.position_m : grid.center_m(),
+                   result.initialization.gravity_n);
+
+  const std::uint64_t saturations_before = device.saturationCount();
+  double next_progress_s = device.time_s();
+  AutoCalibrator::Status status = AutoCalibrator::Status::kMoving;
+  while (device.time_s() - start_s < options.timeout_s) {
+    if (options.stop_requested != nullptr && options.stop_requested->load()) {
+      result.stopped = true;
+      break;
+    }
+    servoTick(device, parameters.servo_period_s,
+              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+                status = calibrator.step(sample, force_n);
+              });
+    if (status == AutoCalibrator::Status::kVertexFinished) {
+      if (options.on_vertex_finished) {
+        options.on_vertex_finished(calibrator, calibrator.lastFinishedVertex());
+      }
+      if (options.on_progress) options.on_progress(calibrator);
+    } else if (options.on_progress && device.time_s() >= next_progress_s) {
+      options.on_progress(calibrator);
+      next_progress_s = device.time_s() + options.progress_period_s;
+    }
+    if (status == AutoCalibrator::Status::kFinished ||
+        status == AutoCalibrator::Status::kDeviceFault) {
+      break;
+    }
+  }
+  if (options.on_progress) options.on_progress(calibrator);
+  device.setForce(Eigen::Vector3d::Zero());
+  result.status = status;
+  result.vertices = calibrator.vertices();
+  result.simulated_seconds = device.time_s() - start_s;
+  result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
+  result.peak_force_n = calibrator.peakForce_n();
+  result.saturation_count = device.saturationCount() - saturations_before;
+  return result;
+}
+
+AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& device, int samples,
+                               std::uint64_t seed) {
+  AccuracyReport report;
+  const WorkspaceGrid& grid = map.grid();
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    const Eigen::Vector3d truth = device.trueGravity(grid.vertexPosition(i));
+    const double error = (vertex.gravity_n - truth).norm() / truth.norm();
+    if (error > report.max_error_rel) {
+      report.max_error_rel = error;
+      report.worst_vertex = i;
+    }
+  }
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double sum_squared = 0.0;
+  double sum_norm = 0.0;
+  for (int k = 0; k < samples; ++k) {
+    const Eigen::Vector3d fraction(unit(random), unit(random), unit(random));
+    const Eigen::Vector3d point = grid.minCorner_m() + grid.side_m() * fraction;
+    const Eigen::Vector3d truth = device.trueGravity(point);
+    sum_squared += (map.gravityAt(point) - truth).squaredNorm();
+    sum_norm += truth.norm();
+  }
+  report.samples = samples;
+  if (samples > 0) {
+    report.mean_true_norm_n = sum_norm / samples;
+    report.rms_residual_rel = std::sqrt(sum_squared / samples) / report.mean_true_norm_n;
+  }
+  return report;
+}
+
+}  // namespace autograv::sim

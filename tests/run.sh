@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Builds autograv and runs every test: the full suite (VTK scene tests under xvfb-run, the OSMesa
+# renderer with no display at all), then the suite again under AddressSanitizer +
+# UndefinedBehaviorSanitizer, then the concurrency test under ThreadSanitizer.
+# Installs missing Debian packages first. Usage: bash tests/run.sh   (from anywhere)
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+jobs="$(nproc 2>/dev/null || echo 2)"
+start_s=$SECONDS
+cd "$root"
+
+"$root/.ci/install-deps.sh"
+
+step() { printf '\n=== %s (%ds)\n' "$*" $((SECONDS - start_s)); }
+
+step "configure and build (RelWithDebInfo, warnings as errors)"
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_WARNINGS_AS_ERRORS=ON
+cmake --build build/release -j "$jobs"
+
+step "tests that need no display (core, sim, wizard, OSMesa renderer)"
+(cd build/release && env -u DISPLAY ctest --output-on-failure -j "$jobs" -LE xvfb)
+
+step "VTK scene tests under xvfb-run"
+(cd build/release && xvfb-run -a -s "-screen 0 1600x1200x24" ctest --output-on-failure -j "$jobs" -L xvfb)
+
+step "AddressSanitizer + UndefinedBehaviorSanitizer build of core, sim and their tests"
+cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \
+  -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
+cmake --build build/asan -j "$jobs"
+(cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --output-on-failure -j "$jobs" -LE "xvfb|slow")
+
+if [[ -f tests/core/gravity_compensated_device_concurrency_test.cpp ]]; then
+  step "ThreadSanitizer: map published to a live servo thread"
+  cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-fsanitize=thread \
+    -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \
+    -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
+  cmake --build build/tsan -j "$jobs" --target gravity_compensated_device_concurrency_test
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/gravity_compensated_device_concurrency_test
+fi
+
+step "all tests passed"
