@@ -1,0 +1,149 @@
+// Whole-grid calibrations on the simulated devices, judged against their ground truth.
+#include <atomic>
+
+#include <gtest/gtest.h>
+
+#include "autograv/error.h"
+#include "autograv/sim/procedures.h"
+
+namespace autograv {
+namespace {
+
+struct Outcome {
+  sim::CalibrationRunResult run;
+  sim::AccuracyReport accuracy;
+  int converged = 0;
+};
+
+Outcome calibrate(const std::string& name, int resolution, double side_m, std::uint64_t seed,
+                  const EstimationParameters& parameters = {}) {
+  auto device = sim::makeSimulatedDevice(name, seed);
+  EXPECT_TRUE(device->open());
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.grid_side_m = side_m;
+  options.grid_resolution = resolution;
+  options.parameters = parameters;
+  Outcome outcome;
+  outcome.run = sim::runSimulatedCalibration(*device, options);
+  const GravityMap map(WorkspaceGrid(options.grid_center_m, side_m, resolution),
+                       outcome.run.vertices, MapMetadata{});
+  outcome.accuracy = sim::measureAccuracy(map, *device, 1000, seed);
+  outcome.converged = map.convergedCount();
+  return outcome;
+}
+
+TEST(CalibrationTest, OmegaFiveCubedMeetsTheAccuracyTargets) {
+  const Outcome outcome = calibrate("sim:omega", 5, 0.069, 1);
+  EXPECT_EQ(outcome.run.status, AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(outcome.converged, 125);
+  EXPECT_LE(outcome.accuracy.max_error_rel, 0.03);
+  EXPECT_LE(outcome.accuracy.rms_residual_rel, 0.05);
+  EXPECT_EQ(outcome.run.saturation_count, 0u);
+  EXPECT_LT(outcome.run.peak_force_n, 12.0);
+}
+
+TEST(CalibrationTest, ParametersThatWouldSaturateAreRefusedBeforeTheDeviceMoves) {
+  auto device = sim::makeSimulatedDevice("sim:omega", 1);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.grid_side_m = 0.069;
+  options.grid_resolution = 2;  // one 69 mm cell
+  options.parameters.beta_per_s2 = 2500.0;
+  try {
+    sim::runSimulatedCalibration(*device, options);
+    FAIL() << "expected a refusal";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("saturation check failed"), std::string::npos) << message;
+    EXPECT_NE(message.find("--beta"), std::string::npos) << message;
+  }
+}
+
+TEST(CalibrationTest, ABetaTooLowForConvergenceIsRefused) {
+  auto device = sim::makeSimulatedDevice("sim:omega", 1);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.parameters.beta_per_s2 = 50.0;
+  options.parameters.alpha_per_s = 10.0;
+  EXPECT_THROW(
+      {
+        try {
+          sim::runSimulatedCalibration(*device, options);
+        } catch (const Error& error) {
+          EXPECT_NE(std::string(error.what()).find("raise beta to at least"), std::string::npos);
+          throw;
+        }
+      },
+      Error);
+}
+
+TEST(CalibrationTest, VerticesThatHitTheCapAreMarkedAndTheGridGoesOn) {
+  EstimationParameters parameters;
+  parameters.eps_g_n = 1e-7;  // unreachable through friction and quantization
+  parameters.max_iterations = 6;
+  const Outcome outcome = calibrate("sim:omega", 2, 0.04, 1, parameters);
+  EXPECT_EQ(outcome.run.status, AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(outcome.converged, 0);
+  for (const auto& vertex : outcome.run.vertices) {
+    EXPECT_EQ(vertex.outcome, VertexOutcome::kIterationCap);
+    EXPECT_EQ(vertex.iterations, 6);
+    EXPECT_GT(vertex.gravity_n.norm(), 1.0);  // the last estimate is kept, not zeroed
+  }
+}
+
+TEST(CalibrationTest, AStoppedRunResumesKeepingFinishedVerticesBitForBit) {
+  auto device = sim::makeSimulatedDevice("sim:omega", 4);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.grid_side_m = 0.04;
+  options.grid_resolution = 3;
+  std::atomic<bool> stop{false};
+  int finished = 0;
+  options.stop_requested = &stop;
+  options.on_vertex_finished = [&](const AutoCalibrator&, int) {
+    if (++finished == 8) stop = true;
+  };
+  const sim::CalibrationRunResult first = sim::runSimulatedCalibration(*device, options);
+  EXPECT_TRUE(first.stopped);
+
+  auto fresh = sim::makeSimulatedDevice("sim:omega", 5);
+  ASSERT_TRUE(fresh->open());
+  options.stop_requested = nullptr;
+  options.on_vertex_finished = nullptr;
+  options.resume_from = first.vertices;
+  const sim::CalibrationRunResult second = sim::runSimulatedCalibration(*fresh, options);
+  EXPECT_EQ(second.status, AutoCalibrator::Status::kFinished);
+  int kept = 0;
+  for (std::size_t i = 0; i < first.vertices.size(); ++i) {
+    if (first.vertices[i].outcome != VertexOutcome::kConverged) continue;
+    ++kept;
+    EXPECT_EQ(second.vertices[i].gravity_n, first.vertices[i].gravity_n);
+  }
+  EXPECT_EQ(kept, 8);
+  for (const auto& vertex : second.vertices) EXPECT_EQ(vertex.outcome, VertexOutcome::kConverged);
+}
+
+TEST(CalibrationTest, ADeviceThatStopsAnsweringEndsTheRunAndKeepsTheFinishedVertices) {
+  auto device = sim::makeSimulatedDevice("sim:omega", 6);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.grid_side_m = 0.04;
+  options.grid_resolution = 3;
+  int finished = 0;
+  options.on_vertex_finished = [&](const AutoCalibrator&, int) {
+    if (++finished == 5) device->injectFault(sim::DeviceFault::kStopsAnswering);
+  };
+  const sim::CalibrationRunResult result = sim::runSimulatedCalibration(*device, options);
+  EXPECT_EQ(result.status, AutoCalibrator::Status::kDeviceFault);
+  int converged = 0;
+  for (const auto& vertex : result.vertices) converged += vertex.outcome == VertexOutcome::kConverged;
+  EXPECT_EQ(converged, 5);
+}
+
+}  // namespace
+}  // namespace autograv
