@@ -1,0 +1,101 @@
+#pragma once
+
+// Shared by the gl tests: a fixed gravity map built in code, a fixed scene over it, and a
+// screenshot comparison against tests/visual/golden/ with a tolerance.
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "autograv/gl/image.h"
+#include "autograv/gl/scene.h"
+#include "autograv/gravity_map.h"
+
+namespace autograv::gl::testing {
+
+/// A 5x5x5 map over a 0.16 m cube whose apparent gravity (the force that holds the end-effector)
+/// points up and grows toward +x and -z, with a small sideways part: enough variety that a wrong
+/// colour ramp or arrow direction shows in the picture.
+inline std::shared_ptr<const GravityMap> makeTestMap() {
+  WorkspaceGrid grid(Eigen::Vector3d(0.0, 0.0, 0.02), 0.16, 5);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const Eigen::Vector3d p = grid.vertexPosition(i) - grid.center_m();
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    v.gravity_n = Eigen::Vector3d(0.8 * p.y(), -0.6 * p.x(), 1.4 + 5.0 * p.x() - 3.0 * p.z());
+    v.outcome = VertexOutcome::kConverged;
+    v.iterations = 6;
+  }
+  MapMetadata metadata;
+  metadata.device_model = "sim:omni";
+  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+}
+
+/// The fixed scene of the screenshot tests: the map, a held cursor with its trail and hand
+/// target, the force being sent, a readout and a status line.
+inline Scene makeTestScene() {
+  Scene scene;
+  scene.map = makeTestMap();
+  scene.camera = OrbitCamera::framing(scene.map->grid());
+  scene.show_cursor = true;
+  scene.cursor_m = Eigen::Vector3d(0.01, 0.03, 0.05);
+  scene.cursor_held = true;
+  for (int i = 0; i <= 40; ++i) {
+    const double t = i / 40.0;
+    scene.trail_m.emplace_back(0.01 - 0.05 * (1 - t), 0.03 - 0.06 * (1 - t) * (1 - t),
+                               0.05 - 0.04 * std::sin(3.0 * (1 - t)));
+  }
+  scene.show_hand_target = true;
+  scene.hand_target_m = Eigen::Vector3d(0.012, 0.036, 0.058);
+  scene.show_force = true;
+  scene.force_n = scene.map->gravityAt(scene.cursor_m);
+  scene.readout = {"SIM:OMNI  COMPENSATION ON 100%", "SERVO 1000.0 HZ  WORST BURST 0.0 MS",
+                   "FORCE SENT 0.03 -0.01 1.39 N", "CLAMPS 0  FAULTS 0",
+                   "DRIFT SINCE RELEASE 0.0 MM"};
+  scene.status_line = "DRAG: MOVE  C: COMPENSATION  A: CALIBRATE";
+  return scene;
+}
+
+inline std::string goldenPath(const std::string& name) {
+  return std::string(AUTOGRAV_SOURCE_DIR) + "/tests/visual/golden/" + name;
+}
+
+/// Where a test leaves the pictures it made, to look at after a failure.
+inline std::string outputPath(const std::string& name) {
+  const std::string folder = std::string(AUTOGRAV_BINARY_DIR) + "/tests/gl_output";
+  ::mkdir((std::string(AUTOGRAV_BINARY_DIR) + "/tests").c_str(), 0755);
+  ::mkdir(folder.c_str(), 0755);
+  return folder + "/" + name;
+}
+
+/// A pixel differs when a channel is off by more than this (llvmpipe on another CPU may round
+/// edges differently; a wrong colour or a missing object is far beyond it).
+inline constexpr int kPixelThreshold = 40;
+/// A screenshot matches when at most this fraction of its pixels differ.
+inline constexpr double kMaxFractionDiffering = 0.002;
+
+/// Compares `actual` with the golden `name`; with AUTOGRAV_UPDATE_GOLDEN=1 in the environment it
+/// rewrites the golden instead. The picture and a difference map are left in outputPath().
+inline ImageDifference compareWithGolden(const Image& actual, const std::string& name) {
+  writePng(actual, outputPath(name));
+  const char* update = std::getenv("AUTOGRAV_UPDATE_GOLDEN");
+  if (update != nullptr && std::string(update) == "1") {
+    writePng(actual, goldenPath(name));
+    ADD_FAILURE() << "golden " << goldenPath(name) << " rewritten; rerun without "
+                  << "AUTOGRAV_UPDATE_GOLDEN and look at it before committing";
+    return {};
+  }
+  const Image golden = readPng(goldenPath(name));
+  const ImageDifference difference = compareImages(actual, golden, kPixelThreshold);
+  if (difference.fraction_differing > kMaxFractionDiffering) {
+    writePng(differenceImage(actual, golden, kPixelThreshold), outputPath("diff_" + name));
+  }
+  return difference;
+}
+
+}  // namespace autograv::gl::testing
