@@ -1,7 +1,7 @@
 #include "cli_support.h"
 
-#include <unistd.h>
 #include <sys/ioctl.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -28,7 +28,8 @@ void writeJsonReport(const std::string& path, const nlohmann::json& report) {
   temporary += ".tmp";
   {
     std::ofstream out(temporary, std::ios::trunc);
-    if (!out) throw Error("report " + path + ": cannot open " + temporary.string() + " for writing");
+    if (!out)
+      throw Error("report " + path + ": cannot open " + temporary.string() + " for writing");
     out << report.dump(2) << '\n';
     out.flush();
     if (!out) throw Error("report " + path + ": write failed (disk full?)");
@@ -89,7 +90,8 @@ void ProgressBar::update(int done, int total, const std::string& detail) {
   line << "  ETA " << (last ? "0s" : formatDuration(eta));
   std::string text = line.str();
   if (terminal_) {
-    if (static_cast<int>(text.size()) > columns - 1) text.resize(static_cast<std::size_t>(columns - 1));
+    if (static_cast<int>(text.size()) > columns - 1)
+      text.resize(static_cast<std::size_t>(columns - 1));
     std::fprintf(stderr, "\r\033[K%s", text.c_str());
   } else {
     std::fprintf(stderr, "%s\n", text.c_str());

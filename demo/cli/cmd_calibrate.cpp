@@ -28,8 +28,8 @@ extern "C" void requestStop(int) { g_stop_requested.store(true); }
 
 struct CalibrateOptions {
   std::string device = "sim:omega";
-  int grid = 0;         // 0: the device's default
-  double side_mm = 0.0; // 0: the device's default
+  int grid = 0;          // 0: the device's default
+  double side_mm = 0.0;  // 0: the device's default
   std::uint64_t seed = 1;
   std::string out_path;
   std::string report_path;
@@ -183,8 +183,10 @@ void runCalibrateCommand(const CalibrateOptions& options) {
       {"device", specs.model_name},
       {"seed", options.seed},
       {"map", options.out_path},
-      {"grid", {{"resolution", grid.resolution()}, {"side_m", grid.side_m()},
-                {"center_m", {grid.center_m().x(), grid.center_m().y(), grid.center_m().z()}}}},
+      {"grid",
+       {{"resolution", grid.resolution()},
+        {"side_m", grid.side_m()},
+        {"center_m", {grid.center_m().x(), grid.center_m().y(), grid.center_m().z()}}}},
       {"vertices", grid.vertexCount()},
       {"converged", map.convergedCount()},
       {"failed", failed_json},
@@ -201,8 +203,9 @@ void runCalibrateCommand(const CalibrateOptions& options) {
       {"peak_force_n", result.peak_force_n},
       {"max_force_n", specs.max_linear_force_n},
       {"saturation_count", result.saturation_count},
-      {"initial_gravity_n", {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
-                             result.initialization.gravity_n.z()}},
+      {"initial_gravity_n",
+       {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
+        result.initialization.gravity_n.z()}},
       {"parameters", parametersJson(options.parameters)}};
   writeJsonReport(options.report_path, report);
 }
@@ -216,8 +219,9 @@ void addCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--grid", options->grid, "Vertices per axis (default 5)")
       ->check(CLI::Range(2, 16));
-  command->add_option("--side-mm", options->side_mm,
-                      "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
+  command
+      ->add_option("--side-mm", options->side_mm,
+                   "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
       ->check(CLI::PositiveNumber);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();

@@ -26,11 +26,12 @@ nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z(
 void runPaperExperimentCommand(const PaperExperimentOptions& options) {
   auto device = openSimulatedDevice(options.device, options.seed);
   const auto& p = options.parameters;
-  std::printf("Paper Sec. V on %s (seed %llu): alpha = %g 1/s, beta = %g 1/s^2, k0 = %g N/mm,\n"
-              "n_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
-              options.device.c_str(), static_cast<unsigned long long>(options.seed),
-              p.alpha_per_s, p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s, p.eps_s_m_per_s * 1e3,
-              p.n_g, p.eps_g_n / kStandardGravity * 1e3);
+  std::printf(
+      "Paper Sec. V on %s (seed %llu): alpha = %g 1/s, beta = %g 1/s^2, k0 = %g N/mm,\n"
+      "n_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
+      options.device.c_str(), static_cast<unsigned long long>(options.seed), p.alpha_per_s,
+      p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s, p.eps_s_m_per_s * 1e3, p.n_g,
+      p.eps_g_n / kStandardGravity * 1e3);
   const Eigen::Vector3d target_mm = sim::chai3dToPaperFrame(sim::paperTargetPoint_m());
   const Eigen::Vector3d start_mm = sim::chai3dToPaperFrame(sim::paperStartPoint_m());
   std::printf("X_D = [%.1f, %.1f, %.1f] mm, start = [%.1f, %.1f, %.1f] mm (paper frame, y up)\n\n",
@@ -62,22 +63,21 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options) {
               (result.estimate.gravity_n - result.gravity_true_n).norm() * 1e3,
               result.simulated_seconds);
 
-  nlohmann::json report = {
-      {"device", options.device},
-      {"seed", options.seed},
-      {"outcome", toString(result.estimate.outcome)},
-      {"converged", result.estimate.outcome == VertexOutcome::kConverged},
-      {"iterations", result.estimate.iterations},
-      {"mass_estimate_g", mass_estimate_g},
-      {"mass_true_g", mass_true_g},
-      {"mass_error_rel", error_rel},
-      {"gravity_estimate_n", vectorJson(result.estimate.gravity_n)},
-      {"gravity_true_n", vectorJson(result.gravity_true_n)},
-      {"initial_gravity_n", vectorJson(result.initialization.gravity_n)},
-      {"target_m", vectorJson(result.target_m)},
-      {"simulated_seconds", result.simulated_seconds},
-      {"parameters", parametersJson(p)},
-      {"history", history}};
+  nlohmann::json report = {{"device", options.device},
+                           {"seed", options.seed},
+                           {"outcome", toString(result.estimate.outcome)},
+                           {"converged", result.estimate.outcome == VertexOutcome::kConverged},
+                           {"iterations", result.estimate.iterations},
+                           {"mass_estimate_g", mass_estimate_g},
+                           {"mass_true_g", mass_true_g},
+                           {"mass_error_rel", error_rel},
+                           {"gravity_estimate_n", vectorJson(result.estimate.gravity_n)},
+                           {"gravity_true_n", vectorJson(result.gravity_true_n)},
+                           {"initial_gravity_n", vectorJson(result.initialization.gravity_n)},
+                           {"target_m", vectorJson(result.target_m)},
+                           {"simulated_seconds", result.simulated_seconds},
+                           {"parameters", parametersJson(p)},
+                           {"history", history}};
   writeJsonReport(options.report_path, report);
 }
 

@@ -20,5 +20,6 @@ void addRegisteredCommands(CLI::App& app);
 ///   AUTOGRAV_REGISTER_COMMAND(30, addCalibrateCommand);
 /// Orders: sim 10, paper-experiment 20, calibrate 30, inspect 40, verify 50, wizard 60,
 /// render/plot/export 70, bench 90.
-#define AUTOGRAV_REGISTER_COMMAND(order, function) \
-  static const bool autograv_registered_##function = ::autograv::cli::registerCommand(order, function)
+#define AUTOGRAV_REGISTER_COMMAND(order, function)   \
+  static const bool autograv_registered_##function = \
+      ::autograv::cli::registerCommand(order, function)

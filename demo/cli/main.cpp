@@ -34,8 +34,7 @@ void addRegisteredCommands(CLI::App& app) {
 }  // namespace autograv::cli
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "autograv - autocalibrated gravity compensation for 3-DoF impedance haptic devices"};
+  CLI::App app{"autograv - autocalibrated gravity compensation for 3-DoF impedance haptic devices"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "autograv 0.1.0");
   autograv::cli::addRegisteredCommands(app);

@@ -27,7 +27,9 @@ struct Fixture {
       if (status == AutoCalibrator::Status::kVertexFinished && ++finished == stop_after_vertices) {
         break;
       }
-      if (status == AutoCalibrator::Status::kFinished || status == AutoCalibrator::Status::kDeviceFault) break;
+      if (status == AutoCalibrator::Status::kFinished ||
+          status == AutoCalibrator::Status::kDeviceFault)
+        break;
     }
     return status;
   }
@@ -65,7 +67,8 @@ TEST(AutoCalibratorTest, ExtrapolationSavesIterationsWithoutChangingTheResult) {
     calibrators[k]->start(f.device.position_m, f.device.gravity(f.device.position_m));
     for (long tick = 0; tick < 2'000'000; ++tick) {
       Eigen::Vector3d force;
-      if (calibrators[k]->step(f.device.sample(), force) == AutoCalibrator::Status::kFinished) break;
+      if (calibrators[k]->step(f.device.sample(), force) == AutoCalibrator::Status::kFinished)
+        break;
       f.device.advance(force, kPeriod);
     }
     for (const auto& vertex : calibrators[k]->vertices()) iterations[k] += vertex.iterations;
@@ -88,7 +91,8 @@ TEST(AutoCalibratorTest, RestoredVerticesAreKeptBitForBitAndNotRevisited) {
   second.calibrator.restore(checkpoint);
   EXPECT_EQ(second.calibrator.toVisitCount(), 17);
   second.device.position_m = second.grid.center_m();
-  second.calibrator.start(second.device.position_m, second.device.gravity(second.device.position_m));
+  second.calibrator.start(second.device.position_m,
+                          second.device.gravity(second.device.position_m));
   EXPECT_EQ(second.run(2'000'000), AutoCalibrator::Status::kFinished);
   for (std::size_t i = 0; i < checkpoint.size(); ++i) {
     if (checkpoint[i].outcome != VertexOutcome::kConverged) continue;

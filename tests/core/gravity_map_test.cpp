@@ -61,9 +61,9 @@ TEST(GravityMapTest, RejectsMismatchedOrNonFiniteVertices) {
 }
 
 TEST(GravityMapTest, OutcomeNamesRoundTrip) {
-  for (auto outcome : {VertexOutcome::kPending, VertexOutcome::kConverged,
-                       VertexOutcome::kIterationCap, VertexOutcome::kNoSteadyState,
-                       VertexOutcome::kSaturated, VertexOutcome::kDeviceFault}) {
+  for (auto outcome :
+       {VertexOutcome::kPending, VertexOutcome::kConverged, VertexOutcome::kIterationCap,
+        VertexOutcome::kNoSteadyState, VertexOutcome::kSaturated, VertexOutcome::kDeviceFault}) {
     VertexOutcome parsed{};
     ASSERT_TRUE(parseVertexOutcome(toString(outcome), parsed));
     EXPECT_EQ(parsed, outcome);

@@ -12,7 +12,8 @@ namespace autograv::testing {
 class IdealPointMass {
  public:
   Eigen::Vector3d gravity_at_origin_n = Eigen::Vector3d(0.3, -0.2, -2.1);
-  Eigen::Matrix3d gradient_n_per_m = (Eigen::Matrix3d() << 8, 2, -3, 1, -6, 2, 4, -1, 12).finished();
+  Eigen::Matrix3d gradient_n_per_m =
+      (Eigen::Matrix3d() << 8, 2, -3, 1, -6, 2, 4, -1, 12).finished();
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();
 

@@ -14,7 +14,7 @@ TEST(MinimumJerkMoveTest, StartsAndEndsAtRest) {
   EXPECT_TRUE(p.isApprox(from));
   EXPECT_LT(v.norm() + a.norm(), 1e-12);
   move.sample(0.25, p, v, a);
-  EXPECT_TRUE(p.isApprox(0.5 * (from + to)));                 // symmetric profile
+  EXPECT_TRUE(p.isApprox(0.5 * (from + to)));                      // symmetric profile
   EXPECT_NEAR(v.norm(), 1.875 * (to - from).norm() / 0.5, 1e-12);  // peak speed 15/8 d/T
   move.sample(0.6, p, v, a);
   EXPECT_TRUE(p.isApprox(to));

@@ -16,8 +16,8 @@ TEST(PdDesignTest, PaperExampleAlphaMatchesExactlyBetaWithinTwentyPercent) {
   // 700, which is what a curve read by eye with 2.66 % overshoot instead of 5 % gives (below).
   EXPECT_NEAR(gains.beta_per_s2, 840.0, 1.0);
   const StepResponseSpec paper = analyzePdGains({40.0, 700.0});
-  EXPECT_NEAR(paper.settling_time_s, 0.2, 1e-12);      // same envelope: T_s is met
-  EXPECT_NEAR(paper.overshoot_percent, 2.66, 0.01);    // less overshoot than asked: safe side
+  EXPECT_NEAR(paper.settling_time_s, 0.2, 1e-12);    // same envelope: T_s is met
+  EXPECT_NEAR(paper.overshoot_percent, 2.66, 0.01);  // less overshoot than asked: safe side
 }
 
 TEST(PdDesignTest, DesignAndAnalysisAreInverse) {

@@ -38,9 +38,11 @@ TEST(VertexEstimatorTest, ConvergesToTheApparentGravityAtTheVertex) {
   EXPECT_GE(result.iterations, parameters.n_g + 1);
   ASSERT_EQ(static_cast<int>(result.history.size()), result.iterations);
   // Delta_j shrinks geometrically (paper Sec. IV): each error below the first.
-  EXPECT_LT(result.history.back().position_error_m, 1e-3 * result.history.front().position_error_m + 1e-9);
+  EXPECT_LT(result.history.back().position_error_m,
+            1e-3 * result.history.front().position_error_m + 1e-9);
   EXPECT_NEAR(result.history.back().mass_estimate_kg, device.gravity(vertex).norm() / 9.81, 1e-3);
-  for (const auto& record : result.history) EXPECT_GE(record.duration_s, parameters.min_step_duration_s - 1e-9);
+  for (const auto& record : result.history)
+    EXPECT_GE(record.duration_s, parameters.min_step_duration_s - 1e-9);
 }
 
 TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
@@ -59,8 +61,8 @@ TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
   EXPECT_LT((first.gravity_estimate_n - device.gravity(device.position_m)).norm(), 2e-3);
   // ... and X_inf is offset by (G - G_hat_0) / K_P with K_P = beta |G_hat_0| / g (eq. 11).
   const double stiffness = parameters.beta_per_s2 * initial.norm() / 9.81;
-  EXPECT_NEAR(first.position_error_m, (device.gravity(device.position_m) - initial).norm() / stiffness,
-              2e-5);
+  EXPECT_NEAR(first.position_error_m,
+              (device.gravity(device.position_m) - initial).norm() / stiffness, 2e-5);
 }
 
 TEST(VertexEstimatorTest, StopsAtTheIterationCapAndKeepsTheEstimate) {
@@ -73,7 +75,8 @@ TEST(VertexEstimatorTest, StopsAtTheIterationCapAndKeepsTheEstimate) {
   EXPECT_EQ(runToEnd(estimator, device), VertexEstimator::Status::kIterationCap);
   EXPECT_EQ(estimator.estimate().outcome, VertexOutcome::kIterationCap);
   EXPECT_EQ(estimator.estimate().iterations, 6);
-  EXPECT_LT((estimator.estimate().gravity_n - device.gravity(Eigen::Vector3d::Zero())).norm(), 0.01);
+  EXPECT_LT((estimator.estimate().gravity_n - device.gravity(Eigen::Vector3d::Zero())).norm(),
+            0.01);
 }
 
 TEST(VertexEstimatorTest, DeviceThatStopsAnsweringEndsTheVertexWithZeroForce) {

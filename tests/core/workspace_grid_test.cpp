@@ -35,7 +35,8 @@ TEST(WorkspaceGridTest, VisitOrderCoversEveryVertexWithOneCellMoves) {
   EXPECT_EQ(std::set<int>(order.begin(), order.end()).size(), 64u);
   EXPECT_EQ(order.front(), grid.vertexIndex(3, 3, 0));  // corner nearest the start
   for (std::size_t k = 1; k < order.size(); ++k) {
-    const double move_m = (grid.vertexPosition(order[k]) - grid.vertexPosition(order[k - 1])).norm();
+    const double move_m =
+        (grid.vertexPosition(order[k]) - grid.vertexPosition(order[k - 1])).norm();
     EXPECT_NEAR(move_m, grid.spacing_m(), 1e-12) << "move " << k;
   }
 }

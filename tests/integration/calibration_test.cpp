@@ -141,7 +141,8 @@ TEST(CalibrationTest, ADeviceThatStopsAnsweringEndsTheRunAndKeepsTheFinishedVert
   const sim::CalibrationRunResult result = sim::runSimulatedCalibration(*device, options);
   EXPECT_EQ(result.status, AutoCalibrator::Status::kDeviceFault);
   int converged = 0;
-  for (const auto& vertex : result.vertices) converged += vertex.outcome == VertexOutcome::kConverged;
+  for (const auto& vertex : result.vertices)
+    converged += vertex.outcome == VertexOutcome::kConverged;
   EXPECT_EQ(converged, 5);
 }
 

@@ -11,13 +11,15 @@ TEST(PaperExperimentTest, ConvergesToTheTrueApparentMassWithinTwoPercent) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     auto device = sim::makeSimulatedDevice("sim:omega", seed);
     ASSERT_TRUE(device->open());
-    const sim::PaperExperimentResult result = sim::runPaperExperiment(*device, EstimationParameters{});
+    const sim::PaperExperimentResult result =
+        sim::runPaperExperiment(*device, EstimationParameters{});
     ASSERT_TRUE(result.initialization.ok) << result.initialization.message;
     EXPECT_EQ(result.estimate.outcome, VertexOutcome::kConverged) << "seed " << seed;
     // The simulated Omega is built so that M(X_D) is the 214 g the paper measured.
     EXPECT_NEAR(result.mass_true_kg, sim::kPaperMeasuredMass_kg, 1e-3);
     const double mass_kg = result.estimate.gravity_n.norm() / kStandardGravity;
-    EXPECT_LE(std::abs(mass_kg - result.mass_true_kg) / result.mass_true_kg, 0.02) << "seed " << seed;
+    EXPECT_LE(std::abs(mass_kg - result.mass_true_kg) / result.mass_true_kg, 0.02)
+        << "seed " << seed;
     // n_G = 5 small updates need at least 6 iterations; the paper needed 14.
     EXPECT_GE(result.estimate.iterations, 6);
     EXPECT_LE(result.estimate.iterations, 20);

@@ -25,12 +25,12 @@ struct IterationRecord {
 
 /// Why a vertex ended the way it did.
 enum class VertexOutcome : std::uint8_t {
-  kPending,       ///< Not visited yet.
-  kConverged,     ///< n_G consecutive updates within eps_G.
-  kIterationCap,  ///< max_iterations reached first; the last estimate is kept.
-  kNoSteadyState, ///< An iteration never settled within max_step_duration_s.
-  kSaturated,     ///< The actuators saturated while holding the vertex.
-  kDeviceFault,   ///< The device stopped answering or sent non-finite samples.
+  kPending,        ///< Not visited yet.
+  kConverged,      ///< n_G consecutive updates within eps_G.
+  kIterationCap,   ///< max_iterations reached first; the last estimate is kept.
+  kNoSteadyState,  ///< An iteration never settled within max_step_duration_s.
+  kSaturated,      ///< The actuators saturated while holding the vertex.
+  kDeviceFault,    ///< The device stopped answering or sent non-finite samples.
 };
 
 /// Stable lower-case name used in files and reports ("converged", "iteration_cap", ...).

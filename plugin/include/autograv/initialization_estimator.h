@@ -16,11 +16,11 @@ namespace autograv {
 class InitializationEstimator {
  public:
   enum class Status : std::uint8_t {
-    kRampingIn,   ///< The field is coming on; keep holding.
-    kWaiting,     ///< Field on; waiting for the released end-effector to settle.
-    kStillHeld,   ///< Settled with almost no sag: the hand is still holding it. Let go.
-    kDone,        ///< G_hat_0 is available.
-    kDeviceFault, ///< The device stopped answering or sent non-finite samples.
+    kRampingIn,    ///< The field is coming on; keep holding.
+    kWaiting,      ///< Field on; waiting for the released end-effector to settle.
+    kStillHeld,    ///< Settled with almost no sag: the hand is still holding it. Let go.
+    kDone,         ///< G_hat_0 is available.
+    kDeviceFault,  ///< The device stopped answering or sent non-finite samples.
   };
 
   /// Uses k0, n_S, eps_S, the minimum step duration and the servo period of `parameters`.

@@ -9,7 +9,8 @@ namespace autograv {
 class MinimumJerkMove {
  public:
   /// Moves from `from_m` to `to_m` in `duration_s` (> 0). Real-time safe. Units: [m], [s]
-  void start(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, double duration_s) noexcept;
+  void start(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m,
+             double duration_s) noexcept;
   /// Desired position, velocity and acceleration at `t_s` after start (held at the end).
   /// Real-time safe. Units: [m], [m/s], [m/s^2]
   void sample(double t_s, Eigen::Vector3d& position_m, Eigen::Vector3d& velocity_m_per_s,

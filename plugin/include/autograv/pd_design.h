@@ -1,6 +1,11 @@
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/estimation_parameters.h"
 
 namespace autograv {
 
@@ -16,8 +21,8 @@ struct StepResponseSpec {
 
 /// The two gains of the feedback-linearizing PD: K_D = alpha M, K_P = beta M (eq. 4).
 struct PdGains {
-  double alpha_per_s = 0.0;   ///< Unit: [1/s]
-  double beta_per_s2 = 0.0;   ///< Unit: [1/s^2]
+  double alpha_per_s = 0.0;  ///< Unit: [1/s]
+  double beta_per_s2 = 0.0;  ///< Unit: [1/s^2]
 };
 
 /// alpha and beta for a spec, by the second-order formulas behind the paper's design plots:
@@ -51,5 +56,16 @@ FeasibilityCheck checkConvergence(double beta_per_s2, double gravity_norm_n,
 /// Not real-time safe.
 FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, double cell_m,
                                  double max_force_n, double margin = 0.9);
+
+/// Both checks for a calibration plan, run after the manual initialization and before the device
+/// moves by itself, with G_hat_0 standing in for the unknown field: its norm is divided by
+/// `field_margin` for the convergence check (which needs the smallest |G| over the grid) and
+/// multiplied by it for the saturation check (the largest). The Lipschitz constant is the
+/// parameters' prior. Returns the messages of the failed checks, empty when all pass.
+/// Units: cell [m], force [N]. Not real-time safe.
+std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
+                                              double max_force_n,
+                                              const Eigen::Vector3d& initial_gravity_n,
+                                              double field_margin = 1.3);
 
 }  // namespace autograv

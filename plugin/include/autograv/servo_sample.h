@@ -18,8 +18,8 @@ struct ServoSample {
 /// Real-time safe when the device's getters are.
 inline ServoSample readServoSample(HapticDevice& device) noexcept {
   ServoSample sample;
-  const bool read = device.getPosition(sample.position_m) &&
-                    device.getLinearVelocity(sample.velocity_m_per_s);
+  const bool read =
+      device.getPosition(sample.position_m) && device.getLinearVelocity(sample.velocity_m_per_s);
   sample.valid = read && sample.position_m.allFinite() && sample.velocity_m_per_s.allFinite();
   return sample;
 }

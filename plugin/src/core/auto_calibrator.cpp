@@ -118,8 +118,8 @@ Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
   if (step.cwiseAbs().sum() != 1) return gravity_n_;
   const Eigen::Vector3i behind = grid_.vertexCoordinates(previous_vertex_) - step;
   if ((behind.array() < 0).any() || (behind.array() >= grid_.resolution()).any()) return gravity_n_;
-  const auto& before = vertices_[static_cast<std::size_t>(
-      grid_.vertexIndex(behind.x(), behind.y(), behind.z()))];
+  const auto& before =
+      vertices_[static_cast<std::size_t>(grid_.vertexIndex(behind.x(), behind.y(), behind.z()))];
   if (!isDone(before)) return gravity_n_;
   return 2.0 * previous.gravity_n - before.gravity_n;
 }
@@ -217,7 +217,8 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
     }
     case Status::kEstimating: {
       const VertexEstimator::Status inner = estimator_.step(sample, force_n);
-      if (inner == VertexEstimator::Status::kSettling || inner == VertexEstimator::Status::kUpdated) {
+      if (inner == VertexEstimator::Status::kSettling ||
+          inner == VertexEstimator::Status::kUpdated) {
         break;
       }
       recordFinished();
@@ -266,14 +267,22 @@ GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
 
 const char* toString(AutoCalibrator::Status status) noexcept {
   switch (status) {
-    case AutoCalibrator::Status::kIdle: return "idle";
-    case AutoCalibrator::Status::kMoving: return "moving";
-    case AutoCalibrator::Status::kEstimating: return "estimating";
-    case AutoCalibrator::Status::kVertexFinished: return "vertex_finished";
-    case AutoCalibrator::Status::kPaused: return "paused";
-    case AutoCalibrator::Status::kFinished: return "finished";
-    case AutoCalibrator::Status::kAborted: return "aborted";
-    case AutoCalibrator::Status::kDeviceFault: return "device_fault";
+    case AutoCalibrator::Status::kIdle:
+      return "idle";
+    case AutoCalibrator::Status::kMoving:
+      return "moving";
+    case AutoCalibrator::Status::kEstimating:
+      return "estimating";
+    case AutoCalibrator::Status::kVertexFinished:
+      return "vertex_finished";
+    case AutoCalibrator::Status::kPaused:
+      return "paused";
+    case AutoCalibrator::Status::kFinished:
+      return "finished";
+    case AutoCalibrator::Status::kAborted:
+      return "aborted";
+    case AutoCalibrator::Status::kDeviceFault:
+      return "device_fault";
   }
   return "unknown";
 }

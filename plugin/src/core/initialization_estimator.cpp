@@ -53,7 +53,8 @@ InitializationEstimator::Status InitializationEstimator::step(const ServoSample&
   const double ramp = std::min(1.0, static_cast<double>(tick_) / ramp_ticks_);
   const Eigen::Vector3d offset_m = center_m_ - sample.position_m;
   sag_m_ = offset_m.norm();
-  force_n = ramp * (parameters_.k0_n_per_m * offset_m - damping_n_s_per_m_ * sample.velocity_m_per_s);
+  force_n =
+      ramp * (parameters_.k0_n_per_m * offset_m - damping_n_s_per_m_ * sample.velocity_m_per_s);
   clampForce(force_n, max_force_n_);
   last_force_n_ = force_n;
   if (done_) return Status::kDone;

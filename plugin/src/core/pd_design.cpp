@@ -62,8 +62,10 @@ StepResponseSpec simulateStepResponse(const PdGains& gains) {
   };
   for (double t = 0.0; t < horizon_s; t += dt) {
     const double k1x = v, k1v = acceleration(x, v);
-    const double k2x = v + 0.5 * dt * k1v, k2v = acceleration(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v);
-    const double k3x = v + 0.5 * dt * k2v, k3v = acceleration(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v);
+    const double k2x = v + 0.5 * dt * k1v,
+                 k2v = acceleration(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v);
+    const double k3x = v + 0.5 * dt * k2v,
+                 k3v = acceleration(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v);
     const double k4x = v + dt * k3v, k4v = acceleration(x + dt * k3x, v + dt * k3v);
     x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
     v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
@@ -104,7 +106,8 @@ FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, doub
           << " N exceeds " << margin * 100.0 << " % of the device's " << max_force_n << " N";
   if (limit_n > gravity_norm_n) {
     const double max_cell_m = (limit_n - gravity_norm_n) / stiffness_n_per_m;
-    const double max_beta = (limit_n - gravity_norm_n) * kStandardGravity / (gravity_norm_n * cell_m);
+    const double max_beta =
+        (limit_n - gravity_norm_n) * kStandardGravity / (gravity_norm_n * cell_m);
     message << "; use grid cells of at most " << max_cell_m * 1e3
             << " mm (smaller --side-mm or larger --grid), or lower beta to at most "
             << std::floor(max_beta) << " 1/s^2 (--beta)";
@@ -113,6 +116,22 @@ FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, doub
   }
   check.message = message.str();
   return check;
+}
+
+std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
+                                              double max_force_n,
+                                              const Eigen::Vector3d& initial_gravity_n,
+                                              double field_margin) {
+  std::vector<std::string> problems;
+  const double gravity_n = initial_gravity_n.norm();
+  // Convergence needs the smallest |G| over the grid, saturation the largest.
+  const FeasibilityCheck convergence = checkConvergence(
+      parameters.beta_per_s2, gravity_n / field_margin, parameters.lipschitz_prior_n_per_m);
+  if (!convergence.ok) problems.push_back(convergence.message);
+  const FeasibilityCheck saturation =
+      checkSaturation(parameters.beta_per_s2, gravity_n * field_margin, cell_m, max_force_n);
+  if (!saturation.ok) problems.push_back(saturation.message);
+  return problems;
 }
 
 }  // namespace autograv

@@ -141,13 +141,20 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
 
 const char* toString(VertexEstimator::Status status) noexcept {
   switch (status) {
-    case VertexEstimator::Status::kSettling: return "settling";
-    case VertexEstimator::Status::kUpdated: return "updated";
-    case VertexEstimator::Status::kConverged: return "converged";
-    case VertexEstimator::Status::kIterationCap: return "iteration_cap";
-    case VertexEstimator::Status::kNoSteadyState: return "no_steady_state";
-    case VertexEstimator::Status::kSaturated: return "saturated";
-    case VertexEstimator::Status::kDeviceFault: return "device_fault";
+    case VertexEstimator::Status::kSettling:
+      return "settling";
+    case VertexEstimator::Status::kUpdated:
+      return "updated";
+    case VertexEstimator::Status::kConverged:
+      return "converged";
+    case VertexEstimator::Status::kIterationCap:
+      return "iteration_cap";
+    case VertexEstimator::Status::kNoSteadyState:
+      return "no_steady_state";
+    case VertexEstimator::Status::kSaturated:
+      return "saturated";
+    case VertexEstimator::Status::kDeviceFault:
+      return "device_fault";
   }
   return "unknown";
 }

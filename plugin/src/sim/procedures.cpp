@@ -117,22 +117,6 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
   return result;
 }
 
-std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
-                                              double max_force_n,
-                                              const Eigen::Vector3d& initial_gravity_n,
-                                              double field_margin) {
-  std::vector<std::string> problems;
-  const double gravity_n = initial_gravity_n.norm();
-  // Convergence needs the smallest |G| over the grid, saturation the largest.
-  const FeasibilityCheck convergence = checkConvergence(
-      parameters.beta_per_s2, gravity_n / field_margin, parameters.lipschitz_prior_n_per_m);
-  if (!convergence.ok) problems.push_back(convergence.message);
-  const FeasibilityCheck saturation =
-      checkSaturation(parameters.beta_per_s2, gravity_n * field_margin, cell_m, max_force_n);
-  if (!saturation.ok) problems.push_back(saturation.message);
-  return problems;
-}
-
 CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
                                              const CalibrationRunOptions& options) {
   const WorkspaceGrid grid(options.grid_center_m, options.grid_side_m, options.grid_resolution);

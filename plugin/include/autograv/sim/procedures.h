@@ -86,14 +86,6 @@ struct CalibrationRunResult {
 CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
                                              const CalibrationRunOptions& options);
 
-/// The feasibility checks of Sections IV and VI for a grid, with G_hat_0 standing in for the
-/// unknown field (its norm grown by `field_margin` for the variation over the grid). Returns the
-/// messages of the failed checks (empty when all pass). Not real-time safe.
-std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
-                                              double max_force_n,
-                                              const Eigen::Vector3d& initial_gravity_n,
-                                              double field_margin = 1.3);
-
 /// Accuracy of a map against the device's ground truth.
 struct AccuracyReport {
   double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
