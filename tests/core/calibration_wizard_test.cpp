@@ -1,0 +1,577 @@
+// The calibration wizard's state machine driven through every step on simulated devices, with the
+// simulated hand scripted as a user (the same script `autograv wizard --auto-hand` uses).
+#include "autograv/calibration_wizard.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../../demo/cli/wizard_auto_hand.h"
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "autograv/map_io.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv {
+namespace {
+
+constexpr double kPeriod = 1e-3;
+constexpr int kTicksPerFrame = 20;  // 20 ms of simulated time per "UI frame"
+
+std::string temporaryPath(const std::string& name) {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() /
+      ("autograv_wizard_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+       "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::remove_all(folder);  // leftovers of an earlier run (a stale checkpoint)
+  std::filesystem::create_directories(folder);
+  return (folder / name).string();
+}
+
+bool bitwiseEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool bitwiseEqual(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
+}
+
+void expectBitwiseEqual(const VertexEstimate& a, const VertexEstimate& b, int vertex) {
+  EXPECT_TRUE(bitwiseEqual(a.gravity_n, b.gravity_n)) << "vertex " << vertex;
+  EXPECT_EQ(a.iterations, b.iterations) << "vertex " << vertex;
+  EXPECT_TRUE(bitwiseEqual(a.seconds, b.seconds)) << "vertex " << vertex;
+  EXPECT_EQ(a.outcome, b.outcome) << "vertex " << vertex;
+  ASSERT_EQ(a.history.size(), b.history.size()) << "vertex " << vertex;
+  for (std::size_t j = 0; j < a.history.size(); ++j) {
+    EXPECT_TRUE(bitwiseEqual(a.history[j].position_error_m, b.history[j].position_error_m));
+    EXPECT_TRUE(bitwiseEqual(a.history[j].mass_estimate_kg, b.history[j].mass_estimate_kg));
+    EXPECT_TRUE(bitwiseEqual(a.history[j].gravity_estimate_n, b.history[j].gravity_estimate_n));
+    EXPECT_TRUE(bitwiseEqual(a.history[j].duration_s, b.history[j].duration_s));
+  }
+}
+
+int convergedCount(const std::vector<VertexEstimate>& vertices) {
+  int count = 0;
+  for (const auto& vertex : vertices) count += vertex.outcome == VertexOutcome::kConverged;
+  return count;
+}
+
+/// A simulated device, a wizard on it, and the scripted user.
+struct Rig {
+  std::shared_ptr<sim::SimulatedDevice> device;
+  std::unique_ptr<CalibrationWizard> wizard;
+  std::unique_ptr<cli::WizardAutoHand> hand;
+  std::vector<WizardStep> steps_seen;
+  bool auto_hand = true;
+  /// Allocations made inside servoTick() so far.
+  std::size_t servo_allocations = 0;
+  long servo_ticks = 0;
+
+  Rig(const std::string& name, WizardConfig config, std::uint64_t seed = 1,
+      bool calibrated = true) {
+    device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice(name, seed));
+    if (!calibrated) device->setCalibrated(false);
+    config.grid_center_m = device->workspaceCenter_m();
+    // Powered off, the end-effector rests away from the centre.
+    device->resetState(device->workspaceCenter_m() + Eigen::Vector3d(0.02, -0.03, -0.035));
+    wizard = std::make_unique<CalibrationWizard>(device, config);
+    hand = std::make_unique<cli::WizardAutoHand>(*device);
+  }
+
+  /// One UI frame: the user reacts, the servo loop runs kTicksPerFrame ticks, the service runs.
+  void frame() {
+    if (auto_hand) hand->update(wizard->status());
+    for (int i = 0; i < kTicksPerFrame; ++i) {
+      {
+        testing::AllocationCounter counter;
+        wizard->servoTick();
+        servo_allocations += counter.count();
+      }
+      ++servo_ticks;
+      device->advance(kPeriod);
+    }
+    wizard->service();
+    if (steps_seen.empty() || steps_seen.back() != wizard->step()) {
+      steps_seen.push_back(wizard->step());
+    }
+  }
+
+  /// Runs frames until `done` or `max_s` of simulated time; returns whether `done` became true.
+  bool runUntil(const std::function<bool()>& done, double max_s) {
+    const double end_s = device->time_s() + max_s;
+    while (!done()) {
+      if (device->time_s() > end_s) return false;
+      frame();
+    }
+    return true;
+  }
+
+  bool runUntilStep(WizardStep step, double max_s) {
+    return runUntil([&] { return wizard->step() == step; }, max_s);
+  }
+};
+
+WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double side_m = 0.04) {
+  WizardConfig config;
+  config.grid_side_m = side_m;
+  config.grid_resolution = resolution;
+  config.map_path = map_path;
+  return config;
+}
+
+TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path, 3, 0.04));
+
+  rig.wizard->service();  // Check
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+  WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.summary.find("sim:omega"), std::string::npos) << status.summary;
+  EXPECT_NE(status.summary.find("27 vertices"), std::string::npos) << status.summary;
+
+  // Centre: the live distance falls as the hand carries the end-effector to the centre.
+  rig.frame();
+  status = rig.wizard->status();
+  const double start_distance_m = status.centre_distance_m;
+  EXPECT_NE(status.message.find("Distance to the centre"), std::string::npos) << status.message;
+  EXPECT_TRUE(status.waiting_for_user);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kRelease, 20.0));
+  EXPECT_EQ(rig.hand->presses(), 1);
+  status = rig.wizard->status();
+  EXPECT_LE((status.position_m - status.centre_m).norm(), status.centre_tolerance_m);
+  EXPECT_LT((status.position_m - status.centre_m).norm(), start_distance_m);
+
+  // Release: G_hat_0 from eq. (7) close to the true apparent gravity at the release point.
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 20.0)) << rig.wizard->status().message;
+  status = rig.wizard->status();
+  ASSERT_TRUE(status.initial_gravity_valid);
+  const Eigen::Vector3d truth = rig.device->trueGravity(rig.device->truePosition_m());
+  EXPECT_LT((status.initial_gravity_n - truth).norm(), 0.05 * truth.norm());
+
+  // AutoCalibration: vertex i of N, iterations and an ETA, checkpoints as vertices finish.
+  bool saw_iteration = false, saw_eta = false;
+  ASSERT_TRUE(rig.runUntil(
+      [&] {
+        const WizardStatus now = rig.wizard->status();
+        saw_iteration |= now.iteration > 0 && std::isfinite(now.delta_m);
+        saw_eta |= std::isfinite(now.eta_s) && now.eta_s > 0.0;
+        return now.step != WizardStep::kAutoCalibration;
+      },
+      300.0));
+  EXPECT_TRUE(saw_iteration);
+  EXPECT_TRUE(saw_eta);
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kReview);
+  EXPECT_TRUE(std::filesystem::exists(rig.wizard->checkpointPath()));
+
+  // Review: the table.
+  status = rig.wizard->status();
+  ASSERT_TRUE(status.review_valid);
+  EXPECT_EQ(status.review.vertex_count, 27);
+  EXPECT_EQ(status.review.converged, 27);
+  EXPECT_TRUE(status.review.failed.empty());
+  EXPECT_GE(status.review.iterations_min, 1);
+  EXPECT_LE(status.review.iterations_min, status.review.iterations_median);
+  EXPECT_LE(status.review.iterations_median, status.review.iterations_max);
+  EXPECT_GT(status.review.gravity_min_n, 1.0);
+  EXPECT_LT(status.review.peak_force_n, 12.0);
+  EXPECT_NE(status.prompt.find("Enter to save"), std::string::npos) << status.prompt;
+  // The device is held while the user reads.
+  const Eigen::Vector3d held_m = rig.device->truePosition_m();
+  for (int i = 0; i < 50; ++i) rig.frame();
+  EXPECT_LT((rig.device->truePosition_m() - held_m).norm(), 1e-3);
+
+  // Save, then Verify with compensation on.
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0)) << rig.wizard->status().message;
+  EXPECT_TRUE(rig.wizard->finished());
+  const std::vector<WizardStep> expected = {
+      WizardStep::kCentre, WizardStep::kRelease, WizardStep::kAutoCalibration,
+      WizardStep::kReview, WizardStep::kSave,    WizardStep::kVerify,
+      WizardStep::kDone};
+  EXPECT_EQ(rig.steps_seen, expected);
+  status = rig.wizard->status();
+  EXPECT_TRUE(status.map_saved);
+  EXPECT_FALSE(std::filesystem::exists(rig.wizard->checkpointPath()));
+  ASSERT_EQ(status.verify.size(), 3u);
+  for (const VerifyResult& result : status.verify) {
+    EXPECT_TRUE(result.finished);
+    EXPECT_NEAR(result.duration_s, 0.5, 0.01);
+    // With the map's 27 converged vertices the compensation leaves a few mN at most.
+    EXPECT_LT(result.drift_m, 3e-3) << "vertex " << result.vertex;
+  }
+  EXPECT_TRUE(rig.wizard->device().compensationEnabled());
+  EXPECT_NE(status.message.find("largest drift"), std::string::npos) << status.message;
+
+  const GravityMap map = loadMap(path);
+  EXPECT_EQ(map.grid().vertexCount(), 27);
+  EXPECT_TRUE(map.isComplete());
+  EXPECT_EQ(map.metadata().device_model, "sim:omega");
+  for (int i = 0; i < 27; ++i) {
+    const Eigen::Vector3d g = rig.device->trueGravity(map.grid().vertexPosition(i));
+    EXPECT_LT((map.vertices()[i].gravity_n - g).norm(), 0.01 * g.norm()) << "vertex " << i;
+  }
+  EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
+}
+
+TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path);
+  config.parameters.max_iterations = 5;  // some vertices fail: Review offers a redo
+  Rig rig("sim:omega", config);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 30.0))
+      << toString(rig.wizard->step()) << ": " << rig.wizard->status().message;
+  rig.wizard->post(WizardEvent::kPause);
+  for (int i = 0; i < 20; ++i) rig.frame();
+  EXPECT_TRUE(rig.wizard->status().paused);
+  rig.wizard->post(WizardEvent::kResume);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  for (int i = 0; i < 5; ++i) rig.frame();
+  if (!rig.wizard->status().review.failed.empty()) {
+    rig.wizard->post(WizardEvent::kRedoFailed);
+    ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 5.0));
+    ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  }
+  rig.wizard->post(WizardEvent::kSkipRedo);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
+  for (int i = 0; i < 20; ++i) rig.frame();
+  EXPECT_GT(rig.servo_ticks, 10000);
+  EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
+}
+
+TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path), 1, /*calibrated=*/false);
+  for (int i = 0; i < 5; ++i) rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("uncalibrated"), std::string::npos) << status.message;
+  EXPECT_NE(status.prompt.find("press Enter"), std::string::npos) << status.prompt;
+  EXPECT_TRUE(status.waiting_for_user);
+  EXPECT_FALSE(rig.device->isCalibrated());
+  // Confirming runs the device's own homing, and the wizard moves on.
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_TRUE(rig.device->isCalibrated());
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+}
+
+TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path, 5, 0.069);
+  // With c = 200 N/m, convergence needs |G| >= 7 N, and holding 7 N plus the PD effort over a
+  // 17 mm cell exceeds the 12 N of the device: no weight passes both checks.
+  config.parameters.lipschitz_prior_n_per_m = 200.0;
+  Rig rig("sim:omega", config);
+  for (int i = 0; i < 3; ++i) rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("cannot work"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("--beta"), std::string::npos) << status.message;
+  EXPECT_FALSE(rig.device->endStopHit());
+  // Retrying does not help; quitting ends the run with nothing saved.
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  rig.wizard->post(WizardEvent::kAbort);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kAborted);
+  EXPECT_TRUE(rig.wizard->finished());
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path, 3, 0.2));
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  EXPECT_NE(rig.wizard->status().message.find("--side-mm"), std::string::npos)
+      << rig.wizard->status().message;
+}
+
+TEST(CalibrationWizardTest, APlanThatWouldSaturateThisDeviceIsRefusedAfterRelease) {
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path, 2, 0.069);
+  config.parameters.beta_per_s2 = 2500.0;  // feasible for a light end-effector, not for 2 N
+  Rig rig("sim:omega", config);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 30.0)) << rig.wizard->status().message;
+  const WizardStatus status = rig.wizard->status();
+  EXPECT_TRUE(status.initial_gravity_valid);
+  EXPECT_NE(status.message.find("saturation check failed"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("refused before the device moves"), std::string::npos);
+  // The k0 field still holds the end-effector near where it was released.
+  const Eigen::Vector3d before_m = rig.device->truePosition_m();
+  for (int i = 0; i < 50; ++i) rig.frame();
+  EXPECT_LT((rig.device->truePosition_m() - before_m).norm(), 1e-3);
+  EXPECT_FALSE(rig.device->endStopHit());
+  EXPECT_TRUE(rig.wizard->finished());
+}
+
+TEST(CalibrationWizardTest, ConfirmingFarFromTheCentreIsRefused) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  rig.auto_hand = false;
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre);
+  sim::SimulatedHand& hand = rig.device->hand();
+  hand.grab(rig.device->truePosition_m());
+  hand.setTarget(rig.device->workspaceCenter_m() + Eigen::Vector3d(0.0, 0.03, -0.02));
+  for (int i = 0; i < 50; ++i) rig.frame();
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre);
+  WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("Not close enough"), std::string::npos) << status.message;
+  // 30 mm to the right of the centre, 20 mm below it: move left and up.
+  EXPECT_NE(status.message.find("left"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("up"), std::string::npos) << status.message;
+  EXPECT_NEAR(status.centre_distance_m, std::hypot(0.03, 0.02), 0.004);
+  hand.moveTo(rig.device->workspaceCenter_m(), 0.05);
+  for (int i = 0; i < 60; ++i) rig.frame();
+  EXPECT_TRUE(rig.wizard->status().within_tolerance);
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kRelease);
+}
+
+TEST(CalibrationWizardTest, AHandThatKeepsHoldingIsToldToLetGoAndTheWizardWaits) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kRelease, 20.0));
+  rig.auto_hand = false;  // the user does not let go: a firm grip
+  sim::SimulatedHand& hand = rig.device->hand();
+  ASSERT_TRUE(hand.holding());
+  hand.setTarget(rig.device->truePosition_m());
+  hand.stiffness_n_per_m = 1e5;
+  hand.damping_n_s_per_m = 150.0;
+  bool told = false;
+  ASSERT_FALSE(rig.runUntil(
+      [&] {
+        const WizardStatus status = rig.wizard->status();
+        told |=
+            status.still_held && status.prompt.find("Let go of it completely") != std::string::npos;
+        return status.step != WizardStep::kRelease;
+      },
+      10.0));
+  EXPECT_TRUE(told);
+  EXPECT_FALSE(rig.wizard->status().initial_gravity_valid);
+  // Letting go lets the wizard go on, with a sound G_hat_0.
+  hand.release();
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 10.0));
+  const WizardStatus status = rig.wizard->status();
+  const Eigen::Vector3d truth = rig.device->trueGravity(rig.device->truePosition_m());
+  EXPECT_LT((status.initial_gravity_n - truth).norm(), 0.05 * truth.norm());
+}
+
+TEST(CalibrationWizardTest, AReleaseThatNeverSettlesIsReportedAndTheWizardWaits) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kRelease, 20.0));
+  rig.auto_hand = false;
+  sim::SimulatedHand& hand = rig.device->hand();
+  ASSERT_TRUE(hand.holding());
+  // A hand that keeps hold and trembles: the end-effector never comes to rest.
+  const Eigen::Vector3d rest_m = hand.target_m();
+  double tremor_phase = 0.0;
+  bool told = false;
+  const double start_s = rig.device->time_s();
+  ASSERT_FALSE(rig.runUntil(
+      [&] {
+        tremor_phase += 2.0 * 3.141592653589793 * 5.0 * kTicksPerFrame * kPeriod;
+        hand.setTarget(rest_m + Eigen::Vector3d(0.0, 0.0, 1e-3 * std::sin(tremor_phase)));
+        const WizardStatus status = rig.wizard->status();
+        if (status.not_settling) {
+          EXPECT_GE(rig.device->time_s() - start_s, rig.wizard->config().release_patience_s);
+          told |= status.message.find("has not settled") != std::string::npos &&
+                  status.prompt.find("Let go") != std::string::npos;
+        }
+        return status.step != WizardStep::kRelease;
+      },
+      12.0));
+  EXPECT_TRUE(told);
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kRelease);
+  hand.release();
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 10.0));
+}
+
+TEST(CalibrationWizardTest, AbortDuringCalibrationHoldsTheDeviceAndKeepsTheFinishedVertices) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path, 3, 0.04));
+  ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 4; }, 200.0));
+  rig.wizard->post(WizardEvent::kAbort);
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kAborted);
+  rig.frame();
+  EXPECT_TRUE(rig.wizard->finished());
+  const WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("--resume"), std::string::npos) << status.message;
+  EXPECT_NE(status.fault.find(rig.wizard->checkpointPath()), std::string::npos) << status.fault;
+  // Held where it stopped, not dropped.
+  const Eigen::Vector3d held_m = rig.device->truePosition_m();
+  for (int i = 0; i < 100; ++i) rig.frame();
+  EXPECT_LT((rig.device->truePosition_m() - held_m).norm(), 2e-3);
+  const GravityMap checkpoint = loadMap(rig.wizard->checkpointPath());
+  EXPECT_EQ(checkpoint.convergedCount(), convergedCount(rig.wizard->vertices()));
+  EXPECT_GE(checkpoint.convergedCount(), 4);
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(CalibrationWizardTest, ResumeAfterACrashKeepsTheFinishedVerticesBitForBit) {
+  const std::string path = temporaryPath("map.json");
+  std::vector<VertexEstimate> before;
+  {
+    Rig rig("sim:omega", smallConfig(path, 3, 0.04));
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 10; }, 200.0));
+    before = rig.wizard->vertices();
+    // The process dies here: no abort, no last checkpoint beyond what service() wrote.
+  }
+  ASSERT_TRUE(std::filesystem::exists(path + ".partial"));
+  const std::vector<VertexEstimate> on_disk = loadMap(path + ".partial").vertices();
+  ASSERT_EQ(on_disk.size(), before.size());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    expectBitwiseEqual(on_disk[i], before[i], static_cast<int>(i));
+  }
+
+  WizardConfig config = smallConfig(path, 3, 0.04);
+  config.resume = true;
+  Rig rig("sim:omega", config, 2);  // a new process: another noise seed
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+  EXPECT_NE(rig.wizard->status().summary.find("resuming " + std::to_string(convergedCount(before))),
+            std::string::npos)
+      << rig.wizard->status().summary;
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 30.0));
+  const WizardStatus calibrating = rig.wizard->status();
+  EXPECT_EQ(calibrating.vertices_to_visit, 27 - convergedCount(before));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  rig.frame();
+  EXPECT_EQ(rig.wizard->status().review.restored, convergedCount(before));
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
+
+  const GravityMap map = loadMap(path);
+  EXPECT_TRUE(map.isComplete());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    if (before[i].outcome != VertexOutcome::kConverged) continue;
+    expectBitwiseEqual(map.vertices()[i], before[i], static_cast<int>(i));
+  }
+}
+
+TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
+  const std::string path = temporaryPath("map.json");
+  std::vector<VertexEstimate> before;
+  {
+    Rig rig("sim:omega", smallConfig(path, 3, 0.04));
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 5; }, 200.0));
+    rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
+    ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
+    rig.frame();
+    EXPECT_TRUE(rig.wizard->finished());
+    const WizardStatus status = rig.wizard->status();
+    EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+    EXPECT_NE(status.message.find("--resume"), std::string::npos) << status.message;
+    before = rig.wizard->vertices();
+  }
+  WizardConfig config = smallConfig(path, 3, 0.04);
+  config.resume = true;
+  Rig rig("sim:omega", config, 3);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
+  const GravityMap map = loadMap(path);
+  EXPECT_TRUE(map.isComplete());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    if (before[i].outcome != VertexOutcome::kConverged) continue;
+    expectBitwiseEqual(map.vertices()[i], before[i], static_cast<int>(i));
+  }
+}
+
+TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path, 3, 0.04);
+  config.parameters.max_iterations = 5;  // tight: some vertices hit the cap
+  Rig rig("sim:omega", config);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  rig.frame();
+  WizardStatus status = rig.wizard->status();
+  ASSERT_FALSE(status.review.failed.empty()) << "expected some vertices at the iteration cap";
+  for (const ReviewRow& row : status.review.failed) {
+    EXPECT_EQ(row.outcome, VertexOutcome::kIterationCap);
+    EXPECT_EQ(row.iterations, 5);
+  }
+  EXPECT_NE(
+      status.prompt.find("Press r to redo the " + std::to_string(status.review.failed.size())),
+      std::string::npos)
+      << status.prompt;
+  const std::vector<VertexEstimate> before = rig.wizard->vertices();
+  rig.wizard->post(WizardEvent::kRedoFailed);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 2.0));
+  rig.frame();
+  EXPECT_EQ(rig.wizard->status().vertices_to_visit, static_cast<int>(status.review.failed.size()));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
+  rig.frame();
+  const std::vector<VertexEstimate> after = rig.wizard->vertices();
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    if (before[i].outcome == VertexOutcome::kConverged) {
+      expectBitwiseEqual(after[i], before[i], static_cast<int>(i));
+    } else {
+      EXPECT_NE(after[i].outcome, VertexOutcome::kPending) << "vertex " << i << " not redone";
+    }
+  }
+  rig.wizard->post(WizardEvent::kSkipRedo);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
+  EXPECT_EQ(loadMap(path).convergedCount(), convergedCount(after));
+}
+
+TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
+  const std::string path = temporaryPath("map.json");
+  {
+    Rig rig("sim:omega", smallConfig(path));
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 2; }, 200.0));
+  }
+  ASSERT_TRUE(std::filesystem::exists(path + ".partial"));
+  Rig rig("sim:omega", smallConfig(path));
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  EXPECT_NE(rig.wizard->status().prompt.find("--resume"), std::string::npos);
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre);
+}
+
+TEST(CalibrationWizardTest, ResumingWithoutACheckpointOrOnAnotherGridSaysWhatToDo) {
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path);
+  config.resume = true;
+  {
+    Rig rig("sim:omega", config);
+    rig.frame();
+    EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+    EXPECT_NE(rig.wizard->status().message.find("no checkpoint"), std::string::npos);
+  }
+  {
+    Rig rig("sim:omega", smallConfig(path, 3, 0.04));
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 1; }, 200.0));
+  }
+  Rig rig("sim:omega", config);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
+  EXPECT_NE(rig.wizard->status().message.find("another grid"), std::string::npos)
+      << rig.wizard->status().message;
+}
+
+TEST(CalibrationWizardTest, RejectsAConfigurationWithoutAMapPath) {
+  auto device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice("sim:omega", 1));
+  WizardConfig config;
+  EXPECT_THROW(CalibrationWizard(device, config), Error);
+  config.map_path = "x.json";
+  config.verify_points = kMaxVerifyPoints + 1;
+  EXPECT_THROW(CalibrationWizard(device, config), Error);
+  EXPECT_THROW(CalibrationWizard(nullptr, WizardConfig{}), Error);
+}
+
+}  // namespace
+}  // namespace autograv
