@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "autograv/error.h"
-#include "autograv/servo_sample.h"
+#include "map_interpolator.h"
 
 namespace autograv {
 
@@ -148,7 +148,12 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   }
   if (stale(position_m, commanded_n)) return fault(ServoFault::kStalePosition);
 
-  if (clampForce(commanded_n, max_force_n)) increment(clamp_count_);
+  // Squared norms first: the square root is paid only when the force is actually clamped.
+  const double squared_n2 = commanded_n.squaredNorm();
+  if (squared_n2 > max_force_n * max_force_n) {
+    commanded_n *= max_force_n / std::sqrt(squared_n2);
+    increment(clamp_count_);
+  }
   if (!inner_->setForce(commanded_n)) {
     // The force did not reach the actuators: whatever they do now, restart the ramp so that the
     // compensation does not arrive as a step when writes work again.
@@ -166,7 +171,7 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
     const std::uint64_t sequence = published_sequence_.load(std::memory_order_acquire);
     if (sequence != taken_sequence_) {
       // Read after the sequence number: this is the map of that publication or a newer one.
-      const GravityMap* map = published_.load(std::memory_order_acquire);
+      const detail::MapInterpolator* map = published_.load(std::memory_order_acquire);
       taken_sequence_ = sequence;
       if (map != current_) {
         previous_ = current_;
@@ -188,17 +193,18 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
 
 Eigen::Vector3d GravityCompensatedDevice::compensation(
     const Eigen::Vector3d& position_m) const noexcept {
+  if (previous_ == nullptr) {  // the usual case: no fade in progress
+    return current_ != nullptr ? current_->gravityAt(position_m) : Eigen::Vector3d::Zero();
+  }
   const double weight = static_cast<double>(blend_ticks_) / ramp_ticks_;
-  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();
-  if (current_ != nullptr) gravity_n = weight * current_->gravityAt(position_m);
-  if (previous_ != nullptr) gravity_n += (1.0 - weight) * previous_->gravityAt(position_m);
+  Eigen::Vector3d gravity_n = (1.0 - weight) * previous_->gravityAt(position_m);
+  if (current_ != nullptr) gravity_n += weight * current_->gravityAt(position_m);
   return gravity_n;
 }
 
 bool GravityCompensatedDevice::outsideMaps(const Eigen::Vector3d& position_m) const noexcept {
-  const double margin_m = options_.outside_margin_m;
-  return (current_ != nullptr && !current_->grid().contains(position_m, margin_m)) ||
-         (previous_ != nullptr && !previous_->grid().contains(position_m, margin_m));
+  return (current_ != nullptr && !current_->contains(position_m)) ||
+         (previous_ != nullptr && !previous_->contains(position_m));
 }
 
 bool GravityCompensatedDevice::stale(const Eigen::Vector3d& position_m,
@@ -213,7 +219,8 @@ bool GravityCompensatedDevice::stale(const Eigen::Vector3d& position_m,
     return false;
   }
   if (stale_ticks_ < options_.stale_tick_limit + 1) ++stale_ticks_;
-  if ((commanded_n - stale_start_force_n_).norm() > options_.stale_force_change_n) {
+  const double threshold_n = options_.stale_force_change_n;
+  if ((commanded_n - stale_start_force_n_).squaredNorm() > threshold_n * threshold_n) {
     stale_force_moved_ = true;
   }
   return stale_force_moved_ && stale_ticks_ > options_.stale_tick_limit;
@@ -259,11 +266,16 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
                   "'; calibrate this device, or allow the mismatch explicitly");
     }
   }
+  // Built here, on the publishing thread, because it allocates.
+  std::shared_ptr<const detail::MapInterpolator> view;
+  if (map)
+    view =
+        std::make_shared<const detail::MapInterpolator>(std::move(map), options_.outside_margin_m);
   {
     const std::lock_guard<std::mutex> lock(publish_mutex_);
     const std::uint64_t sequence = next_sequence_++;
-    const GravityMap* raw = map.get();
-    retained_.push_back(RetainedMap{sequence, std::move(map)});
+    const detail::MapInterpolator* raw = view.get();
+    retained_.push_back(RetainedMap{sequence, std::move(view)});
     published_.store(raw, std::memory_order_release);
     published_sequence_.store(sequence, std::memory_order_release);
   }
@@ -272,7 +284,8 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
 
 std::shared_ptr<const GravityMap> GravityCompensatedDevice::publishedMap() const {
   const std::lock_guard<std::mutex> lock(publish_mutex_);
-  return retained_.empty() ? nullptr : retained_.back().map;
+  if (retained_.empty() || !retained_.back().view) return nullptr;
+  return retained_.back().view->map();
 }
 
 std::size_t GravityCompensatedDevice::reclaimRetiredMaps() {
