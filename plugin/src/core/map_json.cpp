@@ -232,7 +232,8 @@ VertexEstimate readVertex(const DocumentReader& reader, const json& value,
     std::ostringstream what;
     what.precision(17);
     what << "the grid position of vertex " << index << ", [" << expected_position.x() << ", "
-         << expected_position.y() << ", " << expected_position.z() << "] m";
+         << expected_position.y() << ", " << expected_position.z()
+         << "] m (was /grid or the vertex order edited?)";
     reader.expected(p + "/position_m", what.str(), value.at("position_m"));
   }
   VertexEstimate vertex;
@@ -422,8 +423,9 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
       metadata.device_model != options.expected_device_model && !options.allow_model_mismatch) {
     reader.fail("/device/model", "the map was calibrated on a \"" + metadata.device_model +
                                      "\" but the device is a \"" + options.expected_device_model +
-                                     "\"; calibrate this device, or allow a model mismatch "
-                                     "explicitly if the two are the same hardware");
+                                     "\"; calibrate this device, or allow the mismatch "
+                                     "explicitly if the two are the same hardware "
+                                     "(--allow-model-mismatch on the command line)");
   }
 
   try {

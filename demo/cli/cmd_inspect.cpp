@@ -1,0 +1,145 @@
+// autograv inspect: a human summary of a gravity map file.
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "autograv/map_io.h"
+#include "commands.h"
+
+namespace autograv::cli {
+
+namespace {
+
+struct InspectOptions {
+  std::string map_path;
+  bool list_vertices = false;
+};
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void printRow(const char* label, const std::string& value) {
+  std::printf("%-22s %s\n", label, value.c_str());
+}
+
+std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, pattern, a, b, c, d);
+  return text;
+}
+
+void runInspectCommand(const InspectOptions& options) {
+  // loadMap validates everything, the checksum included: what is printed is what a device would
+  // use. No device model is expected here, so maps of every model can be inspected.
+  const GravityMap map = loadMap(options.map_path);
+  const WorkspaceGrid& grid = map.grid();
+  const MapMetadata& metadata = map.metadata();
+  const EstimationParameters& p = metadata.parameters;
+
+  std::vector<double> norms_n;
+  std::vector<double> iterations;
+  std::vector<double> seconds;
+  std::map<std::string, int> outcomes;
+  std::vector<int> not_converged;
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+    ++outcomes[toString(v.outcome)];
+    if (v.outcome != VertexOutcome::kConverged) not_converged.push_back(i);
+    if (v.outcome == VertexOutcome::kPending) continue;
+    norms_n.push_back(v.gravity_n.norm());
+    iterations.push_back(v.iterations);
+    seconds.push_back(v.seconds);
+  }
+
+  printRow("map", options.map_path + " (schema " + std::to_string(kMapSchemaVersion) +
+                      ", checksum fnv1a-64 ok)");
+  printRow("device",
+           metadata.device_model +
+               (metadata.device_serial.empty() ? "" : ", serial " + metadata.device_serial));
+  printRow("created", metadata.created_utc);
+  const Eigen::Vector3d c = grid.center_m() * 1e3;
+  printRow("grid", std::to_string(grid.resolution()) +
+                       "^3 = " + std::to_string(grid.vertexCount()) + " vertices, " +
+                       format("side %.1f mm (cell %.2f mm), centre [%.1f, ", grid.side_m() * 1e3,
+                              grid.spacing_m() * 1e3, c.x()) +
+                       format("%.1f, %.1f] mm", c.y(), c.z()));
+  std::string outcome_text = std::to_string(map.convergedCount()) + " converged, " +
+                             std::to_string(grid.vertexCount() - map.convergedCount()) + " not";
+  std::string details;
+  for (const auto& [name, count] : outcomes) {
+    if (name == "converged") continue;
+    details += (details.empty() ? "" : ", ") + name + " " + std::to_string(count);
+  }
+  if (!details.empty()) outcome_text += " (" + details + ")";
+  printRow("vertices", outcome_text);
+  if (!norms_n.empty()) {
+    const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
+    printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,
+                               *highest, median(norms_n), *lowest / kStandardGravity * 1e3) +
+                            format(" .. %.1f g)", *highest / kStandardGravity * 1e3));
+    printRow("iterations", format("median %.1f, max %.0f", median(iterations),
+                                  *std::max_element(iterations.begin(), iterations.end())));
+    double total_s = 0.0;
+    for (double s : seconds) total_s += s;
+    printRow("time at vertices",
+             format("%.1f s in all, median %.2f s per vertex", total_s, median(seconds)));
+  } else {
+    printRow("|G_hat|", "no vertex visited yet");
+  }
+  printRow("parameters", format("alpha %g 1/s, beta %g 1/s^2, k0 %g N/mm", p.alpha_per_s,
+                                p.beta_per_s2, p.k0_n_per_m * 1e-3));
+  printRow("", format("n_S %g, eps_S %g mm/s, n_G %g, eps_G %g mN", p.n_s, p.eps_s_m_per_s * 1e3,
+                      p.n_g, p.eps_g_n * 1e3));
+  printRow("", format("step %g..%g s, max %g iterations, servo period %g ms", p.min_step_duration_s,
+                      p.max_step_duration_s, p.max_iterations, p.servo_period_s * 1e3));
+  printRow("", format("Lipschitz prior %g N/m", p.lipschitz_prior_n_per_m));
+
+  const std::size_t kMaxListed = 20;
+  if (!options.list_vertices && !not_converged.empty()) {
+    std::printf("\nnot converged:\n");
+    for (std::size_t k = 0; k < not_converged.size() && k < kMaxListed; ++k) {
+      const int i = not_converged[k];
+      const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d x = grid.vertexPosition(i) * 1e3;
+      std::printf("  vertex %4d at [%7.2f, %7.2f, %7.2f] mm: %s after %d iterations\n", i, x.x(),
+                  x.y(), x.z(), toString(v.outcome), v.iterations);
+    }
+    if (not_converged.size() > kMaxListed) {
+      std::printf("  ... and %zu more (--list shows every vertex)\n",
+                  not_converged.size() - kMaxListed);
+    }
+  }
+  if (options.list_vertices) {
+    std::printf("\n%6s  %-26s  %-30s  %5s  %7s  %s\n", "vertex", "position [mm]", "G_hat [N]",
+                "iter", "time[s]", "outcome");
+    for (int i = 0; i < grid.vertexCount(); ++i) {
+      const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d x = grid.vertexPosition(i) * 1e3;
+      std::printf("%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %s\n", i, x.x(),
+                  x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(), v.iterations,
+                  v.seconds, toString(v.outcome));
+    }
+  }
+}
+
+void addInspectCommand(CLI::App& app) {
+  auto options = std::make_shared<InspectOptions>();
+  CLI::App* command = app.add_subcommand(
+      "inspect", "Validate a gravity map file and print a summary (grid, device, convergence)");
+  command->add_option("map", options->map_path, "Map file (JSON)")->required();
+  command->add_flag("--list", options->list_vertices, "Also print every vertex");
+  command->callback([options] { runInspectCommand(*options); });
+}
+
+}  // namespace
+
+AUTOGRAV_REGISTER_COMMAND(40, addInspectCommand);
+
+}  // namespace autograv::cli
