@@ -1,0 +1,420 @@
+#include "demo_session.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+
+#include "autograv/error.h"
+#include "autograv/pd_design.h"
+#include "autograv/servo_sample.h"
+
+namespace autograv::demo {
+
+namespace {
+
+std::int64_t steadyNanoseconds(std::chrono::steady_clock::time_point time) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
+}
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+}  // namespace
+
+const char* toString(ServoMode mode) noexcept {
+  switch (mode) {
+    case ServoMode::kApplication:
+      return "application";
+    case ServoMode::kInitializing:
+      return "initializing";
+    case ServoMode::kInitialized:
+      return "initialized";
+    case ServoMode::kAutoCalibrating:
+      return "auto-calibrating";
+    case ServoMode::kCalibrated:
+      return "calibrated";
+    case ServoMode::kHandover:
+      return "handover";
+  }
+  return "unknown";
+}
+
+DemoSession::DemoSession(const SessionOptions& options)
+    : options_(options),
+      timing_(static_cast<std::int64_t>(std::llround(options.servo_period_s * 1e9))) {
+  if (!(options.servo_period_s > 0.0 && options.servo_period_s <= 0.01)) {
+    throw Error("servo period must be in (0, 10] ms");
+  }
+  simulation_ = sim::makeSimulatedDevice(options.device, options.seed);
+  if (!simulation_->open()) throw Error(options.device + ": open() failed");
+  if (!simulation_->calibrate()) throw Error(options.device + ": homing (calibrate) failed");
+  simulation_->resetState(simulation_->workspaceCenter_m());
+  // The user holds the stylus when the program starts, as with a real device: compensation ramps
+  // in (over ramp_duration_s) while the hand carries the weight, not while the end-effector falls.
+  simulation_->hand().grab(simulation_->workspaceCenter_m());
+  CompensationOptions compensation = options.compensation;
+  compensation.servo_period_s = options.servo_period_s;
+  decorator_ = std::make_shared<GravityCompensatedDevice>(simulation_, compensation);
+  if (!decorator_->open()) throw Error(options.device + ": open() through the decorator failed");
+  options_.estimation.servo_period_s = options.servo_period_s;
+  last_position_m_ = simulation_->truePosition_m();
+  // A first snapshot so that the UI has something to draw before the first tick.
+  ServoSample sample;
+  sample.valid = true;
+  sample.position_m = last_position_m_;
+  publishSnapshot(sample);
+}
+
+DemoSession::~DemoSession() { stopRealTime(); }
+
+void DemoSession::publishMap(std::shared_ptr<const GravityMap> map) {
+  decorator_->publishMap(std::move(map));
+}
+
+void DemoSession::sendCommand(const Command& command) {
+  // The queue holds 256 commands; the servo thread drains it every millisecond, so a full queue
+  // means the servo thread has stopped.
+  if (!commands_.push(command)) throw Error("the servo loop is not taking commands");
+}
+
+void DemoSession::grab() {
+  Command command;
+  command.kind = Command::Kind::kGrab;
+  sendCommand(command);
+}
+
+void DemoSession::setHandTarget(const Eigen::Vector3d& target_m) {
+  Command command;
+  command.kind = Command::Kind::kSetTarget;
+  command.position_m = target_m;
+  sendCommand(command);
+}
+
+void DemoSession::release() {
+  Command command;
+  command.kind = Command::Kind::kRelease;
+  sendCommand(command);
+}
+
+void DemoSession::setCompensationEnabled(bool enabled) noexcept {
+  decorator_->setCompensationEnabled(enabled);
+}
+
+void DemoSession::setScript(const HandScript* script) { script_player_ = HandScriptPlayer(script); }
+
+WorkspaceGrid DemoSession::calibrationGrid() const {
+  if (const auto map = decorator_->publishedMap()) return map->grid();
+  const DeviceSpecifications& specs = simulation_->specifications();
+  const double side_m =
+      std::round(0.8 * 2.0 * specs.workspace_radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+  return WorkspaceGrid(simulation_->workspaceCenter_m(), side_m, options_.calibration_resolution);
+}
+
+std::string DemoSession::startCalibration() {
+  if (ui_calibration_ == UiCalibration::kInitializing ||
+      ui_calibration_ == UiCalibration::kRunning) {
+    return "a calibration is already running (press A again to abort it)";
+  }
+  const double max_force_n = simulation_->specifications().max_linear_force_n;
+  initializers_.push_back(
+      std::make_unique<InitializationEstimator>(options_.estimation, max_force_n));
+  compensation_before_calibration_ = decorator_->compensationEnabled();
+  decorator_->setCompensationEnabled(false);
+  Command command;
+  command.kind = Command::Kind::kStartInitialization;
+  command.initializer = initializers_.back().get();
+  sendCommand(command);
+  ui_calibration_ = UiCalibration::kInitializing;
+  return "calibration: k0 field on where the end-effector is; let go and it settles (eq. 7)";
+}
+
+void DemoSession::abortCalibration() {
+  if (ui_calibration_ != UiCalibration::kInitializing &&
+      ui_calibration_ != UiCalibration::kRunning) {
+    return;
+  }
+  Command command;
+  command.kind = Command::Kind::kEndCalibration;
+  sendCommand(command);
+  decorator_->setCompensationEnabled(compensation_before_calibration_);
+  ui_calibration_ = UiCalibration::kNone;
+}
+
+std::string DemoSession::updateCalibration() {
+  const ServoSnapshot& state = snapshot();
+  if (ui_calibration_ == UiCalibration::kInitializing && state.mode == ServoMode::kApplication &&
+      state.initialization == InitializationEstimator::Status::kDeviceFault) {
+    ui_calibration_ = UiCalibration::kNone;
+    decorator_->setCompensationEnabled(compensation_before_calibration_);
+    return "calibration stopped: the device stopped answering during the initialization";
+  }
+  if (ui_calibration_ == UiCalibration::kInitializing && state.mode == ServoMode::kInitialized) {
+    const WorkspaceGrid grid = calibrationGrid();
+    const double max_force_n = simulation_->specifications().max_linear_force_n;
+    const auto problems = checkCalibrationPlan(options_.estimation, grid.spacing_m(), max_force_n,
+                                               state.initial_gravity_n);
+    if (!problems.empty()) {
+      abortCalibration();
+      return "calibration refused: " + problems.front();
+    }
+    calibrators_.push_back(
+        std::make_unique<AutoCalibrator>(grid, options_.estimation, max_force_n));
+    calibration_metadata_ = MapMetadata();
+    calibration_metadata_.device_model = simulation_->specifications().model_name;
+    calibration_metadata_.device_serial = simulation_->specifications().serial_number;
+    calibration_metadata_.parameters = options_.estimation;
+    Command command;
+    command.kind = Command::Kind::kStartAutoCalibration;
+    command.calibrator = calibrators_.back().get();
+    sendCommand(command);
+    ui_calibration_ = UiCalibration::kRunning;
+    char text[160];
+    std::snprintf(text, sizeof text, "calibration: G0 = (%.2f, %.2f, %.2f) N; visiting %d vertices",
+                  state.initial_gravity_n.x(), state.initial_gravity_n.y(),
+                  state.initial_gravity_n.z(), grid.vertexCount());
+    return text;
+  }
+  if (ui_calibration_ == UiCalibration::kRunning && state.mode == ServoMode::kApplication &&
+      state.calibration == AutoCalibrator::Status::kDeviceFault) {
+    ui_calibration_ = UiCalibration::kNone;
+    decorator_->setCompensationEnabled(compensation_before_calibration_);
+    return "calibration stopped: the device stopped answering";
+  }
+  if (ui_calibration_ == UiCalibration::kRunning && state.mode == ServoMode::kCalibrated) {
+    // The servo thread holds the end-effector on its own and no longer touches the calibrator.
+    const AutoCalibrator& calibrator = *calibrators_.back();
+    calibration_metadata_.created_utc = utcNow();
+    auto map = std::make_shared<const GravityMap>(calibrator.makeMap(calibration_metadata_));
+    const int converged = map->convergedCount();
+    const int total = map->grid().vertexCount();
+    decorator_->publishMap(map);
+    decorator_->setCompensationEnabled(true);
+    Command command;
+    command.kind = Command::Kind::kEndCalibration;
+    sendCommand(command);
+    ui_calibration_ = UiCalibration::kPublished;
+    return "calibration finished: " + std::to_string(converged) + " of " + std::to_string(total) +
+           " vertices converged; map published, compensation on";
+  }
+  return "";
+}
+
+void DemoSession::grabNow() noexcept {
+  simulation_->hand().grab(simulation_->truePosition_m());
+  released_ = false;
+}
+
+void DemoSession::releaseNow() noexcept {
+  if (!simulation_->hand().holding()) return;
+  simulation_->hand().release();
+  released_ = true;
+  release_position_m_ = last_position_m_;
+  release_tick_ = ticks_;
+}
+
+void DemoSession::handleCommand(const Command& command) noexcept {
+  switch (command.kind) {
+    case Command::Kind::kGrab:
+      grabNow();
+      break;
+    case Command::Kind::kSetTarget:
+      simulation_->hand().setTarget(command.position_m);
+      break;
+    case Command::Kind::kRelease:
+      releaseNow();
+      break;
+    case Command::Kind::kStartInitialization:
+      initializer_ = command.initializer;
+      initializer_->start(last_position_m_);
+      initialization_status_ = InitializationEstimator::Status::kRampingIn;
+      calibration_status_ = AutoCalibrator::Status::kIdle;
+      mode_ = ServoMode::kInitializing;
+      break;
+    case Command::Kind::kStartAutoCalibration:
+      if (mode_ != ServoMode::kInitialized || initializer_ == nullptr) break;
+      calibrator_ = command.calibrator;
+      calibrator_->start(last_position_m_, initializer_->gravityEstimate_n());
+      calibration_status_ = AutoCalibrator::Status::kMoving;
+      mode_ = ServoMode::kAutoCalibrating;
+      break;
+    case Command::Kind::kEndCalibration:
+      // After a finished run the hold fades out under the new map; an aborted run just stops.
+      mode_ = mode_ == ServoMode::kCalibrated ? ServoMode::kHandover : ServoMode::kApplication;
+      break;
+  }
+}
+
+void DemoSession::handleScriptEvent(const HandEvent& event) noexcept {
+  switch (event.kind) {
+    case HandEvent::Kind::kGrab:
+      grabNow();
+      break;
+    case HandEvent::Kind::kMove:
+      simulation_->hand().moveTo(event.position_m, event.speed_m_per_s);
+      break;
+    case HandEvent::Kind::kRelease:
+      releaseNow();
+      break;
+    case HandEvent::Kind::kCompensationOn:
+      decorator_->setCompensationEnabled(true);
+      break;
+    case HandEvent::Kind::kCompensationOff:
+      decorator_->setCompensationEnabled(false);
+      break;
+  }
+}
+
+Eigen::Vector3d DemoSession::holdForce(const ServoSample& sample) const noexcept {
+  // Paper eq. (10) with the last estimate as feedforward and eq. (11)'s gains.
+  const double mass_kg = std::max(hold_gravity_n_.norm(), 0.02) / kStandardGravity;
+  Eigen::Vector3d force_n =
+      options_.estimation.beta_per_s2 * mass_kg * (hold_position_m_ - sample.position_m) -
+      options_.estimation.alpha_per_s * mass_kg * sample.velocity_m_per_s + hold_gravity_n_;
+  clampForce(force_n, simulation_->specifications().max_linear_force_n);
+  return force_n;
+}
+
+void DemoSession::tick() noexcept {
+  Command command;
+  while (commands_.pop(command)) handleCommand(command);
+  const double time_s = static_cast<double>(ticks_) * options_.servo_period_s;
+  while (const HandEvent* event = script_player_.nextDue(time_s)) handleScriptEvent(*event);
+
+  const ServoSample sample = readServoSample(*decorator_);
+  if (sample.valid) last_position_m_ = sample.position_m;
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  switch (mode_) {
+    case ServoMode::kApplication:
+      // The application renders free space: it asks for no force, and the decorator adds G_hat.
+      decorator_->setForce(Eigen::Vector3d::Zero());
+      break;
+    case ServoMode::kInitializing:
+    case ServoMode::kInitialized:
+      // Calibration talks to the raw device: the estimators supply their own gravity terms.
+      initialization_status_ = initializer_->step(sample, force_n);
+      simulation_->setForce(force_n);
+      if (initialization_status_ == InitializationEstimator::Status::kDone) {
+        mode_ = ServoMode::kInitialized;
+      } else if (initialization_status_ == InitializationEstimator::Status::kDeviceFault) {
+        mode_ = ServoMode::kApplication;
+      }
+      break;
+    case ServoMode::kAutoCalibrating:
+      calibration_status_ = calibrator_->step(sample, force_n);
+      simulation_->setForce(force_n);
+      if (calibration_status_ == AutoCalibrator::Status::kFinished) {
+        const int last = calibrator_->lastFinishedVertex();
+        hold_position_m_ = sample.valid ? sample.position_m : last_position_m_;
+        hold_gravity_n_ = last >= 0
+                              ? calibrator_->vertices()[static_cast<std::size_t>(last)].gravity_n
+                              : initializer_->gravityEstimate_n();
+        mode_ = ServoMode::kCalibrated;
+      } else if (calibration_status_ == AutoCalibrator::Status::kDeviceFault) {
+        mode_ = ServoMode::kApplication;
+      }
+      break;
+    case ServoMode::kCalibrated:
+      if (sample.valid) force_n = holdForce(sample);
+      simulation_->setForce(force_n);
+      break;
+    case ServoMode::kHandover: {
+      // The decorator ramps its compensation in from wherever its level stood; the hold (with
+      // the last vertex estimate as feedforward) gives way at the same pace, so the sum keeps
+      // carrying the weight. Once the ramp is complete the application loop takes over.
+      const double level = decorator_->compensationLevel();
+      if (sample.valid) force_n = (1.0 - level) * holdForce(sample);
+      decorator_->setForce(force_n);
+      if (level >= 1.0 || !decorator_->compensationEnabled()) mode_ = ServoMode::kApplication;
+      break;
+    }
+  }
+  simulation_->advance(options_.servo_period_s);
+  ++ticks_;
+  publishSnapshot(sample);
+}
+
+void DemoSession::publishSnapshot(const ServoSample& sample) noexcept {
+  ServoSnapshot& s = snapshots_.writeSlot();
+  s.ticks = ticks_;
+  s.time_s = static_cast<double>(ticks_) * options_.servo_period_s;
+  s.sample_valid = sample.valid;
+  if (sample.valid) {
+    s.position_m = sample.position_m;
+    s.velocity_m_per_s = sample.velocity_m_per_s;
+  }
+  s.force_sent_n = simulation_->appliedForce_n();
+  s.hand_holding = simulation_->hand().holding();
+  s.hand_target_m = simulation_->hand().target_m();
+  s.compensation_enabled = decorator_->compensationEnabled();
+  s.compensation_level = decorator_->compensationLevel();
+  s.map_in_use = decorator_->latestMapInUse();
+  s.clamps = decorator_->clampCount();
+  s.device_saturations = simulation_->saturationCount();
+  s.faults = decorator_->faultCount();
+  s.last_fault = decorator_->lastFault();
+  s.released = released_;
+  s.drift_m = released_ ? (last_position_m_ - release_position_m_).norm() : 0.0;
+  s.since_release_s =
+      released_ ? static_cast<double>(ticks_ - release_tick_) * options_.servo_period_s : 0.0;
+  s.mode = mode_;
+  s.initialization = initialization_status_;
+  s.calibration = calibration_status_;
+  if (calibrator_ != nullptr) {
+    s.calibration_done = calibrator_->visitedCount();
+    s.calibration_total = calibrator_->toVisitCount();
+  }
+  if (initializer_ != nullptr) s.initial_gravity_n = initializer_->gravityEstimate_n();
+  s.realtime = timing_valid_;
+  if (timing_valid_) s.timing = timing_.report();
+  snapshots_.publish();
+}
+
+void DemoSession::runTicks(std::int64_t count) noexcept {
+  for (std::int64_t i = 0; i < count; ++i) tick();
+}
+
+void DemoSession::startRealTime() {
+  if (thread_.joinable()) return;
+  stop_.store(false);
+  thread_ = std::thread([this] { servoThreadMain(); });
+}
+
+void DemoSession::stopRealTime() {
+  if (!thread_.joinable()) return;
+  stop_.store(true);
+  thread_.join();
+  // The servo loop no longer runs: leave the device without force.
+  simulation_->setForce(Eigen::Vector3d::Zero());
+}
+
+void DemoSession::servoThreadMain() {
+  if (options_.realtime_priority) {
+    sched_param parameter{};
+    parameter.sched_priority = std::min(80, sched_get_priority_max(SCHED_FIFO));
+    realtime_priority_.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &parameter) == 0);
+  }
+  const auto period = std::chrono::nanoseconds(std::llround(options_.servo_period_s * 1e9));
+  timing_ = ServoTiming(period.count());
+  timing_valid_ = true;
+  const auto start = std::chrono::steady_clock::now() + period;
+  for (std::int64_t k = 0; !stop_.load(std::memory_order_relaxed); ++k) {
+    // Absolute deadlines: a late tick does not push the ones after it.
+    const auto deadline = start + k * period;
+    std::this_thread::sleep_until(deadline);
+    timing_.record(steadyNanoseconds(deadline),
+                   steadyNanoseconds(std::chrono::steady_clock::now()));
+    tick();
+  }
+}
+
+}  // namespace autograv::demo

@@ -1,0 +1,218 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/auto_calibrator.h"
+#include "autograv/estimation_parameters.h"
+#include "autograv/gravity_compensated_device.h"
+#include "autograv/gravity_map.h"
+#include "autograv/initialization_estimator.h"
+#include "autograv/sim/simulated_device.h"
+#include "hand_script.h"
+#include "lock_free.h"
+#include "servo_timing.h"
+
+namespace autograv::demo {
+
+/// What the servo loop is doing.
+enum class ServoMode : std::uint8_t {
+  kApplication,   ///< The application's loop: its force (none: free space) through the decorator.
+  kInitializing,  ///< Calibration, manual step: the k0 field holds the end-effector (eq. 7).
+  kInitialized,   ///< G_hat_0 found; the field keeps holding until the grid run starts.
+  kAutoCalibrating,  ///< Calibration, outer loop over the grid (the lead's AutoCalibrator).
+  kCalibrated,       ///< Every vertex done; holding the last vertex until the map is published.
+  kHandover,         ///< The hold fades out as the decorator's compensation ramps in.
+};
+const char* toString(ServoMode mode) noexcept;
+
+/// The state the servo thread publishes after every tick. Plain data.
+struct ServoSnapshot {
+  std::int64_t ticks = 0;
+  double time_s = 0.0;  ///< Servo time: ticks x period. Unit: [s]
+  bool sample_valid = false;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();        ///< Measured. Unit: [m]
+  Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();  ///< Estimated. Unit: [m/s]
+  Eigen::Vector3d force_sent_n = Eigen::Vector3d::Zero();      ///< Actuator force, saturated. [N]
+  bool hand_holding = false;
+  Eigen::Vector3d hand_target_m = Eigen::Vector3d::Zero();  ///< Unit: [m]
+  bool compensation_enabled = false;
+  double compensation_level = 0.0;  ///< Ramp, 0..1.
+  bool map_in_use = false;
+  std::uint64_t clamps = 0;              ///< Decorator: forces scaled to the device limit.
+  std::uint64_t device_saturations = 0;  ///< Driver: setForce calls it clamped.
+  std::uint64_t faults = 0;              ///< Decorator: ticks that ended in a fault.
+  ServoFault last_fault = ServoFault::kNone;
+  bool released = false;         ///< The hand let go and has not grabbed again.
+  double drift_m = 0.0;          ///< Distance from the release point. Unit: [m]
+  double since_release_s = 0.0;  ///< Unit: [s]
+  ServoMode mode = ServoMode::kApplication;
+  InitializationEstimator::Status initialization = InitializationEstimator::Status::kRampingIn;
+  AutoCalibrator::Status calibration = AutoCalibrator::Status::kIdle;
+  int calibration_done = 0;                                     ///< Vertices finished by this run.
+  int calibration_total = 0;                                    ///< Vertices this run visits.
+  Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
+  bool realtime = false;  ///< Paced on the wall clock (timing below is meaningful).
+  ServoTiming::Report timing;
+};
+
+struct SessionOptions {
+  std::string device = "sim:omega";  ///< A name of sim::simulatedDeviceNames().
+  std::uint64_t seed = 1;
+  double servo_period_s = 1.0e-3;  ///< Unit: [s]
+  CompensationOptions compensation;
+  EstimationParameters estimation;
+  /// Grid of an auto-calibration started without a map: 5 vertices per axis over the cube
+  /// inscribed in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
+  int calibration_resolution = 5;
+  /// Raise the servo thread to SCHED_FIFO when the system allows it.
+  bool realtime_priority = true;
+};
+
+/// A simulated device behind the GravityCompensatedDevice decorator, driven by one servo loop:
+/// either on its own thread paced at 1 kHz on absolute wall-clock deadlines (startRealTime), or
+/// stepped tick by tick by the caller on simulated time (runTicks, for deterministic headless
+/// runs). The UI thread talks to it through lock-free channels only.
+class DemoSession {
+  enum class UiCalibration { kNone, kInitializing, kRunning, kPublished };
+
+ public:
+  /// Makes, opens and homes the device, puts the end-effector at rest at the workspace centre in
+  /// the simulated hand's grip, wraps it in the decorator. Throws autograv::Error. Not real-time
+  /// safe.
+  explicit DemoSession(const SessionOptions& options);
+  /// Stops the servo thread if it runs. Not real-time safe.
+  ~DemoSession();
+  DemoSession(const DemoSession&) = delete;
+  DemoSession& operator=(const DemoSession&) = delete;
+
+  /// The device as the application sees it (the decorator) and the simulation behind it.
+  GravityCompensatedDevice& device() noexcept { return *decorator_; }
+  sim::SimulatedDevice& simulation() noexcept { return *simulation_; }
+  const sim::SimulatedDevice& simulation() const noexcept { return *simulation_; }
+  const SessionOptions& options() const noexcept { return options_; }
+
+  // --- Map (UI thread) -------------------------------------------------------------------------
+  /// Publishes `map` to the decorator. Throws autograv::Error when it was made for another
+  /// device model. Not real-time safe.
+  void publishMap(std::shared_ptr<const GravityMap> map);
+  std::shared_ptr<const GravityMap> map() const { return decorator_->publishedMap(); }
+
+  // --- Hand and compensation (UI thread; executed by the servo thread) -----------------------
+  /// Grabs the end-effector where it is. Not real-time safe (may be called from the UI only).
+  void grab();
+  /// Moves the hand's target at once (mouse drag). Unit: [m]
+  void setHandTarget(const Eigen::Vector3d& target_m);
+  void release();
+  /// Ramps compensation in or out. Any thread.
+  void setCompensationEnabled(bool enabled) noexcept;
+  /// A script whose events fire on servo time; must outlive the session. Call before running.
+  void setScript(const HandScript* script);
+
+  // --- Auto-calibration (UI thread) -------------------------------------------------------------
+  /// Starts the manual initialization where the end-effector is now (the user holds it near the
+  /// centre, then lets go). Returns a message for the user. Not real-time safe.
+  std::string startCalibration();
+  /// Ends a calibration in progress; the application loop takes over. Not real-time safe.
+  void abortCalibration();
+  /// Moves a calibration along from the UI side: checks the plan once G_hat_0 is known and starts
+  /// the grid run, builds and publishes the map once every vertex is done. Returns a message when
+  /// something happened (empty otherwise). Call once per frame. Not real-time safe.
+  std::string updateCalibration();
+  /// True from startCalibration until the map is published or the run ends. UI thread.
+  bool calibrationRunning() const noexcept {
+    return ui_calibration_ == UiCalibration::kInitializing ||
+           ui_calibration_ == UiCalibration::kRunning;
+  }
+
+  // --- Running ----------------------------------------------------------------------------------
+  /// One servo tick: commands, script, read, control, write, physics, snapshot. Servo thread
+  /// (or the caller of runTicks). Real-time safe.
+  void tick() noexcept;
+  /// Runs `count` ticks on simulated time on the calling thread. Not while the thread runs.
+  void runTicks(std::int64_t count) noexcept;
+  /// Starts the servo thread (1 kHz on absolute deadlines). Not real-time safe.
+  void startRealTime();
+  /// Stops and joins it. Not real-time safe.
+  void stopRealTime();
+  bool running() const noexcept { return thread_.joinable(); }
+  /// True when the servo thread got SCHED_FIFO.
+  bool realtimePriority() const noexcept { return realtime_priority_.load(); }
+
+  /// The grid a calibration would use now: the published map's, else the default grid.
+  /// Not real-time safe.
+  WorkspaceGrid calibrationGrid() const;
+
+  /// Latest published state. UI thread only (or the caller of runTicks). Real-time safe.
+  const ServoSnapshot& snapshot() noexcept { return snapshots_.read(); }
+
+ private:
+  struct Command {
+    enum class Kind : std::uint8_t {
+      kGrab,
+      kSetTarget,
+      kRelease,
+      kStartInitialization,
+      kStartAutoCalibration,
+      kEndCalibration,
+    };
+    Kind kind = Kind::kGrab;
+    Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+    InitializationEstimator* initializer = nullptr;  // kStartInitialization
+    AutoCalibrator* calibrator = nullptr;            // kStartAutoCalibration
+  };
+
+  void sendCommand(const Command& command);
+  void handleCommand(const Command& command) noexcept;
+  void handleScriptEvent(const HandEvent& event) noexcept;
+  void grabNow() noexcept;
+  void releaseNow() noexcept;
+  Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
+  void publishSnapshot(const ServoSample& sample) noexcept;
+  void servoThreadMain();
+
+  SessionOptions options_;
+  std::shared_ptr<sim::SimulatedDevice> simulation_;
+  std::shared_ptr<GravityCompensatedDevice> decorator_;
+
+  // Servo-thread state.
+  std::int64_t ticks_ = 0;
+  ServoMode mode_ = ServoMode::kApplication;
+  HandScriptPlayer script_player_;
+  bool released_ = false;
+  Eigen::Vector3d release_position_m_ = Eigen::Vector3d::Zero();
+  std::int64_t release_tick_ = 0;
+  Eigen::Vector3d last_position_m_ = Eigen::Vector3d::Zero();
+  InitializationEstimator::Status initialization_status_ =
+      InitializationEstimator::Status::kRampingIn;
+  AutoCalibrator::Status calibration_status_ = AutoCalibrator::Status::kIdle;
+  Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
+  ServoTiming timing_;
+  bool timing_valid_ = false;
+
+  // Calibration objects: made on the UI thread while the servo thread does not use them, then
+  // handed over by a command; kept until the session ends so a late tick never sees them freed.
+  std::vector<std::unique_ptr<InitializationEstimator>> initializers_;
+  std::vector<std::unique_ptr<AutoCalibrator>> calibrators_;
+  InitializationEstimator* initializer_ = nullptr;  // servo thread's
+  AutoCalibrator* calibrator_ = nullptr;            // servo thread's
+  // UI side of the calibration hand-over.
+  UiCalibration ui_calibration_ = UiCalibration::kNone;
+  bool compensation_before_calibration_ = true;
+  MapMetadata calibration_metadata_;
+
+  SpscQueue<Command, 256> commands_;
+  TripleBuffer<ServoSnapshot> snapshots_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> realtime_priority_{false};
+};
+
+}  // namespace autograv::demo

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <cstdint>
+
+namespace autograv::demo {
+
+/// Deadline statistics of a servo loop paced on absolute deadlines (deadline k = start + k T).
+/// A tick is "missed" when it starts more than one period late, i.e. after the next tick was
+/// already due. A missed-deadline burst runs from the deadline of the first missed tick of a run
+/// of missed ticks to the start of the first tick after it that was on time again: how long the
+/// device went without being serviced on schedule. Plain arithmetic, no clock: the servo thread
+/// feeds it the times it measured. Real-time safe.
+class ServoTiming {
+ public:
+  struct Report {
+    std::int64_t ticks = 0;
+    double elapsed_s = 0.0;         ///< First deadline to the start of the last tick. [s]
+    double rate_hz = 0.0;           ///< Ticks per second over elapsed_s. Unit: [Hz]
+    std::int64_t missed_ticks = 0;  ///< Ticks that started more than one period late.
+    double worst_burst_ms = 0.0;    ///< Longest missed-deadline burst. Unit: [ms]
+    double max_lateness_ms = 0.0;   ///< Latest start after a deadline. Unit: [ms]
+    double max_gap_ms = 0.0;        ///< Longest time between the starts of two ticks. [ms]
+    double mean_lateness_ms = 0.0;  ///< Unit: [ms]
+  };
+
+  explicit ServoTiming(std::int64_t period_ns) noexcept : period_ns_(period_ns) {}
+
+  /// Tick k was due at `deadline_ns` and started at `start_ns` (same clock). Real-time safe.
+  void record(std::int64_t deadline_ns, std::int64_t start_ns) noexcept;
+  /// Statistics so far; a burst still open counts up to the last tick. Real-time safe.
+  Report report() const noexcept;
+
+ private:
+  std::int64_t period_ns_;
+  std::int64_t ticks_ = 0;
+  std::int64_t first_deadline_ns_ = 0;
+  std::int64_t last_start_ns_ = 0;
+  std::int64_t missed_ = 0;
+  std::int64_t worst_burst_ns_ = 0;
+  std::int64_t max_lateness_ns_ = 0;
+  std::int64_t max_gap_ns_ = 0;
+  double sum_lateness_ns_ = 0.0;
+  bool in_burst_ = false;
+  std::int64_t burst_start_ns_ = 0;
+};
+
+}  // namespace autograv::demo

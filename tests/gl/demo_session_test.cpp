@@ -1,0 +1,224 @@
+// The demo's servo loop on simulated time: the decorator between the simulated device and the
+// application, the hand, compensation on and off, and a servo tick that allocates nothing.
+#include "demo_session.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "autograv/error.h"
+
+#include "allocation_counter.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv::demo {
+namespace {
+
+/// A map of the device's own ground truth on its default grid: what a perfect calibration gives.
+std::shared_ptr<const GravityMap> groundTruthMap(DemoSession& session) {
+  const WorkspaceGrid grid = session.calibrationGrid();
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    vertices[static_cast<std::size_t>(i)].gravity_n =
+        session.simulation().trueGravity(grid.vertexPosition(i));
+    vertices[static_cast<std::size_t>(i)].outcome = VertexOutcome::kConverged;
+  }
+  MapMetadata metadata;
+  metadata.device_model = session.simulation().specifications().model_name;
+  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+}
+
+constexpr std::int64_t kTicksPerSecond = 1000;
+
+/// Runs `seconds` of servo time on the calling thread, letting the UI side move a calibration on
+/// every 10 ms as a frame loop would.
+void run(DemoSession& session, double seconds) {
+  const auto frames = static_cast<std::int64_t>(seconds * 100.0);
+  for (std::int64_t i = 0; i < frames; ++i) {
+    session.runTicks(kTicksPerSecond / 100);
+    const std::string message = session.updateCalibration();
+    if (!message.empty()) std::printf("  session: %s\n", message.c_str());
+  }
+}
+
+/// Lifts the end-effector 2 cm with the hand and lets go after the compensation has ramped in.
+HandScript liftAndRelease() {
+  return HandScript::parse(
+      "at 0.0 grab\n"
+      "at 0.05 move 0 0 0.02 0.1\n"
+      "at 0.8 release\n",
+      "lift");
+}
+
+TEST(DemoSessionTest, StartsHeldAtTheWorkspaceCentre) {
+  DemoSession session(SessionOptions{});
+  const ServoSnapshot& s = session.snapshot();
+  EXPECT_TRUE(s.hand_holding);
+  EXPECT_TRUE(s.position_m.isApprox(session.simulation().workspaceCenter_m(), 1e-9));
+  EXPECT_EQ(s.mode, ServoMode::kApplication);
+}
+
+TEST(DemoSessionTest, ReleasedWithCompensationItFloats) {
+  DemoSession session(SessionOptions{});
+  session.publishMap(groundTruthMap(session));
+  const HandScript script = liftAndRelease();
+  session.setScript(&script);
+  run(session, 2.0);
+  const ServoSnapshot& s = session.snapshot();
+  ASSERT_TRUE(s.released);
+  EXPECT_NEAR(s.since_release_s, 1.2, 1e-9);
+  EXPECT_LT(s.drift_m, 0.001) << "drift " << s.drift_m * 1e3 << " mm";
+  EXPECT_NEAR(s.position_m.z() - session.simulation().workspaceCenter_m().z(), 0.02, 0.002);
+  EXPECT_DOUBLE_EQ(s.compensation_level, 1.0);
+  EXPECT_EQ(s.faults, 0u);
+  // The force sent is the compensation: the apparent gravity where it floats.
+  const Eigen::Vector3d truth = session.simulation().trueGravity(s.position_m);
+  EXPECT_LT((s.force_sent_n - truth).norm(), 0.02 * truth.norm());
+}
+
+TEST(DemoSessionTest, ReleasedWithoutCompensationItFalls) {
+  SessionOptions options;
+  options.compensation.enabled = false;
+  DemoSession session(options);
+  session.publishMap(groundTruthMap(session));
+  const HandScript script = liftAndRelease();
+  session.setScript(&script);
+  run(session, 2.0);
+  const ServoSnapshot& s = session.snapshot();
+  ASSERT_TRUE(s.released);
+  EXPECT_GT(s.drift_m, 0.03);
+  EXPECT_LT(s.position_m.z(), session.simulation().workspaceCenter_m().z() - 0.02);
+  EXPECT_DOUBLE_EQ(s.compensation_level, 0.0);
+}
+
+TEST(DemoSessionTest, ScriptSwitchesCompensationWithARamp) {
+  SessionOptions options;
+  options.compensation.ramp_duration_s = 0.5;
+  DemoSession session(options);
+  session.publishMap(groundTruthMap(session));
+  const HandScript script = HandScript::parse("at 1.0 compensation off\n", "toggle");
+  session.setScript(&script);
+  run(session, 1.0);
+  EXPECT_DOUBLE_EQ(session.snapshot().compensation_level, 1.0);
+  run(session, 0.25);
+  EXPECT_TRUE(!session.snapshot().compensation_enabled);
+  EXPECT_NEAR(session.snapshot().compensation_level, 0.5, 0.01);
+  run(session, 0.5);
+  EXPECT_DOUBLE_EQ(session.snapshot().compensation_level, 0.0);
+}
+
+TEST(DemoSessionTest, MouseCommandsMoveTheHand) {
+  DemoSession session(SessionOptions{});
+  const Eigen::Vector3d target =
+      session.simulation().workspaceCenter_m() + Eigen::Vector3d(0.01, -0.015, 0.0);
+  session.grab();
+  session.setHandTarget(target);
+  run(session, 1.0);
+  const ServoSnapshot& s = session.snapshot();
+  EXPECT_TRUE(s.hand_holding);
+  EXPECT_TRUE(s.hand_target_m.isApprox(target, 1e-12));
+  // No map: the hand's spring carries the whole weight, so the end-effector sags a little below
+  // the target (|G| / stiffness) but follows it sideways.
+  EXPECT_NEAR(s.position_m.x(), target.x(), 0.001);
+  EXPECT_NEAR(s.position_m.y(), target.y(), 0.001);
+  session.release();
+  run(session, 0.01);
+  EXPECT_FALSE(session.snapshot().hand_holding);
+  EXPECT_TRUE(session.snapshot().released);
+}
+
+TEST(DemoSessionTest, ServoTicksAllocateNothing) {
+  DemoSession session(SessionOptions{});
+  session.publishMap(groundTruthMap(session));
+  const HandScript script = liftAndRelease();
+  session.setScript(&script);
+  session.runTicks(10);
+  session.setHandTarget(session.simulation().workspaceCenter_m());
+  autograv::testing::AllocationCounter counter;
+  session.runTicks(1500);  // script events, a command, the ramp, the release
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_TRUE(session.snapshot().released);
+}
+
+TEST(DemoSessionTest, AutoCalibrationPublishesAMapThatHoldsTheEndEffector) {
+  SessionOptions options;
+  options.calibration_resolution = 3;  // 27 vertices: the whole procedure, quickly
+  DemoSession session(options);
+  EXPECT_FALSE(session.map());
+  run(session, 0.2);
+  EXPECT_FALSE(session.startCalibration().empty());
+  EXPECT_TRUE(session.calibrationRunning());
+  run(session, 0.5);  // the field ramps in while the hand still holds it
+  EXPECT_EQ(session.snapshot().mode, ServoMode::kInitializing);
+  session.release();  // let go: the field alone holds it, eq. (7)
+  for (int i = 0; i < 120 && session.calibrationRunning(); ++i) run(session, 0.5);
+  ASSERT_FALSE(session.calibrationRunning()) << toString(session.snapshot().mode);
+  const auto map = session.map();
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->grid().vertexCount(), 27);
+  EXPECT_EQ(map->convergedCount(), 27);
+  EXPECT_EQ(map->metadata().device_model, "sim:omega");
+  for (int i = 0; i < map->grid().vertexCount(); ++i) {
+    const Eigen::Vector3d truth = session.simulation().trueGravity(map->grid().vertexPosition(i));
+    EXPECT_LT((map->vertices()[static_cast<std::size_t>(i)].gravity_n - truth).norm(),
+              0.02 * truth.norm());
+  }
+  // Back in the application loop with the new map: the end-effector stays where it was left.
+  run(session, 1.0);
+  const ServoSnapshot& s = session.snapshot();
+  EXPECT_EQ(s.mode, ServoMode::kApplication);
+  EXPECT_TRUE(s.compensation_enabled);
+  EXPECT_DOUBLE_EQ(s.compensation_level, 1.0);
+  const Eigen::Vector3d before = s.position_m;
+  run(session, 1.0);
+  EXPECT_LT((session.snapshot().position_m - before).norm(), 0.002);
+}
+
+TEST(DemoSessionTest, AbortedCalibrationRestoresTheApplicationLoop) {
+  DemoSession session(SessionOptions{});
+  session.publishMap(groundTruthMap(session));
+  run(session, 0.6);
+  session.startCalibration();
+  run(session, 0.3);
+  EXPECT_EQ(session.snapshot().mode, ServoMode::kInitializing);
+  session.abortCalibration();
+  run(session, 0.6);
+  EXPECT_FALSE(session.calibrationRunning());
+  EXPECT_EQ(session.snapshot().mode, ServoMode::kApplication);
+  EXPECT_TRUE(session.snapshot().compensation_enabled);
+}
+
+TEST(DemoSessionTest, MapOfAnotherDeviceIsRefused) {
+  DemoSession session(SessionOptions{});
+  WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.05, 2);
+  std::vector<VertexEstimate> vertices(8);
+  for (auto& v : vertices) v.gravity_n = Eigen::Vector3d(0, 0, 1);
+  MapMetadata metadata;
+  metadata.device_model = "some other device";
+  EXPECT_THROW(session.publishMap(std::make_shared<const GravityMap>(grid, vertices, metadata)),
+               Error);
+}
+
+TEST(DemoSessionTest, RealTimeThreadTicksAndReportsItsTiming) {
+  SessionOptions options;
+  options.realtime_priority = false;
+  DemoSession session(options);
+  session.startRealTime();
+  EXPECT_TRUE(session.running());
+  // Wait for ticks without asserting on their pace (speed belongs in benchmarks).
+  for (int i = 0; i < 10000 && session.snapshot().ticks < 50; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  session.stopRealTime();
+  EXPECT_FALSE(session.running());
+  const ServoSnapshot& s = session.snapshot();
+  EXPECT_GE(s.ticks, 50);
+  EXPECT_TRUE(s.realtime);
+  EXPECT_EQ(s.timing.ticks, s.ticks);
+  EXPECT_GT(s.timing.rate_hz, 0.0);
+}
+
+}  // namespace
+}  // namespace autograv::demo
