@@ -1,0 +1,95 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "autograv/chai3d/device_adapter.h"
+#include "autograv/chai3d/vendor_gravity_compensation.h"
+#include "autograv/gravity_compensated_device.h"
+#include "chai3d.h"
+
+namespace autograv::chai3d {
+
+/// A CHAI3D device that adds autograv's gravity compensation to every force: a CHAI3D application
+/// swaps it in for the device it got from cHapticDeviceHandler and changes nothing else.
+///
+///   chai3d::cGenericHapticDevicePtr raw;
+///   handler->getDevice(raw, 0);
+///   auto device = autograv::chai3d::cGravityCompensatedDevice::create(raw);
+///   device->open();                          // also copies m_specifications, see below
+///   device->loadAndPublishMap("omega.json"); // checked against the device's model name
+///   tool->setHapticDevice(device);           // or call device->setForce(...) yourself
+///
+/// CHAI3D's setForce and setForceAndTorque are non-virtual and funnel into the virtual
+/// setForceAndTorqueAndGripperForce, which this class overrides: every way of commanding a force
+/// is compensated. getSpecifications() is non-virtual and returns the member m_specifications, so
+/// open() (and the constructor) copy the wrapped device's into it. Every other virtual method is
+/// forwarded to the wrapped device (CHAI3D's base class would otherwise answer with quiet
+/// defaults).
+///
+/// The compensation itself is autograv::GravityCompensatedDevice (ramps, clamping to
+/// m_maxLinearForce, faults, lock-free map swaps): reach it with compensation(). On a fault the
+/// linear force is zero; the torque and gripper force pass unchanged, since they do not depend on
+/// the position that failed the checks.
+class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
+ public:
+  /// Throws autograv::Error for a null device or unusable options. Not real-time safe.
+  explicit cGravityCompensatedDevice(
+      ::chai3d::cGenericHapticDevicePtr device, const CompensationOptions& options = {},
+      VendorGravityCompensation vendor = VendorGravityCompensation::kDisable);
+  ~cGravityCompensatedDevice() override;
+
+  /// Shared allocator, as CHAI3D's devices have. Not real-time safe.
+  static std::shared_ptr<cGravityCompensatedDevice> create(
+      ::chai3d::cGenericHapticDevicePtr device, const CompensationOptions& options = {},
+      VendorGravityCompensation vendor = VendorGravityCompensation::kDisable) {
+    return std::make_shared<cGravityCompensatedDevice>(std::move(device), options, vendor);
+  }
+
+  // --- cGenericHapticDevice: all forwarded; open/close/calibrate are not real-time safe, the
+  // rest are real-time safe when the wrapped driver's are.
+  bool open() override;
+  bool close() override;
+  bool calibrate(bool a_forceCalibration = false) override;
+  bool getPosition(::chai3d::cVector3d& a_position) override;
+  bool getLinearVelocity(::chai3d::cVector3d& a_linearVelocity) override;
+  bool getRotation(::chai3d::cMatrix3d& a_rotation) override;
+  bool getJointAnglesRad(double a_jointAnglesRad[::chai3d::C_MAX_DOF]) override;
+  bool getAngularVelocity(::chai3d::cVector3d& a_angularVelocity) override;
+  bool getTransform(::chai3d::cTransform& a_transform) override;
+  bool getGripperAngleRad(double& a_angle) override;
+  bool getGripperAngularVelocity(double& a_gripperAngularVelocity) override;
+  /// The force last sent to the wrapped device, compensation included.
+  bool getForce(::chai3d::cVector3d& a_force) override;
+  bool getTorque(::chai3d::cVector3d& a_torque) override;
+  bool getGripperForce(double& a_gripperForce) override;
+  bool getUserSwitch(int a_switchIndex, bool& a_status) override;
+  bool getUserSwitches(unsigned int& a_userSwitches) override;
+  void setEnableGripperUserSwitch(const bool a_status) override;
+  bool getEnableGripperUserSwitch() const override;
+  /// Sends a_force + G_hat(X) (see the class comment). Real-time safe when the driver's is.
+  bool setForceAndTorqueAndGripperForce(const ::chai3d::cVector3d& a_force,
+                                        const ::chai3d::cVector3d& a_torque,
+                                        double a_gripperForce) override;
+  bool enableForces(bool a_value) override;
+
+  // --- autograv side --------------------------------------------------------------------------
+  /// Publish maps, switch compensation, read faults and counters. Any thread, see
+  /// GravityCompensatedDevice.
+  GravityCompensatedDevice& compensation() noexcept { return *compensated_; }
+  /// Loads a map file (refused for another device model unless allowed) and publishes it.
+  /// Throws autograv::Error; the previous map stays in use on failure. Not real-time safe.
+  void loadAndPublishMap(const std::string& path, bool allow_model_mismatch = false);
+  /// Why the last open() failed (empty when it did not). Not real-time safe.
+  const std::string& lastError() const { return adapter_->lastError(); }
+  const ::chai3d::cGenericHapticDevicePtr& wrappedDevice() const { return device_; }
+
+ private:
+  void copyState();
+
+  ::chai3d::cGenericHapticDevicePtr device_;
+  std::shared_ptr<Chai3dDeviceAdapter> adapter_;
+  std::unique_ptr<GravityCompensatedDevice> compensated_;
+};
+
+}  // namespace autograv::chai3d

@@ -1,0 +1,243 @@
+// A minimal stand-in for CHAI3D 3.3's "chai3d.h", written from our reading of CHAI3D's
+// documented API (src/devices/CGenericHapticDevice.h, CGenericDevice.h, math/CVector3d.h): only
+// the declarations the autograv bridge uses, with the same names, signatures, virtual/non-virtual
+// split and quiet defaults. It lets the bridge compile and be tested where CHAI3D is not
+// installed. It checks our code against OUR READING of the 3.3 API, not against CHAI3D itself:
+// build against a real CHAI3D (-DAUTOGRAV_CHAI3D_DIR=<its build folder>) before relying on it.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace chai3d {
+
+// CHAI3D's success/error convention for bool results.
+const bool C_SUCCESS = true;
+const bool C_ERROR = false;
+const int C_MAX_DOF = 16;
+
+struct cVector3d {
+  cVector3d() {}
+  cVector3d(const double a_x, const double a_y, const double a_z) { set(a_x, a_y, a_z); }
+  double& operator()(int i) { return m_data[i]; }
+  double operator()(int i) const { return m_data[i]; }
+  double x() const { return m_data[0]; }
+  double y() const { return m_data[1]; }
+  double z() const { return m_data[2]; }
+  void x(const double a_value) { m_data[0] = a_value; }
+  void y(const double a_value) { m_data[1] = a_value; }
+  void z(const double a_value) { m_data[2] = a_value; }
+  void zero() { set(0.0, 0.0, 0.0); }
+  void set(const double& a_x, const double& a_y, const double& a_z) {
+    m_data[0] = a_x;
+    m_data[1] = a_y;
+    m_data[2] = a_z;
+  }
+
+ private:
+  double m_data[3] = {0.0, 0.0, 0.0};
+};
+
+struct cMatrix3d {
+  void identity() {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m_data[r][c] = r == c ? 1.0 : 0.0;
+  }
+  double& operator()(int r, int c) { return m_data[r][c]; }
+  double operator()(int r, int c) const { return m_data[r][c]; }
+
+ private:
+  double m_data[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+};
+
+struct cTransform {
+  void set(const cVector3d& a_position, const cMatrix3d& a_rotation) {
+    m_position = a_position;
+    m_rotation = a_rotation;
+  }
+  cVector3d m_position;
+  cMatrix3d m_rotation;
+};
+
+enum cHapticDeviceModel {
+  C_HAPTIC_DEVICE_VIRTUAL,
+  C_HAPTIC_DEVICE_DELTA_3,
+  C_HAPTIC_DEVICE_DELTA_6,
+  C_HAPTIC_DEVICE_OMEGA_3,
+  C_HAPTIC_DEVICE_OMEGA_6,
+  C_HAPTIC_DEVICE_OMEGA_7,
+  C_HAPTIC_DEVICE_SIGMA_6P,
+  C_HAPTIC_DEVICE_SIGMA_7,
+  C_HAPTIC_DEVICE_FALCON,
+  C_HAPTIC_DEVICE_XTH_1,
+  C_HAPTIC_DEVICE_XTH_2,
+  C_HAPTIC_DEVICE_MPR,
+  C_HAPTIC_DEVICE_KSD_1,
+  C_HAPTIC_DEVICE_VIC_1,
+  C_HAPTIC_DEVICE_PHANTOM_TOUCH,
+  C_HAPTIC_DEVICE_PHANTOM_OMNI,
+  C_HAPTIC_DEVICE_PHANTOM_DESKTOP,
+  C_HAPTIC_DEVICE_PHANTOM_15_6DOF,
+  C_HAPTIC_DEVICE_PHANTOM_30_6DOF,
+  C_HAPTIC_DEVICE_PHANTOM_OTHER,
+  C_TRACKER_DEVICE_SIXENSE,
+  C_TRACKER_DEVICE_LEAP,
+  C_HAPTIC_DEVICE_CUSTOM
+};
+
+struct cHapticDeviceInfo {
+  cHapticDeviceModel m_model = C_HAPTIC_DEVICE_VIRTUAL;
+  std::string m_modelName;
+  std::string m_manufacturerName;
+  double m_maxLinearForce = 0.0;
+  double m_maxAngularTorque = 0.0;
+  double m_maxGripperForce = 0.0;
+  double m_maxLinearStiffness = 0.0;
+  double m_maxAngularStiffness = 0.0;
+  double m_maxGripperLinearStiffness = 0.0;
+  double m_maxLinearDamping = 0.0;
+  double m_maxAngularDamping = 0.0;
+  double m_maxGripperAngularDamping = 0.0;
+  double m_workspaceRadius = 0.0;
+  double m_gripperMaxAngleRad = 0.0;
+  bool m_sensedPosition = false;
+  bool m_sensedRotation = false;
+  bool m_sensedGripper = false;
+  bool m_actuatedPosition = false;
+  bool m_actuatedRotation = false;
+  bool m_actuatedGripper = false;
+  bool m_leftHand = false;
+  bool m_rightHand = false;
+};
+
+class cGenericDevice {
+ public:
+  cGenericDevice(unsigned int a_deviceNumber = 0)
+      : m_deviceAvailable(false),
+        m_deviceReady(false),
+        m_deviceNumber(static_cast<int>(a_deviceNumber)) {}
+  virtual ~cGenericDevice() {}
+  virtual bool open() { return C_ERROR; }
+  virtual bool close() { return C_ERROR; }
+  bool isDeviceAvailable() { return m_deviceAvailable; }
+  bool isDeviceReady() { return m_deviceReady; }
+
+ protected:
+  bool m_deviceAvailable;
+  bool m_deviceReady;
+  int m_deviceNumber;
+};
+
+class cGenericHapticDevice;
+typedef std::shared_ptr<cGenericHapticDevice> cGenericHapticDevicePtr;
+
+// Quiet defaults, as in CHAI3D: a subclass that forgets an override silently gets these.
+class cGenericHapticDevice : public cGenericDevice {
+ public:
+  cGenericHapticDevice(unsigned int a_deviceNumber = 0)
+      : cGenericDevice(a_deviceNumber),
+        m_prevGripperForce(0.0),
+        m_gripperAngularVelocity(0.0),
+        m_gripperUserSwitchEnabled(false) {}
+  virtual ~cGenericHapticDevice() {}
+
+  virtual bool open() { return C_ERROR; }
+  virtual bool close() { return C_ERROR; }
+  virtual bool calibrate(bool a_forceCalibration = false) {
+    (void)a_forceCalibration;
+    return m_deviceReady;
+  }
+  virtual bool getPosition(cVector3d& a_position) {
+    a_position.zero();
+    return m_deviceReady;
+  }
+  virtual bool getLinearVelocity(cVector3d& a_linearVelocity) {
+    a_linearVelocity = m_linearVelocity;
+    return m_deviceReady;
+  }
+  virtual bool getRotation(cMatrix3d& a_rotation) {
+    a_rotation.identity();
+    return m_deviceReady;
+  }
+  virtual bool getJointAnglesRad(double a_jointAnglesRad[C_MAX_DOF]) {
+    (void)a_jointAnglesRad;
+    return C_ERROR;
+  }
+  virtual bool getAngularVelocity(cVector3d& a_angularVelocity) {
+    a_angularVelocity = m_angularVelocity;
+    return m_deviceReady;
+  }
+  virtual bool getTransform(cTransform& a_transform) {
+    cVector3d position;
+    cMatrix3d rotation;
+    const bool ok = getPosition(position) && getRotation(rotation);
+    a_transform.set(position, rotation);
+    return ok;
+  }
+  virtual bool getGripperAngleRad(double& a_angle) {
+    a_angle = 0.0;
+    return m_deviceReady;
+  }
+  virtual bool getGripperAngularVelocity(double& a_gripperAngularVelocity) {
+    a_gripperAngularVelocity = m_gripperAngularVelocity;
+    return m_deviceReady;
+  }
+  virtual bool getForce(cVector3d& a_force) {
+    a_force = m_prevForce;
+    return m_deviceReady;
+  }
+  virtual bool getTorque(cVector3d& a_torque) {
+    a_torque = m_prevTorque;
+    return m_deviceReady;
+  }
+  virtual bool getGripperForce(double& a_gripperForce) {
+    a_gripperForce = m_prevGripperForce;
+    return m_deviceReady;
+  }
+  virtual bool getUserSwitch(int a_switchIndex, bool& a_status) {
+    (void)a_switchIndex;
+    a_status = false;
+    return m_deviceReady;
+  }
+  virtual bool getUserSwitches(unsigned int& a_userSwitches) {
+    a_userSwitches = 0;
+    return m_deviceReady;
+  }
+  // Non-virtual, returns a copy of the public member: a wrapper must copy m_specifications.
+  cHapticDeviceInfo getSpecifications() { return m_specifications; }
+  virtual void setEnableGripperUserSwitch(const bool a_status) {
+    m_gripperUserSwitchEnabled = a_status;
+  }
+  virtual bool getEnableGripperUserSwitch() const { return m_gripperUserSwitchEnabled; }
+  // Non-virtual: both funnel into setForceAndTorqueAndGripperForce.
+  bool setForce(const cVector3d& a_force) {
+    return setForceAndTorqueAndGripperForce(a_force, cVector3d(0.0, 0.0, 0.0), 0.0);
+  }
+  bool setForceAndTorque(const cVector3d& a_force, const cVector3d& a_torque) {
+    return setForceAndTorqueAndGripperForce(a_force, a_torque, 0.0);
+  }
+  virtual bool setForceAndTorqueAndGripperForce(const cVector3d& a_force, const cVector3d& a_torque,
+                                                double a_gripperForce) {
+    (void)a_force;
+    (void)a_torque;
+    (void)a_gripperForce;
+    return m_deviceReady;
+  }
+  virtual bool enableForces(bool a_value) {
+    (void)a_value;
+    return true;
+  }
+
+  cHapticDeviceInfo m_specifications;
+
+ protected:
+  cVector3d m_prevForce;
+  cVector3d m_prevTorque;
+  double m_prevGripperForce;
+  cVector3d m_linearVelocity;
+  cVector3d m_angularVelocity;
+  double m_gripperAngularVelocity;
+  bool m_gripperUserSwitchEnabled;
+};
+
+}  // namespace chai3d
