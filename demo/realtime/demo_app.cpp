@@ -54,6 +54,15 @@ gl::OrbitCamera initialCamera(const DemoSession& session) {
   return gl::OrbitCamera::framing(map ? map->grid() : session.calibrationGrid());
 }
 
+/// One frame's scene; without a map the lattice of the grid a calibration would visit is shown.
+gl::Scene frameScene(const DemoView& view, const ServoSnapshot& snapshot,
+                     const DemoSession& session, const gl::OrbitCamera& camera, bool simulated_time,
+                     const std::string& status) {
+  gl::Scene scene = view.build(snapshot, session.map(), camera, simulated_time, status);
+  if (!scene.map) scene.grid = session.calibrationGrid();
+  return scene;
+}
+
 }  // namespace
 
 std::shared_ptr<const GravityMap> loadMapFor(const DemoSession& session, const std::string& path) {
@@ -104,7 +113,7 @@ HeadlessResult runHeadlessFrames(const DemoOptions& options) {
     char status[128];
     std::snprintf(status, sizeof status, "HEADLESS  FRAME %d OF %d  %lld TICKS PER FRAME", frame,
                   result.frames, static_cast<long long>(result.ticks_per_frame));
-    renderer.render(view.build(snapshot, session->map(), camera, true,
+    renderer.render(frameScene(view, snapshot, *session, camera, true,
                                message.empty() ? status : upper(message)));
   }
   result.last_frame = context.readImage();
@@ -132,7 +141,7 @@ ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds) {
   while (std::chrono::steady_clock::now() < end) {
     const ServoSnapshot& snapshot = session->snapshot();
     view.record(snapshot);
-    renderer.render(view.build(snapshot, session->map(), camera, false, "REAL-TIME CHECK"));
+    renderer.render(frameScene(view, snapshot, *session, camera, false, "REAL-TIME CHECK"));
     next_frame += frame_period;
     std::this_thread::sleep_until(std::min(next_frame, end));
   }
@@ -286,7 +295,7 @@ int runWindowed(const DemoOptions& options) {
     view.record(snapshot);
     const bool recent = std::chrono::steady_clock::now() - message_time <
                         std::chrono::duration<double>(kMessageSeconds);
-    gl::Scene scene = view.build(snapshot, session->map(), camera, false,
+    gl::Scene scene = frameScene(view, snapshot, *session, camera, false,
                                  recent && !message.empty() ? upper(message) : help);
     scene.show_arrows = show_map;
     scene.show_grid = show_map;

@@ -393,9 +393,12 @@ void Renderer::render(const Scene& scene) {
   double max_magnitude = 0.0;
   double scale_m_per_n = scene.arrow_scale_m_per_n;
   const GravityMap* map = scene.map.get();
+  const WorkspaceGrid* lattice = map != nullptr ? &map->grid()
+                                 : scene.grid   ? &*scene.grid
+                                                : nullptr;
+  if (lattice != nullptr) cell_m = lattice->spacing_m();
   if (map != nullptr) {
     const WorkspaceGrid& grid = map->grid();
-    cell_m = grid.spacing_m();
     min_magnitude = std::numeric_limits<double>::infinity();
     for (const VertexEstimate& vertex : map->vertices()) {
       const double magnitude = vertex.gravity_n.norm();
@@ -415,35 +418,36 @@ void Renderer::render(const Scene& scene) {
                                                           static_cast<float>(value)));
       }
     }
-    if (scene.show_grid) {
-      const int n = grid.resolution();
-      const Eigen::Vector3d lo = grid.minCorner_m();
-      const Eigen::Vector3d hi = grid.maxCorner_m();
-      for (int axis = 0; axis < 3; ++axis) {
-        const int a1 = (axis + 1) % 3;
-        const int a2 = (axis + 2) % 3;
-        for (int j = 0; j < n; ++j) {
-          for (int k = 0; k < n; ++k) {
-            Eigen::Vector3d from = lo;
-            from[a1] += j * cell_m;
-            from[a2] += k * cell_m;
-            Eigen::Vector3d to = from;
-            to[axis] = hi[axis];
-            const bool edge = (j == 0 || j == n - 1) && (k == 0 || k == n - 1);
-            const Rgba color = edge ? kEdgeColor : kLatticeColor;
-            pushLine(s.line_vertices, from, to, color, color);
-          }
+  }
+  if (lattice != nullptr && scene.show_grid) {
+    const WorkspaceGrid& grid = *lattice;
+    const int n = grid.resolution();
+    const Eigen::Vector3d lo = grid.minCorner_m();
+    const Eigen::Vector3d hi = grid.maxCorner_m();
+    for (int axis = 0; axis < 3; ++axis) {
+      const int a1 = (axis + 1) % 3;
+      const int a2 = (axis + 2) % 3;
+      for (int j = 0; j < n; ++j) {
+        for (int k = 0; k < n; ++k) {
+          Eigen::Vector3d from = lo;
+          from[a1] += j * cell_m;
+          from[a2] += k * cell_m;
+          Eigen::Vector3d to = from;
+          to[axis] = hi[axis];
+          const bool edge = (j == 0 || j == n - 1) && (k == 0 || k == n - 1);
+          const Rgba color = edge ? kEdgeColor : kLatticeColor;
+          pushLine(s.line_vertices, from, to, color, color);
         }
       }
-      // Axis triad at the minimum corner: x red, y green, z blue.
-      const double length = 0.6 * cell_m;
-      pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitX(), {1.0f, 0.3f, 0.3f, 1},
-               {1.0f, 0.3f, 0.3f, 1});
-      pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitY(), {0.3f, 1.0f, 0.3f, 1},
-               {0.3f, 1.0f, 0.3f, 1});
-      pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitZ(), {0.4f, 0.5f, 1.0f, 1},
-               {0.4f, 0.5f, 1.0f, 1});
     }
+    // Axis triad at the minimum corner: x red, y green, z blue.
+    const double length = 0.6 * cell_m;
+    pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitX(), {1.0f, 0.3f, 0.3f, 1},
+             {1.0f, 0.3f, 0.3f, 1});
+    pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitY(), {0.3f, 1.0f, 0.3f, 1},
+             {0.3f, 1.0f, 0.3f, 1});
+    pushLine(s.line_vertices, lo, lo + length * Eigen::Vector3d::UnitZ(), {0.4f, 0.5f, 1.0f, 1},
+             {0.4f, 0.5f, 1.0f, 1});
   }
   if (scale_m_per_n <= 0.0) scale_m_per_n = 0.8 * cell_m;  // 0.8 cell per newton without a map
 
@@ -526,8 +530,8 @@ void Renderer::render(const Scene& scene) {
               kTextColor);
   }
   // Axis letters next to the triad, projected to the screen.
-  if (map != nullptr && scene.show_grid) {
-    const Eigen::Vector3d lo = map->grid().minCorner_m();
+  if (lattice != nullptr && scene.show_grid) {
+    const Eigen::Vector3d lo = lattice->minCorner_m();
     const char* names[] = {"X", "Y", "Z"};
     const Rgba colors[] = {
         {1.0f, 0.45f, 0.45f, 1}, {0.45f, 1.0f, 0.45f, 1}, {0.55f, 0.65f, 1.0f, 1}};

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,9 @@ namespace autograv::gl {
 struct Scene {
   /// The gravity map drawn as a grid lattice with one arrow per vertex; null draws neither.
   std::shared_ptr<const GravityMap> map;
-  bool show_grid = true;    ///< Draw the lattice of the map's grid.
+  /// Lattice drawn when there is no map (e.g. the grid a calibration would visit).
+  std::optional<WorkspaceGrid> grid;
+  bool show_grid = true;    ///< Draw the lattice of the map's grid (or of `grid`).
   bool show_arrows = true;  ///< Draw the map's arrows (coloured by |G|).
   /// Arrow length per newton, shared by the map arrows and the force vector; 0 picks one so that
   /// the longest map arrow is 0.8 grid cells. Unit: [m/N]
