@@ -48,6 +48,15 @@ enum class WizardEvent : std::uint8_t {
   kSkipRedo,    ///< Review: keep the result as it is and save it (same as kConfirm there).
 };
 
+/// Why Check stopped, so that a front end can answer for an unattended user.
+enum class CheckIssue : std::uint8_t {
+  kNone,               ///< Not stopped (or not checked yet).
+  kOpenFailed,         ///< open() failed; Enter retries.
+  kUncalibrated,       ///< calibrate() failed; Enter runs the device's homing.
+  kEarlierCheckpoint,  ///< A checkpoint exists and --resume was not given; Enter replaces it.
+  kSettings,           ///< Specifications, grid or parameters refused; change them and restart.
+};
+
 /// Settings of one wizard run. Set-up only.
 struct WizardConfig {
   /// Calibration grid (paper Sec. I). Units: [m]
@@ -145,6 +154,8 @@ struct WizardStatus {
   std::string summary;
   /// True while the wizard waits for the user (a key, the stylus button, letting go).
   bool waiting_for_user = false;
+  /// Check: why it stopped.
+  CheckIssue check_issue = CheckIssue::kNone;
 
   /// Latest end-effector position and speed. Units: [m], [m/s]
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
@@ -323,6 +334,7 @@ class CalibrationWizard {
   void beginVerifyMove(const Eigen::Vector3d& from_m) noexcept;
   void enter(WizardStep step) noexcept;
   void fail(int fault_code, HoldMode hold) noexcept;
+  bool sampleLost(const ServoSample& sample) noexcept;
   void flushMirror() noexcept;
   void publishLive() noexcept;
 
@@ -392,6 +404,7 @@ class CalibrationWizard {
   bool force_calibrate_ = false;
   std::string check_message_;
   std::string check_prompt_;
+  CheckIssue check_issue_ = CheckIssue::kNone;
   std::string summary_;
   std::string plan_message_;
   std::uint64_t checkpoint_version_ = 0;

@@ -184,6 +184,18 @@ void CalibrationWizard::enter(WizardStep step) noexcept {
   phase_.store(step, std::memory_order_release);
 }
 
+bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
+  if (sample.valid) {
+    invalid_samples_ = 0;
+    return false;
+  }
+  // A dropped frame now and then is ridden over; a device that stays silent is a fault.
+  if (++invalid_samples_ > wizard::kMaxInvalidSamples) {
+    fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
+  }
+  return true;
+}
+
 void CalibrationWizard::fail(int fault_code, HoldMode hold) noexcept {
   live_.fault_code = fault_code;
   hold_mode_ = hold;
@@ -201,13 +213,7 @@ void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std:
     enter(WizardStep::kAborted);
     return;
   }
-  if (!sample.valid) {
-    if (++invalid_samples_ > wizard::kMaxInvalidSamples) {
-      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-    }
-    return;
-  }
-  invalid_samples_ = 0;
+  if (sampleLost(sample)) return;
   const bool within = (grid_.center_m() - sample.position_m).norm() <= config_.centre_tolerance_m;
   const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
   if (!confirm) return;
@@ -373,6 +379,7 @@ void CalibrationWizard::tickReview(const ServoSample& sample, std::uint32_t even
     }
     return;
   }
+  if (sampleLost(sample)) return;
   if (has(events, WizardEvent::kRedoFailed)) {
     awaiting_redo_ = true;
     live_.awaiting_service = true;
@@ -418,7 +425,7 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
     awaiting_save_ = false;
     live_.awaiting_service = false;
   }
-  if (awaiting_save_) return;
+  if (sampleLost(sample) || awaiting_save_) return;
   if (has(events, WizardEvent::kAbort)) {
     enter(WizardStep::kAborted);
   } else if (has(events, WizardEvent::kConfirm)) {
@@ -447,14 +454,10 @@ void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t even
   const double period_s = config_.parameters.servo_period_s;
   ++verify_ticks_;
   const double stage_s = static_cast<double>(verify_ticks_) * period_s;
-  if (!sample.valid) {
+  if (sampleLost(sample)) {
     force_n.setZero();
-    if (++invalid_samples_ > wizard::kMaxInvalidSamples) {
-      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-    }
     return;
   }
-  invalid_samples_ = 0;
   if (has(events, WizardEvent::kAbort)) {
     live_.verify_cancelled = true;
     hold_m_ = sample.position_m;  // catch it where it is

@@ -21,6 +21,9 @@ using wizard::eventBit;
 
 namespace {
 
+/// Damping of the k0 field on a device that renders it stably. Unit: [N s/m]
+constexpr double kFieldDamping_n_s_per_m = 5.0;
+
 std::string millimetres(double metres) {
   std::ostringstream text;
   text.setf(std::ios::fixed);
@@ -87,6 +90,7 @@ void CalibrationWizard::runCheck(bool retry) {
   check_attempted_ = true;
   check_message_.clear();
   check_prompt_.clear();
+  check_issue_ = CheckIssue::kNone;
   try {
     if (!opened_) {
       if (!device_->open()) {
@@ -94,6 +98,7 @@ void CalibrationWizard::runCheck(bool retry) {
             "The device did not open. Is it plugged in, switched on and not in use by another "
             "program?";
         check_prompt_ = "Press Enter to try again, q to quit.";
+        check_issue_ = CheckIssue::kOpenFailed;
         return;
       }
       opened_ = true;
@@ -106,6 +111,7 @@ void CalibrationWizard::runCheck(bool retry) {
       check_prompt_ =
           "Put the end-effector in its rest (homing) position as the manufacturer describes, then "
           "press Enter: the wizard runs the device's calibration. q quits.";
+      check_issue_ = CheckIssue::kUncalibrated;
       return;
     }
     const DeviceSpecifications& specifications = device_->specifications();
@@ -140,8 +146,12 @@ void CalibrationWizard::runCheck(bool retry) {
       throw Error(message);
     }
     // The constructors validate the remaining parameters with messages naming them.
-    initialization_ =
-        std::make_unique<InitializationEstimator>(parameters, max_force_n_, config_.field_ramp_s);
+    // The field's damping lets a device with little friction settle; it must stay well inside
+    // what the device renders stably (an Omni-class arm quotes 3 N s/m).
+    const double field_damping_n_s_per_m =
+        std::min(kFieldDamping_n_s_per_m, 0.5 * specifications.max_linear_damping_n_s_per_m);
+    initialization_ = std::make_unique<InitializationEstimator>(
+        parameters, max_force_n_, config_.field_ramp_s, field_damping_n_s_per_m);
     calibrator_ =
         std::make_unique<AutoCalibrator>(grid_, parameters, max_force_n_, config_.calibrator);
 
@@ -168,6 +178,7 @@ void CalibrationWizard::runCheck(bool retry) {
       check_prompt_ =
           "Quit with q and run again with --resume to continue it, or press Enter to "
           "start afresh.";
+      check_issue_ = CheckIssue::kEarlierCheckpoint;
       return;
     }
     std::ostringstream summary;
@@ -183,9 +194,11 @@ void CalibrationWizard::runCheck(bool retry) {
   } catch (const Error& error) {
     check_message_ = error.what();
     check_prompt_ = "Change what is named above and start again (q quits, Enter checks again).";
+    check_issue_ = CheckIssue::kSettings;
   } catch (const std::exception& error) {
     check_message_ = std::string("Unexpected error: ") + error.what();
     check_prompt_ = "q quits, Enter checks again.";
+    check_issue_ = CheckIssue::kSettings;
   }
 }
 

@@ -146,6 +146,7 @@ WizardStatus CalibrationWizard::status() const {
       } else {
         message << check_message_;
         s.prompt = check_prompt_;
+        s.check_issue = check_issue_;
         s.waiting_for_user = true;
       }
       break;
@@ -153,17 +154,18 @@ WizardStatus CalibrationWizard::status() const {
     case WizardStep::kCentre:
       s.title = "Bring the end-effector to the centre";
       s.waiting_for_user = true;
-      message << "Hold the end-effector and bring it near the centre of the workspace.\n";
+      // The live numbers first: a small screen cuts messages from their end.
       if (!live.position_valid) {
-        message << "Waiting for the device's position...";
+        message << "Waiting for the device's position...\n";
       } else {
         message << "Distance to the centre: " << mm(s.centre_distance_m) << " (move "
-                << directionWords(s.to_centre_m) << ").";
+                << directionWords(s.to_centre_m) << ").\n";
         if (live.confirm_rejected && !s.within_tolerance) {
-          message << "\nNot close enough yet: confirm within " << mm(config_.centre_tolerance_m)
-                  << " of the centre.";
+          message << "Not close enough yet: confirm within " << mm(config_.centre_tolerance_m)
+                  << " of the centre.\n";
         }
       }
+      message << "Hold the end-effector and bring it near the centre of the workspace.";
       s.prompt = s.within_tolerance ? "Hold it still there and press Enter (or the stylus button)."
                                     : "Move it closer to the centre (within " +
                                           mm(config_.centre_tolerance_m) + ").";
@@ -191,7 +193,8 @@ WizardStatus CalibrationWizard::status() const {
         message << "It has not settled yet: speed " << format("%.2f mm/s", live.speed_m_per_s * 1e3)
                 << ", sag " << mm(live.sag_m) << ". It must stay under "
                 << format("%.2f mm/s", parameters.eps_s_m_per_s * 1e3) << " for " << parameters.n_s
-                << " samples in a row.";
+                << " samples in a row. If the end-effector is not moving, this device's velocity "
+                   "noise is above eps_S: start again with a larger --eps-s.";
         s.prompt = "Let go of it, and keep the device and the table still.";
         s.waiting_for_user = true;
       } else {
@@ -358,7 +361,9 @@ WizardStatus CalibrationWizard::status() const {
           message << "Unknown fault.";
           break;
       }
-      if (live.fault_code != wizard::kFaultPlanRefused) {
+      if (map_saved_) {
+        message << "\nThe map had been saved to " << config_.map_path << " before that.";
+      } else if (live.fault_code != wizard::kFaultPlanRefused) {
         if (checkpoint_written_) {
           message << "\n"
                   << checkpointed_converged_ << " converged vertices are saved in "

@@ -1,0 +1,408 @@
+// autograv wizard: the guided calibration (CalibrationWizard) in a terminal, on a simulated
+// device whose user's hand is simulated too (keys move it, or --auto-hand lets it act alone).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "autograv/calibration_wizard.h"
+#include "autograv/error.h"
+#include "autograv/sim/simulated_device.h"
+#include "cli_support.h"
+#include "commands.h"
+#include "estimation_options.h"
+#include "wizard_auto_hand.h"
+#include "wizard_screen.h"
+#include "wizard_terminal.h"
+
+namespace autograv::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct WizardOptions {
+  std::string device = "sim:omega";
+  std::string out_path = "gravity_map.json";
+  std::string report_path;
+  bool resume = false;
+  bool auto_hand = false;
+  bool yes = false;
+  bool uncalibrated = false;
+  std::uint64_t seed = 1;
+  int grid = 0;          // 0: 5 per axis, as `autograv calibrate`
+  double side_mm = 0.0;  // 0: the default of `autograv calibrate`
+  double speed = -1.0;   // < 0: real time on a terminal, as fast as possible otherwise
+  double frame_ms = 20.0;
+  double tolerance_mm = 10.0;
+  int verify_points = 3;
+  EstimationParameters parameters;
+};
+
+// One arrow key moves the simulated hand's target this far, at this speed.
+constexpr double kHandStep_m = 0.005;
+constexpr double kHandSpeed_m_per_s = 0.1;
+// Redraw the terminal at most this often (wall time).
+constexpr auto kRedrawPeriod = std::chrono::milliseconds(40);
+
+/// The user's side of the run: keys, the simulated hand, unattended answers.
+class FrontEnd {
+ public:
+  FrontEnd(const WizardOptions& options, CalibrationWizard& wizard, sim::SimulatedDevice& device,
+           bool answer_prompts)
+      : options_(options),
+        wizard_(wizard),
+        device_(device),
+        auto_hand_(device),
+        answer_prompts_(answer_prompts) {}
+
+  void onKey(Key key, const WizardStatus& status) {
+    switch (key) {
+      case Key::kEnter:
+        wizard_.post(WizardEvent::kConfirm);
+        return;
+      case Key::kPause:
+        wizard_.post(status.paused ? WizardEvent::kResume : WizardEvent::kPause);
+        return;
+      case Key::kQuit:
+        wizard_.post(WizardEvent::kAbort);
+        return;
+      case Key::kRedo:
+        wizard_.post(WizardEvent::kRedoFailed);
+        return;
+      default:
+        break;
+    }
+    if (options_.auto_hand) {
+      notice = "The simulated hand is automatic (--auto-hand): hand keys are off.";
+      return;
+    }
+    sim::SimulatedHand& hand = device_.hand();
+    if (key == Key::kGrab) {
+      if (hand.holding()) {
+        hand.release();
+      } else {
+        hand.grab(device_.truePosition_m());
+        hand_goal_m_ = device_.truePosition_m();
+      }
+      notice.clear();
+      return;
+    }
+    if (!hand.holding()) {
+      notice = "Press g to grab the end-effector first.";
+      return;
+    }
+    // CHAI3D frame: x toward the user, y right, z up. Up arrow pushes away from the user.
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    switch (key) {
+      case Key::kUp:
+        step.x() = -kHandStep_m;
+        break;
+      case Key::kDown:
+        step.x() = kHandStep_m;
+        break;
+      case Key::kLeft:
+        step.y() = -kHandStep_m;
+        break;
+      case Key::kRight:
+        step.y() = kHandStep_m;
+        break;
+      case Key::kPageUp:
+        step.z() = kHandStep_m;
+        break;
+      case Key::kPageDown:
+        step.z() = -kHandStep_m;
+        break;
+      default:
+        break;
+    }
+    hand_goal_m_ += step;
+    hand.moveTo(hand_goal_m_, kHandSpeed_m_per_s);
+    notice.clear();
+  }
+
+  /// Once per frame, before the servo ticks.
+  void beforeTicks(const WizardStatus& status) {
+    if (status.step != last_step_) {
+      last_step_ = status.step;
+      ++step_entries_;
+    }
+    if (options_.auto_hand) auto_hand_.update(status);
+    if (answer_prompts_) answer(status);
+  }
+
+  /// Set when an unattended run cannot go on (the reason is the text).
+  std::string give_up;
+  std::string notice;
+
+ private:
+  // What a user at the keyboard would answer, for runs nobody watches: home an uncalibrated
+  // device, redo the failed vertices once, then save.
+  void answer(const WizardStatus& status) {
+    if (!status.waiting_for_user || answered_entry_ == step_entries_) return;
+    switch (status.step) {
+      case WizardStep::kCheck:
+        if (status.check_issue == CheckIssue::kUncalibrated) {
+          wizard_.post(WizardEvent::kConfirm);
+        } else if (status.check_issue == CheckIssue::kEarlierCheckpoint) {
+          give_up = status.message +
+                    " Run again with --resume to continue it, or delete it to start afresh.";
+        } else if (status.check_issue != CheckIssue::kNone) {
+          give_up = status.message;
+        }
+        break;
+      case WizardStep::kReview:
+        if (!status.review_valid) return;
+        if (!status.review.failed.empty() && !redo_done_) {
+          redo_done_ = true;
+          wizard_.post(WizardEvent::kRedoFailed);
+        } else {
+          wizard_.post(WizardEvent::kConfirm);
+        }
+        break;
+      case WizardStep::kSave:
+        give_up = "could not save the map: " + status.save_error;
+        break;
+      default:
+        return;  // Centre and Release: the simulated hand answers
+    }
+    answered_entry_ = step_entries_;
+  }
+
+  const WizardOptions& options_;
+  CalibrationWizard& wizard_;
+  sim::SimulatedDevice& device_;
+  WizardAutoHand auto_hand_;
+  bool answer_prompts_;
+  Eigen::Vector3d hand_goal_m_ = Eigen::Vector3d::Zero();
+  WizardStep last_step_ = WizardStep::kCheck;
+  int step_entries_ = 0;
+  int answered_entry_ = -1;
+  bool redo_done_ = false;
+};
+
+nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard& wizard,
+                          const WizardStatus& status) {
+  nlohmann::json failed = nlohmann::json::array();
+  for (const ReviewRow& row : status.review.failed) {
+    failed.push_back({{"vertex", row.vertex},
+                      {"outcome", toString(row.outcome)},
+                      {"iterations", row.iterations}});
+  }
+  nlohmann::json verify = nlohmann::json::array();
+  for (const VerifyResult& result : status.verify) {
+    if (!result.finished) continue;
+    verify.push_back({{"vertex", result.vertex},
+                      {"drift_m", result.drift_m},
+                      {"duration_s", result.duration_s},
+                      {"residual_force_n", result.residual_force_n}});
+  }
+  const WorkspaceGrid& grid = wizard.grid();
+  return {{"device", options.device},
+          {"seed", options.seed},
+          {"outcome", toString(status.step)},
+          {"map", status.map_saved ? options.out_path : ""},
+          {"checkpoint",
+           status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
+          {"grid",
+           {{"resolution", grid.resolution()},
+            {"side_m", grid.side_m()},
+            {"center_m", vectorJson(grid.center_m())}}},
+          {"vertices", status.vertex_count},
+          {"converged", status.converged},
+          {"restored", status.review.restored},
+          {"failed", failed},
+          {"iterations_median", status.review.iterations_median},
+          {"iterations_max", status.review.iterations_max},
+          {"lipschitz_n_per_m", status.review.lipschitz_n_per_m},
+          {"peak_force_n", status.review.peak_force_n},
+          {"initial_gravity_n", vectorJson(status.initial_gravity_n)},
+          {"verify", verify},
+          {"max_drift_m", status.max_drift_m},
+          {"simulated_seconds", status.time_s},
+          {"parameters", parametersJson(options.parameters)}};
+}
+
+void runWizardCommand(const WizardOptions& options) {
+  const bool interactive = interactiveTerminal();
+  if (!interactive && !options.auto_hand) {
+    throw Error(
+        "standard input or output is not a terminal, so nobody can press keys or move the "
+        "simulated hand: add --auto-hand to let the simulated hand do the manual step (prompts "
+        "are then answered automatically: failed vertices are redone once, then the map is "
+        "saved)");
+  }
+  std::shared_ptr<sim::SimulatedDevice> device(
+      sim::makeSimulatedDevice(options.device, options.seed));
+  if (options.uncalibrated) device->setCalibrated(false);
+
+  WizardConfig config;
+  config.grid_center_m = device->workspaceCenter_m();
+  // The default grid of `autograv calibrate`, so that either command resumes the other's run.
+  const double radius_m = device->specifications().workspace_radius_m;
+  config.grid_side_m = options.side_mm > 0.0
+                           ? options.side_mm * 1e-3
+                           : std::round(0.8 * 2.0 * radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+  config.grid_resolution = options.grid > 0 ? options.grid : 5;
+  config.parameters = options.parameters;
+  config.map_path = options.out_path;
+  config.resume = options.resume;
+  config.centre_tolerance_m = options.tolerance_mm * 1e-3;
+  config.verify_points = options.verify_points;
+  CalibrationWizard wizard(device, config);
+
+  const double period_s = options.parameters.servo_period_s;
+  const int ticks_per_frame =
+      std::max(1, static_cast<int>(std::lround(options.frame_ms * 1e-3 / period_s)));
+  const double frame_s = ticks_per_frame * period_s;
+  const double speed = options.speed >= 0.0 ? options.speed : (interactive ? 1.0 : 0.0);
+  FrontEnd front_end(options, wizard, *device, !interactive || options.yes);
+
+  installInterruptHandlers();
+  struct HandlersGuard {
+    ~HandlersGuard() { removeInterruptHandlers(); }
+  } handlers_guard;
+  std::optional<RawTerminal> terminal;
+  if (interactive) terminal.emplace();
+  TerminalScreen screen;
+  PlainLog log(stdout);
+  KeyDecoder decoder;
+  ScreenContext context;
+  context.device_name = options.device;
+  context.auto_hand = options.auto_hand;
+  int interrupts_seen = 0;
+  bool left_at_once = false;
+  Clock::time_point last_draw = Clock::now() - kRedrawPeriod;
+  WizardStep drawn_step = WizardStep::kCheck;
+
+  WizardStatus status = wizard.status();
+  if (!terminal) log.update(status);
+  while (true) {
+    const Clock::time_point frame_start = Clock::now();
+    const int interrupts = g_interrupts.load();
+    if (interrupts > interrupts_seen) {
+      interrupts_seen = interrupts;
+      if (interrupts >= 2) {
+        left_at_once = true;
+        break;
+      }
+      wizard.post(WizardEvent::kAbort);
+      front_end.notice =
+          "Stopping: finished vertices are kept in the checkpoint. Ctrl-C again leaves at once.";
+    }
+    if (terminal) {
+      std::vector<Key> keys;
+      decoder.feed(terminal->readAvailable(), keys);
+      for (Key key : keys) front_end.onKey(key, status);
+    }
+    front_end.beforeTicks(status);
+    if (!front_end.give_up.empty()) break;
+    for (int i = 0; i < ticks_per_frame; ++i) {
+      wizard.servoTick();
+      device->advance(period_s);
+    }
+    wizard.service();
+    status = wizard.status();
+
+    if (terminal) {
+      const Clock::time_point now = Clock::now();
+      if (now - last_draw >= kRedrawPeriod || status.step != drawn_step || wizard.finished()) {
+        context.hand_holding = device->hand().holding();
+        context.hand_target_m = device->hand().target_m();
+        context.notice = front_end.notice;
+        int columns = 80, rows = 24;
+        terminalSize(columns, rows);
+        screen.draw(renderScreen(status, context, columns, rows));
+        last_draw = now;
+        drawn_step = status.step;
+      }
+    } else {
+      log.update(status);
+    }
+    if (wizard.finished()) break;
+    if (speed > 0.0) {
+      std::this_thread::sleep_until(frame_start +
+                                    std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(frame_s / speed)));
+    }
+  }
+  terminal.reset();  // back to the normal screen before the last words
+
+  writeJsonReport(options.report_path, reportJson(options, wizard, status));
+  if (left_at_once) {
+    throw Error("interrupted twice: left at once; vertices finished before are in " +
+                wizard.checkpointPath() + " (resume with --resume)");
+  }
+  if (!front_end.give_up.empty()) throw Error(front_end.give_up);
+  if (interactive) std::printf("%s\n%s\n", status.title.c_str(), status.message.c_str());
+  if (status.step == WizardStep::kAborted) throw Error("stopped: " + status.message);
+  if (status.step == WizardStep::kFault) throw Error(status.message);
+}
+
+void addWizardCommand(CLI::App& app) {
+  auto options = std::make_shared<WizardOptions>();
+  CLI::App* command = app.add_subcommand(
+      "wizard",
+      "Guided calibration in the terminal: check, centre, release, auto-calibration, review, "
+      "save, verify (resumable)");
+  command->add_option("--device", options->device, "Simulated device")
+      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
+      ->capture_default_str();
+  command
+      ->add_option("--out", options->out_path,
+                   "Map file to write (JSON); checkpoints go to <out>.partial")
+      ->capture_default_str();
+  command->add_flag("--resume", options->resume,
+                    "Continue an interrupted run (of wizard or calibrate) from <out>.partial");
+  command->add_flag("--auto-hand", options->auto_hand,
+                    "The simulated hand does the manual step by itself (required without a "
+                    "terminal, where prompts are answered automatically)");
+  command->add_flag("--yes", options->yes,
+                    "Answer the prompts automatically on a terminal too (redo failed vertices "
+                    "once, then save)");
+  command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  command->add_option("--grid", options->grid, "Vertices per axis (default 5)")
+      ->check(CLI::Range(2, 16));
+  command
+      ->add_option("--side-mm", options->side_mm,
+                   "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--speed", options->speed,
+                   "Simulated seconds per wall second; 0 runs as fast as possible (default: 1 "
+                   "on a terminal, 0 otherwise)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--frame-ms", options->frame_ms, "Simulated time per screen frame [ms]")
+      ->check(CLI::Range(1.0, 200.0))
+      ->capture_default_str();
+  command
+      ->add_option("--tolerance-mm", options->tolerance_mm,
+                   "How close to the centre the Centre step accepts [mm]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--verify-points", options->verify_points,
+                   "Release tests in the Verify step (0 skips it)")
+      ->check(CLI::Range(0, kMaxVerifyPoints))
+      ->capture_default_str();
+  command->add_flag("--uncalibrated", options->uncalibrated,
+                    "Start the simulated device un-homed (to see the Check step stop)");
+  command->add_option("--report", options->report_path, "Write a JSON report here");
+  addEstimationOptions(*command, options->parameters);
+  command->callback([options] { runWizardCommand(*options); });
+}
+
+}  // namespace
+
+AUTOGRAV_REGISTER_COMMAND(60, addWizardCommand);
+
+}  // namespace autograv::cli
