@@ -251,6 +251,7 @@ TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) 
   EXPECT_NE(status.message.find("uncalibrated"), std::string::npos) << status.message;
   EXPECT_NE(status.prompt.find("press Enter"), std::string::npos) << status.prompt;
   EXPECT_TRUE(status.waiting_for_user);
+  EXPECT_EQ(status.check_issue, CheckIssue::kUncalibrated);
   EXPECT_FALSE(rig.device->isCalibrated());
   // Confirming runs the device's own homing, and the wizard moves on.
   rig.wizard->post(WizardEvent::kConfirm);
@@ -270,6 +271,7 @@ TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
   WizardStatus status = rig.wizard->status();
   EXPECT_NE(status.message.find("cannot work"), std::string::npos) << status.message;
+  EXPECT_EQ(status.check_issue, CheckIssue::kSettings);
   EXPECT_NE(status.message.find("--beta"), std::string::npos) << status.message;
   EXPECT_FALSE(rig.device->endStopHit());
   // Retrying does not help; quitting ends the run with nothing saved.
@@ -526,6 +528,64 @@ TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
   EXPECT_EQ(loadMap(path).convergedCount(), convergedCount(after));
 }
 
+TEST(CalibrationWizardTest, ADeviceLostWhileTheUserReadsTheReviewIsAFault) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
+  rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
+  rig.frame();
+  EXPECT_TRUE(rig.wizard->finished());
+  const WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("8 converged vertices are saved in " + path + ".partial"),
+            std::string::npos)
+      << status.message;
+  EXPECT_EQ(loadMap(path + ".partial").convergedCount(), 8);
+}
+
+TEST(CalibrationWizardTest, AbortDuringVerifyKeepsTheSavedMapAndCatchesTheDevice) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kVerify, 2.0));
+  rig.frame();
+  rig.wizard->post(WizardEvent::kAbort);
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kDone);
+  const WizardStatus status = rig.wizard->status();
+  EXPECT_TRUE(status.verify_cancelled);
+  EXPECT_NE(status.message.find("Verification stopped before the end"), std::string::npos);
+  EXPECT_EQ(loadMap(path).convergedCount(), 8);
+  const Eigen::Vector3d held_m = rig.device->truePosition_m();
+  for (int i = 0; i < 100; ++i) rig.frame();
+  EXPECT_LT((rig.device->truePosition_m() - held_m).norm(), 2e-3);
+}
+
+TEST(CalibrationWizardTest, AbortInReleaseKeepsTheFieldHoldingTheEndEffector) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", smallConfig(path));
+  ASSERT_TRUE(rig.runUntil(
+      [&] {
+        const WizardStatus status = rig.wizard->status();
+        return status.step == WizardStep::kRelease &&
+               status.release_status != InitializationEstimator::Status::kRampingIn &&
+               !rig.device->hand().holding();
+      },
+      30.0));
+  for (int i = 0; i < 10; ++i) rig.frame();
+  rig.wizard->post(WizardEvent::kAbort);
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kAborted);
+  EXPECT_TRUE(rig.wizard->finished());
+  EXPECT_NE(rig.wizard->status().message.find("nothing was saved"), std::string::npos);
+  const Eigen::Vector3d held_m = rig.device->truePosition_m();
+  for (int i = 0; i < 100; ++i) rig.frame();
+  EXPECT_LT((rig.device->truePosition_m() - held_m).norm(), 2e-3);
+  EXPECT_FALSE(std::filesystem::exists(path + ".partial"));
+}
+
 TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
   const std::string path = temporaryPath("map.json");
   {
@@ -537,6 +597,7 @@ TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
   EXPECT_NE(rig.wizard->status().prompt.find("--resume"), std::string::npos);
+  EXPECT_EQ(rig.wizard->status().check_issue, CheckIssue::kEarlierCheckpoint);
   rig.wizard->post(WizardEvent::kConfirm);
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre);

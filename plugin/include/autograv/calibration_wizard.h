@@ -21,6 +21,10 @@
 
 namespace autograv {
 
+namespace wizard {
+struct Live;  // the servo side's live numbers (plugin/src/core/wizard_internal.h)
+}  // namespace wizard
+
 /// The steps of the calibration wizard, in order, then the three ways it ends.
 enum class WizardStep : std::uint8_t {
   kCheck,            ///< Device opens and is homed, specifications and parameters are sane.
@@ -280,41 +284,6 @@ class CalibrationWizard {
   enum class HoldMode : std::uint8_t { kNone, kField, kCalibrator, kPd };
   enum class VerifyStage : std::uint8_t { kWaitMap, kMove, kSettle, kRelease };
 
-  /// Live numbers the servo side publishes each tick (plain data: copied under the try-lock).
-  struct Live {
-    WizardStep step = WizardStep::kCheck;
-    double time_s = 0.0;
-    Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
-    double speed_m_per_s = 0.0;
-    bool position_valid = false;
-    bool confirm_rejected = false;
-    InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
-    double sag_m = 0.0;
-    double release_elapsed_s = 0.0;
-    double last_still_held_s = -1.0;
-    bool not_settling = false;
-    Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();
-    bool initial_gravity_valid = false;
-    bool awaiting_service = false;
-    AutoCalibrator::Status calibrator_state = AutoCalibrator::Status::kIdle;
-    bool paused = false;
-    int vertex = -1;
-    int visited = 0;
-    int to_visit = 0;
-    int iteration = 0;
-    double delta_m = 0.0;
-    double eta_s = 0.0;
-    double calibration_elapsed_s = 0.0;
-    double peak_force_n = 0.0;
-    double lipschitz_n_per_m = 0.0;
-    std::array<VerifyResult, kMaxVerifyPoints> verify{};
-    int verify_count = 0;
-    int verify_index = 0;
-    int verify_stage = 0;
-    bool verify_cancelled = false;
-    int fault_code = 0;
-  };
-
   // Servo side (servo thread only).
   void tickCentre(const ServoSample& sample, bool pressed, std::uint32_t events,
                   Eigen::Vector3d& force_n) noexcept;
@@ -368,14 +337,14 @@ class CalibrationWizard {
   std::uint64_t mirror_version_ = 0;    // guarded by mirror_busy_
   std::atomic<bool> mirror_pending_{false};
   mutable std::atomic_flag live_busy_ = ATOMIC_FLAG_INIT;
-  Live live_shared_;  // guarded by live_busy_
+  std::unique_ptr<wizard::Live> live_shared_;  // guarded by live_busy_
   // Written by service before the reply that hands them over, read by the servo side after it.
   std::vector<int> verify_vertices_;
   std::shared_ptr<const GravityMap> saved_map_;
   Eigen::Vector3d plan_gravity_n_ = Eigen::Vector3d::Zero();  // G_hat_0 for the plan check
 
   // Servo side only.
-  Live live_;
+  std::unique_ptr<wizard::Live> live_;
   long ticks_ = 0;
   long phase_ticks_ = 0;
   int invalid_samples_ = 0;
@@ -389,7 +358,7 @@ class CalibrationWizard {
   Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_good_gravity_n_ = Eigen::Vector3d::Zero();
-  std::vector<char> copy_pending_;  // per vertex, sized by Check
+  std::vector<char> copy_pending_;  // per vertex: to copy into the mirror
   bool any_copy_pending_ = false;
   const GravityMap* verify_map_ = nullptr;
   VerifyStage verify_stage_ = VerifyStage::kMove;

@@ -70,7 +70,9 @@ const char* toString(WizardStep step) noexcept {
 CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
     : config_(std::move(config)),
       grid_(config_.grid_center_m, config_.grid_side_m, config_.grid_resolution),
-      checkpoint_path_(config_.map_path + ".partial") {
+      checkpoint_path_(config_.map_path + ".partial"),
+      live_shared_(std::make_unique<wizard::Live>()),
+      live_(std::make_unique<wizard::Live>()) {
   if (!device) throw Error("calibration wizard: the device is null");
   if (config_.map_path.empty()) {
     throw Error("calibration wizard: no map path; say where the map should be saved (--out)");
@@ -127,11 +129,11 @@ WizardStep CalibrationWizard::servoTick() noexcept {
   const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
   const std::uint32_t replies = replies_.exchange(0, std::memory_order_acq_rel);
 
-  live_.time_s = static_cast<double>(ticks_) * period_s;
-  live_.position_valid = sample.valid;
+  live_->time_s = static_cast<double>(ticks_) * period_s;
+  live_->position_valid = sample.valid;
   if (sample.valid) {
-    live_.position_m = sample.position_m;
-    live_.speed_m_per_s = sample.velocity_m_per_s.norm();
+    live_->position_m = sample.position_m;
+    live_->speed_m_per_s = sample.velocity_m_per_s.norm();
   }
 
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
@@ -180,7 +182,7 @@ WizardStep CalibrationWizard::servoTick() noexcept {
 
 void CalibrationWizard::enter(WizardStep step) noexcept {
   phase_ticks_ = 0;
-  live_.step = step;
+  live_->step = step;
   phase_.store(step, std::memory_order_release);
 }
 
@@ -197,7 +199,7 @@ bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
 }
 
 void CalibrationWizard::fail(int fault_code, HoldMode hold) noexcept {
-  live_.fault_code = fault_code;
+  live_->fault_code = fault_code;
   hold_mode_ = hold;
   enter(WizardStep::kFault);
 }
@@ -218,18 +220,18 @@ void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std:
   const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
   if (!confirm) return;
   if (!within) {
-    live_.confirm_rejected = true;
+    live_->confirm_rejected = true;
     return;
   }
-  live_.confirm_rejected = false;
+  live_->confirm_rejected = false;
   // X0 is where the user chose to stop (paper Sec. III-A), not the exact centre.
   initialization_->start(sample.position_m);
-  live_.release_status = InitializationEstimator::Status::kRampingIn;
-  live_.release_elapsed_s = 0.0;
-  live_.sag_m = 0.0;
-  live_.last_still_held_s = -1.0;
-  live_.not_settling = false;
-  live_.initial_gravity_valid = false;
+  live_->release_status = InitializationEstimator::Status::kRampingIn;
+  live_->release_elapsed_s = 0.0;
+  live_->sag_m = 0.0;
+  live_->last_still_held_s = -1.0;
+  live_->not_settling = false;
+  live_->initial_gravity_valid = false;
   waiting_since_tick_ =
       ticks_ + std::lround(config_.field_ramp_s / config_.parameters.servo_period_s);
   hold_mode_ = HoldMode::kField;
@@ -243,9 +245,9 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
   using Status = InitializationEstimator::Status;
   const double period_s = config_.parameters.servo_period_s;
   const Status status = initialization_->step(sample, force_n);
-  live_.release_status = status;
-  live_.sag_m = initialization_->sag_m();
-  live_.release_elapsed_s = static_cast<double>(phase_ticks_) * period_s;
+  live_->release_status = status;
+  live_->sag_m = initialization_->sag_m();
+  live_->release_elapsed_s = static_cast<double>(phase_ticks_) * period_s;
   if (has(events, WizardEvent::kAbort)) {
     enter(WizardStep::kAborted);  // the field keeps holding until the front end closes
     return;
@@ -254,25 +256,25 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
     case Status::kRampingIn:
       break;
     case Status::kStillHeld:
-      live_.last_still_held_s = live_.time_s;
-      live_.not_settling = false;
+      live_->last_still_held_s = live_->time_s;
+      live_->not_settling = false;
       waiting_since_tick_ = ticks_;  // patience restarts: the user was told to let go
       break;
     case Status::kWaiting:
       if (static_cast<double>(ticks_ - waiting_since_tick_) * period_s >
           config_.release_patience_s) {
-        live_.not_settling = true;
+        live_->not_settling = true;
       }
       break;
     case Status::kDone:
-      live_.not_settling = false;
-      if (!live_.initial_gravity_valid) {
-        live_.initial_gravity_n = initialization_->gravityEstimate_n();
-        live_.initial_gravity_valid = true;
-        last_good_gravity_n_ = live_.initial_gravity_n;
-        plan_gravity_n_ = live_.initial_gravity_n;
+      live_->not_settling = false;
+      if (!live_->initial_gravity_valid) {
+        live_->initial_gravity_n = initialization_->gravityEstimate_n();
+        live_->initial_gravity_valid = true;
+        last_good_gravity_n_ = live_->initial_gravity_n;
+        plan_gravity_n_ = live_->initial_gravity_n;
         awaiting_plan_ = true;
-        live_.awaiting_service = true;
+        live_->awaiting_service = true;
         requests_.fetch_or(wizard::kRequestPlanCheck, std::memory_order_acq_rel);
       }
       break;
@@ -283,14 +285,14 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
   if (!awaiting_plan_) return;
   if ((replies & wizard::kReplyPlanAccepted) != 0) {
     awaiting_plan_ = false;
-    live_.awaiting_service = false;
+    live_->awaiting_service = false;
     calibrator_->start(sample.valid ? sample.position_m : initialization_->center_m(),
-                       live_.initial_gravity_n);
+                       live_->initial_gravity_n);
     hold_mode_ = HoldMode::kCalibrator;
     enter(WizardStep::kAutoCalibration);
   } else if ((replies & wizard::kReplyPlanRefused) != 0) {
     awaiting_plan_ = false;
-    live_.awaiting_service = false;
+    live_->awaiting_service = false;
     fail(wizard::kFaultPlanRefused, HoldMode::kField);  // the field keeps holding it
   }
 }
@@ -305,19 +307,19 @@ void CalibrationWizard::tickCalibration(const ServoSample& sample, std::uint32_t
   const AutoCalibrator::Status status = calibrator_->step(sample, force_n);
   const AutoCalibrator& calibrator = *calibrator_;
 
-  live_.calibrator_state = calibrator.state();
-  live_.vertex = calibrator.currentVertex();
-  live_.visited = calibrator.visitedCount();
-  live_.to_visit = calibrator.toVisitCount();
-  live_.iteration = calibrator.estimator().iteration();
-  live_.delta_m =
+  live_->calibrator_state = calibrator.state();
+  live_->vertex = calibrator.currentVertex();
+  live_->visited = calibrator.visitedCount();
+  live_->to_visit = calibrator.toVisitCount();
+  live_->iteration = calibrator.estimator().iteration();
+  live_->delta_m =
       calibrator.estimator().iteration() > 0 ? calibrator.estimator().lastPositionError_m() : kNaN;
-  live_.calibration_elapsed_s = calibrator.elapsed_s();
-  live_.eta_s = live_.visited > 0
-                    ? calibrator.elapsed_s() / live_.visited * (live_.to_visit - live_.visited)
-                    : kNaN;
-  live_.peak_force_n = calibrator.peakForce_n();
-  live_.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
+  live_->calibration_elapsed_s = calibrator.elapsed_s();
+  live_->eta_s = live_->visited > 0
+                     ? calibrator.elapsed_s() / live_->visited * (live_->to_visit - live_->visited)
+                     : kNaN;
+  live_->peak_force_n = calibrator.peakForce_n();
+  live_->lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
 
   if (status == AutoCalibrator::Status::kVertexFinished ||
       status == AutoCalibrator::Status::kDeviceFault) {
@@ -354,7 +356,7 @@ void CalibrationWizard::tickCalibration(const ServoSample& sample, std::uint32_t
     default:
       break;
   }
-  live_.paused = calibrator.state() == AutoCalibrator::Status::kPaused;
+  live_->paused = calibrator.state() == AutoCalibrator::Status::kPaused;
 }
 
 // --- Review and Save -------------------------------------------------------------------------
@@ -369,26 +371,26 @@ void CalibrationWizard::tickReview(const ServoSample& sample, std::uint32_t even
   if (awaiting_redo_) {
     if ((replies & wizard::kReplyRedoReady) != 0) {
       awaiting_redo_ = false;
-      live_.awaiting_service = false;
+      live_->awaiting_service = false;
       calibrator_->start(sample.valid ? sample.position_m : hold_m_, hold_gravity_n_);
       hold_mode_ = HoldMode::kCalibrator;
       enter(WizardStep::kAutoCalibration);
     } else if ((replies & wizard::kReplyNothingToRedo) != 0) {
       awaiting_redo_ = false;
-      live_.awaiting_service = false;
+      live_->awaiting_service = false;
     }
     return;
   }
   if (sampleLost(sample)) return;
   if (has(events, WizardEvent::kRedoFailed)) {
     awaiting_redo_ = true;
-    live_.awaiting_service = true;
+    live_->awaiting_service = true;
     requests_.fetch_or(wizard::kRequestRedo, std::memory_order_acq_rel);
     return;
   }
   if (has(events, WizardEvent::kConfirm) || has(events, WizardEvent::kSkipRedo)) {
     awaiting_save_ = true;
-    live_.awaiting_service = true;
+    live_->awaiting_service = true;
     enter(WizardStep::kSave);
     requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
   }
@@ -399,20 +401,20 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
   holdForce(sample, force_n);
   if ((replies & wizard::kReplySaved) != 0) {
     awaiting_save_ = false;
-    live_.awaiting_service = false;
+    live_->awaiting_service = false;
     verify_map_ = saved_map_.get();  // published with the reply (acquire above)
     const int count = std::min(static_cast<int>(verify_vertices_.size()), kMaxVerifyPoints);
     if (count == 0) {
       enter(WizardStep::kDone);
       return;
     }
-    live_.verify_count = count;
-    live_.verify_index = 0;
-    live_.verify_cancelled = false;
+    live_->verify_count = count;
+    live_->verify_index = 0;
+    live_->verify_cancelled = false;
     for (int i = 0; i < kMaxVerifyPoints; ++i) {
-      live_.verify[static_cast<std::size_t>(i)] = VerifyResult{};
+      live_->verify[static_cast<std::size_t>(i)] = VerifyResult{};
       if (i < count) {
-        live_.verify[static_cast<std::size_t>(i)].vertex =
+        live_->verify[static_cast<std::size_t>(i)].vertex =
             verify_vertices_[static_cast<std::size_t>(i)];
       }
     }
@@ -423,14 +425,14 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
   }
   if ((replies & wizard::kReplySaveFailed) != 0) {
     awaiting_save_ = false;
-    live_.awaiting_service = false;
+    live_->awaiting_service = false;
   }
   if (sampleLost(sample) || awaiting_save_) return;
   if (has(events, WizardEvent::kAbort)) {
     enter(WizardStep::kAborted);
   } else if (has(events, WizardEvent::kConfirm)) {
     awaiting_save_ = true;
-    live_.awaiting_service = true;
+    live_->awaiting_service = true;
     requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
   }
 }
@@ -438,7 +440,7 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
 // --- Verify ----------------------------------------------------------------------------------
 
 void CalibrationWizard::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept {
-  const int vertex = live_.verify[static_cast<std::size_t>(live_.verify_index)].vertex;
+  const int vertex = live_->verify[static_cast<std::size_t>(live_->verify_index)].vertex;
   const Eigen::Vector3d target_m = grid_.vertexPosition(vertex);
   verify_move_.start(from_m, target_m,
                      MinimumJerkMove::durationFor((target_m - from_m).norm(),
@@ -459,14 +461,14 @@ void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t even
     return;
   }
   if (has(events, WizardEvent::kAbort)) {
-    live_.verify_cancelled = true;
+    live_->verify_cancelled = true;
     hold_m_ = sample.position_m;  // catch it where it is
     holdForce(sample, force_n);
     enter(WizardStep::kDone);
     return;
   }
-  VerifyResult& result = live_.verify[static_cast<std::size_t>(live_.verify_index)];
-  live_.verify_stage = static_cast<int>(verify_stage_);
+  VerifyResult& result = live_->verify[static_cast<std::size_t>(live_->verify_index)];
+  live_->verify_stage = static_cast<int>(verify_stage_);
   switch (verify_stage_) {
     case VerifyStage::kWaitMap:
       holdForce(sample, force_n);
@@ -514,8 +516,8 @@ void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t even
       hold_m_ = sample.position_m;  // catch it where it drifted to
       hold_gravity_n_ = verify_map_->gravityAt(hold_m_);
       holdForce(sample, force_n);
-      if (live_.verify_index + 1 < live_.verify_count) {
-        ++live_.verify_index;
+      if (live_->verify_index + 1 < live_->verify_count) {
+        ++live_->verify_index;
         beginVerifyMove(sample.position_m);
       } else {
         enter(WizardStep::kDone);
@@ -584,7 +586,7 @@ void CalibrationWizard::flushMirror() noexcept {
 void CalibrationWizard::publishLive() noexcept {
   wizard::TryLock lock(live_busy_);
   if (!lock.tryLock()) return;  // status() is copying it: next tick
-  live_shared_ = live_;
+  *live_shared_ = *live_;
   lock.unlock();
 }
 

@@ -3,9 +3,16 @@
 // Constants shared by the servo side (calibration_wizard.cpp), the service side
 // (wizard_service.cpp) and the texts (wizard_status.cpp) of CalibrationWizard.
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <thread>
+
+#include <Eigen/Core>
+
+#include "autograv/auto_calibrator.h"
+#include "autograv/calibration_wizard.h"
+#include "autograv/initialization_estimator.h"
 
 namespace autograv::wizard {
 
@@ -38,6 +45,42 @@ constexpr int kMaxInvalidSamples = 20;
 constexpr int kMaxFailedWrites = 50;
 /// The "still held" notice stays up this long after the estimator last reported it. Unit: [s]
 constexpr double kStillHeldNotice_s = 1.5;
+
+/// Live numbers the servo side of CalibrationWizard publishes each tick (plain data: copied
+/// under the try-lock, never allocated in the servo loop).
+struct Live {
+  WizardStep step = WizardStep::kCheck;
+  double time_s = 0.0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  double speed_m_per_s = 0.0;
+  bool position_valid = false;
+  bool confirm_rejected = false;
+  InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
+  double sag_m = 0.0;
+  double release_elapsed_s = 0.0;
+  double last_still_held_s = -1.0;
+  bool not_settling = false;
+  Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();
+  bool initial_gravity_valid = false;
+  bool awaiting_service = false;
+  AutoCalibrator::Status calibrator_state = AutoCalibrator::Status::kIdle;
+  bool paused = false;
+  int vertex = -1;
+  int visited = 0;
+  int to_visit = 0;
+  int iteration = 0;
+  double delta_m = 0.0;
+  double eta_s = 0.0;
+  double calibration_elapsed_s = 0.0;
+  double peak_force_n = 0.0;
+  double lipschitz_n_per_m = 0.0;
+  std::array<VerifyResult, kMaxVerifyPoints> verify{};
+  int verify_count = 0;
+  int verify_index = 0;
+  int verify_stage = 0;
+  bool verify_cancelled = false;
+  int fault_code = 0;
+};
 
 /// A lock the servo side only ever tries (it skips the work and retries on a later tick when the
 /// lock is taken); the service side may wait for it, yielding. Real-time safe: tryLock, unlock.

@@ -216,7 +216,7 @@ void CalibrationWizard::service() {
     if (check_passed_) {
       // The servo side is idle during Check: its state may be set here, published by the store.
       events_.store(0, std::memory_order_relaxed);
-      live_.step = WizardStep::kCentre;
+      live_->step = WizardStep::kCentre;
       phase_.store(WizardStep::kCentre, std::memory_order_release);
     }
     return;
@@ -343,8 +343,8 @@ void CalibrationWizard::buildReview() {
   }
   {
     wizard::ScopedLock lock(live_busy_);
-    review.lipschitz_n_per_m = live_shared_.lipschitz_n_per_m;
-    review.peak_force_n = live_shared_.peak_force_n;
+    review.lipschitz_n_per_m = live_shared_->lipschitz_n_per_m;
+    review.peak_force_n = live_shared_->peak_force_n;
   }
   review_ = std::move(review);
   review_valid_ = true;

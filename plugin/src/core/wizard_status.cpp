@@ -78,10 +78,10 @@ int stepNumber(WizardStep step) {
 }  // namespace
 
 WizardStatus CalibrationWizard::status() const {
-  Live live;
+  wizard::Live live;
   {
     wizard::ScopedLock lock(live_busy_);
-    live = live_shared_;
+    live = *live_shared_;
   }
   WizardStatus s;
   s.step = step();
