@@ -54,6 +54,16 @@ void expectBitwiseEqual(const VertexEstimate& a, const VertexEstimate& b, int ve
   }
 }
 
+/// The map at `path` is complete and holds every converged vertex of `before` bit for bit.
+void expectCompleteMapKeeping(const std::string& path, const std::vector<VertexEstimate>& before) {
+  const GravityMap map = loadMap(path);
+  EXPECT_TRUE(map.isComplete());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    if (before[i].outcome != VertexOutcome::kConverged) continue;
+    expectBitwiseEqual(map.vertices()[i], before[i], static_cast<int>(i));
+  }
+}
+
 int convergedCount(const std::vector<VertexEstimate>& vertices) {
   int count = 0;
   for (const auto& vertex : vertices) count += vertex.outcome == VertexOutcome::kConverged;
@@ -224,9 +234,19 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 30.0))
       << toString(rig.wizard->step()) << ": " << rig.wizard->status().message;
+  for (int i = 0; i < 60; ++i) rig.frame();
   rig.wizard->post(WizardEvent::kPause);
-  for (int i = 0; i < 20; ++i) rig.frame();
+  rig.frame();
   EXPECT_TRUE(rig.wizard->status().paused);
+  EXPECT_NE(rig.wizard->status().prompt.find("Press p to resume"), std::string::npos);
+  const Eigen::Vector3d paused_at_m = rig.device->truePosition_m();
+  for (int i = 0; i < 50; ++i) rig.frame();
+  // Caught within a few millimetres of where it was (it may have been moving), then held still.
+  const Eigen::Vector3d held_m = rig.device->truePosition_m();
+  EXPECT_LT((held_m - paused_at_m).norm(), 5e-3);
+  for (int i = 0; i < 100; ++i) rig.frame();
+  EXPECT_TRUE(rig.wizard->status().paused);
+  EXPECT_LT((rig.device->truePosition_m() - held_m).norm(), 0.2e-3);
   rig.wizard->post(WizardEvent::kResume);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
   for (int i = 0; i < 5; ++i) rig.frame();
@@ -453,13 +473,7 @@ TEST(CalibrationWizardTest, ResumeAfterACrashKeepsTheFinishedVerticesBitForBit) 
   EXPECT_EQ(rig.wizard->status().review.restored, convergedCount(before));
   rig.wizard->post(WizardEvent::kConfirm);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
-
-  const GravityMap map = loadMap(path);
-  EXPECT_TRUE(map.isComplete());
-  for (std::size_t i = 0; i < before.size(); ++i) {
-    if (before[i].outcome != VertexOutcome::kConverged) continue;
-    expectBitwiseEqual(map.vertices()[i], before[i], static_cast<int>(i));
-  }
+  expectCompleteMapKeeping(path, before);
 }
 
 TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
@@ -483,12 +497,7 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
   rig.wizard->post(WizardEvent::kConfirm);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
-  const GravityMap map = loadMap(path);
-  EXPECT_TRUE(map.isComplete());
-  for (std::size_t i = 0; i < before.size(); ++i) {
-    if (before[i].outcome != VertexOutcome::kConverged) continue;
-    expectBitwiseEqual(map.vertices()[i], before[i], static_cast<int>(i));
-  }
+  expectCompleteMapKeeping(path, before);
 }
 
 TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {

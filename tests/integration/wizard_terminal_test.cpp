@@ -317,6 +317,40 @@ TEST_F(WizardTerminalTest, TheUserCarriesTheEndEffectorWithTheKeysAndLetsGo) {
   EXPECT_EQ(loadMap(map_path).convergedCount(), 8);
 }
 
+TEST_F(WizardTerminalTest, AnInterruptedCalibrateRunIsFinishedByTheWizard) {
+  const std::string folder = freshFolder("calibrate");
+  const std::string map_path = folder + "/m.json";
+  const std::string partial = map_path + ".partial";
+  const std::string grid = " --device sim:omega --grid 4 --side-mm 40";
+  TmuxSession session(kBinary + " calibrate" + grid + " --out " + map_path, 100, 30);
+  ASSERT_TRUE(session.started());
+  // Interrupt `autograv calibrate` once its checkpoint holds a couple of vertices.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (std::filesystem::exists(partial) && loadMap(partial).convergedCount() >= 2) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  session.sendKeys("C-c");
+  std::string screen;
+  ASSERT_TRUE(session.waitFor("TTY_", screen)) << screen;
+  EXPECT_NE(screen.find("WIZARD_EXIT=2"), std::string::npos) << screen;
+  const GravityMap checkpoint = loadMap(partial);
+  ASSERT_GE(checkpoint.convergedCount(), 2);
+  ASSERT_LT(checkpoint.convergedCount(), 64);
+
+  const CommandResult resumed =
+      runCommand(kBinary + " wizard" + grid + " --auto-hand --resume --out " + map_path);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const GravityMap map = loadMap(map_path);
+  EXPECT_TRUE(map.isComplete());
+  for (int i = 0; i < 64; ++i) {
+    const VertexEstimate& before = checkpoint.vertices()[static_cast<std::size_t>(i)];
+    if (before.outcome != VertexOutcome::kConverged) continue;
+    EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].gravity_n, before.gravity_n)
+        << "vertex " << i;
+  }
+}
+
 TEST_F(WizardTerminalTest, WithoutATerminalItNeedsTheAutoHand) {
   const std::string folder = freshFolder("plain");
   const CommandResult refused =
