@@ -72,14 +72,14 @@ std::shared_ptr<const GravityMap> loadMapFor(const DemoSession& session, const s
 }
 
 std::string describeTiming(const ServoTiming::Report& t) {
-  char text[320];
+  char text[400];
   std::snprintf(text, sizeof text,
                 "servo rate %.2f Hz average over %lld ticks in %.3f s; worst missed-deadline burst "
                 "%.2f ms; missed ticks %lld; max lateness %.3f ms; mean lateness %.3f ms; longest "
-                "gap between ticks %.3f ms",
+                "gap between ticks %.3f ms; longest tick %.3f ms",
                 t.rate_hz, static_cast<long long>(t.ticks), t.elapsed_s, t.worst_burst_ms,
                 static_cast<long long>(t.missed_ticks), t.max_lateness_ms, t.mean_lateness_ms,
-                t.max_gap_ms);
+                t.max_gap_ms, t.max_tick_ms);
   return text;
 }
 

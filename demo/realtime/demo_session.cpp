@@ -411,9 +411,10 @@ void DemoSession::servoThreadMain() {
     // Absolute deadlines: a late tick does not push the ones after it.
     const auto deadline = start + k * period;
     std::this_thread::sleep_until(deadline);
-    timing_.record(steadyNanoseconds(deadline),
-                   steadyNanoseconds(std::chrono::steady_clock::now()));
+    const std::int64_t start_ns = steadyNanoseconds(std::chrono::steady_clock::now());
+    timing_.record(steadyNanoseconds(deadline), start_ns);
     tick();
+    timing_.recordWork(steadyNanoseconds(std::chrono::steady_clock::now()) - start_ns);
   }
 }
 

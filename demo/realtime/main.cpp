@@ -27,7 +27,8 @@ void writeStats(const std::string& path, const DemoOptions& options,
                            {"worst_burst_ms", t.worst_burst_ms},
                            {"max_lateness_ms", t.max_lateness_ms},
                            {"mean_lateness_ms", t.mean_lateness_ms},
-                           {"max_gap_ms", t.max_gap_ms}};
+                           {"max_gap_ms", t.max_gap_ms},
+                           {"max_tick_ms", t.max_tick_ms}};
   const std::string temporary = path + ".tmp";
   std::FILE* file = std::fopen(temporary.c_str(), "w");
   if (file == nullptr) throw autograv::Error("cannot write the statistics file " + path);

@@ -41,6 +41,7 @@ ServoTiming::Report ServoTiming::report() const noexcept {
   report.worst_burst_ms = static_cast<double>(worst_ns) * 1e-6;
   report.max_lateness_ms = static_cast<double>(max_lateness_ns_) * 1e-6;
   report.max_gap_ms = static_cast<double>(max_gap_ns_) * 1e-6;
+  report.max_tick_ms = static_cast<double>(max_work_ns_) * 1e-6;
   report.mean_lateness_ms = sum_lateness_ns_ / static_cast<double>(ticks_) * 1e-6;
   return report;
 }

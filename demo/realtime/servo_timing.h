@@ -21,12 +21,17 @@ class ServoTiming {
     double max_lateness_ms = 0.0;   ///< Latest start after a deadline. Unit: [ms]
     double max_gap_ms = 0.0;        ///< Longest time between the starts of two ticks. [ms]
     double mean_lateness_ms = 0.0;  ///< Unit: [ms]
+    double max_tick_ms = 0.0;       ///< Longest tick, start to end of its work. Unit: [ms]
   };
 
   explicit ServoTiming(std::int64_t period_ns) noexcept : period_ns_(period_ns) {}
 
   /// Tick k was due at `deadline_ns` and started at `start_ns` (same clock). Real-time safe.
   void record(std::int64_t deadline_ns, std::int64_t start_ns) noexcept;
+  /// The work of the latest tick took `duration_ns`. Real-time safe.
+  void recordWork(std::int64_t duration_ns) noexcept {
+    max_work_ns_ = duration_ns > max_work_ns_ ? duration_ns : max_work_ns_;
+  }
   /// Statistics so far; a burst still open counts up to the last tick. Real-time safe.
   Report report() const noexcept;
 
@@ -39,6 +44,7 @@ class ServoTiming {
   std::int64_t worst_burst_ns_ = 0;
   std::int64_t max_lateness_ns_ = 0;
   std::int64_t max_gap_ns_ = 0;
+  std::int64_t max_work_ns_ = 0;
   double sum_lateness_ns_ = 0.0;
   bool in_burst_ = false;
   std::int64_t burst_start_ns_ = 0;
