@@ -1,6 +1,5 @@
 #pragma once
 
-#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -39,7 +38,7 @@ enum class WizardStep : std::uint8_t {
   kFault,            ///< Cannot go on (device fault, refused plan); see WizardStatus::message.
 };
 
-/// Stable lower-case name ("check", "centre", ..., "fault").
+/// Stable lower-case name ("check", "centre", ..., "fault"). Real-time safe.
 const char* toString(WizardStep step) noexcept;
 
 /// What the front end tells the wizard. Events that mean nothing in the current step are ignored.
@@ -272,11 +271,13 @@ class CalibrationWizard {
   /// The saved map, null before Save succeeded. Same thread as service(). Not real-time safe.
   std::shared_ptr<const GravityMap> savedMap() const { return saved_map_; }
 
+  /// The configuration and grid of this run. Real-time safe.
   const WizardConfig& config() const noexcept { return config_; }
   const WorkspaceGrid& grid() const noexcept { return grid_; }
-  /// The device as the wizard drives it (compensation decorator around the one passed in).
+  /// The device as the wizard drives it (compensation decorator around the one passed in), e.g.
+  /// for its fault counters. Real-time safe.
   GravityCompensatedDevice& device() noexcept { return *device_; }
-  /// map_path + ".partial".
+  /// map_path + ".partial". Real-time safe.
   const std::string& checkpointPath() const noexcept { return checkpoint_path_; }
 
  private:
