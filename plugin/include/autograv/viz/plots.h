@@ -1,0 +1,65 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "autograv/gravity_map.h"
+#include "autograv/viz/common.h"
+#include "autograv/viz/image.h"
+
+namespace autograv::viz {
+
+/// Size and style of a plot picture.
+struct PlotOptions {
+  /// Unit: [px]
+  int width_px = 1280;
+  int height_px = 960;
+  Background background = Background::kWhite;
+  /// When set, the convergence plot draws the true mass |G_true(X_i)| / g as a dashed line, and
+  /// the summary adds the histogram of the final relative error.
+  GroundTruth ground_truth;
+  /// Overlay title; empty makes one from the map.
+  std::string title;
+};
+
+/// Counts in equal bins: bin k covers [first_lower + k * width, first_lower + (k + 1) * width).
+struct Histogram {
+  double first_lower = 0.0;
+  double width = 1.0;
+  std::vector<int> counts;
+
+  int total() const noexcept;
+};
+
+/// Iterations per visited vertex, one bin per iteration count, split by outcome. Both histograms
+/// share their bins. Not real-time safe.
+struct IterationHistogram {
+  Histogram converged;
+  Histogram not_converged;
+};
+
+/// The inner-loop iterations of every visited (not kPending) vertex. Throws autograv::Error when
+/// no vertex was visited. Not real-time safe.
+IterationHistogram iterationHistogram(const GravityMap& map);
+
+/// The final relative error 100 |G_hat - G_true| / |G_true| of every visited vertex, in `bins`
+/// equal bins from 0 to a round number at or above the largest error. Unit: [%].
+/// Throws autograv::Error when no vertex was visited or bins < 1. Not real-time safe.
+Histogram relativeErrorHistogram(const GravityMap& map, const GroundTruth& ground_truth,
+                                 int bins = 10);
+
+/// The convergence at one vertex like the paper's Figs. 8 and 9, stacked: the steady-state
+/// positioning error Delta_j [mm] and the estimated mass M_hat_j [g] over iterations j, with the
+/// true mass dashed when ground truth is given. Needs an X display. Throws autograv::Error for
+/// an index out of range, a vertex without iteration history, a bad size or no display.
+/// Not real-time safe.
+RgbImage renderConvergencePlot(const GravityMap& map, int vertex_index,
+                               const PlotOptions& options = {});
+
+/// Histogram of iterations per vertex and, with ground truth, of the final relative error, side
+/// by side. Needs an X display. Throws autograv::Error like the histograms, on a bad size or
+/// without a display. Not real-time safe.
+RgbImage renderSummaryPlot(const GravityMap& map, const PlotOptions& options = {});
+
+}  // namespace autograv::viz

@@ -1,0 +1,78 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "autograv/gravity_map.h"
+#include "autograv/viz/common.h"
+#include "autograv/viz/image.h"
+
+namespace autograv::viz {
+
+/// Camera presets, in CHAI3D's frame (x toward the operator, y right, z up).
+enum class CameraView : std::uint8_t {
+  kIso,    ///< From the operator's front-right, above.
+  kFront,  ///< From the operator's side, looking along -x, z up.
+  kTop,    ///< From above, looking along -z, the operator at the bottom of the picture.
+};
+
+/// "iso", "front", "top".
+const char* toString(CameraView view) noexcept;
+/// Inverse of toString; false for an unknown name.
+bool parseCameraView(const std::string& name, CameraView& view) noexcept;
+
+/// What the scene shows and how.
+struct SceneOptions {
+  /// Size of the picture. Unit: [px]. Text is sized for legibility at 1280x960.
+  int width_px = 1280;
+  int height_px = 960;
+  CameraView view = CameraView::kIso;
+  /// Turns the preset camera about the vertical axis through the scene centre. Unit: [deg]
+  double camera_azimuth_deg = 0.0;
+  /// Raises the preset camera (clamped to straight above or below). Unit: [deg]
+  double camera_elevation_deg = 0.0;
+  Background background = Background::kWhite;
+  /// Colour map of the gravity magnitude on the arrows.
+  ColorMap color_map = ColorMap::kViridis;
+  /// Radius of the device's reachable workspace, drawn as a translucent sphere around the grid
+  /// centre (or workspace_center_m); 0 draws the grid's box instead. Unit: [m]
+  double workspace_radius_m = 0.0;
+  /// Centre of that sphere; unset = the grid's centre. Unit: [m]
+  std::optional<Eigen::Vector3d> workspace_center_m;
+  /// Current end-effector position, drawn as a small sphere when set. Unit: [m]
+  std::optional<Eigen::Vector3d> device_position_m;
+  /// When set, the residual |G_hat(X) - G_true(X)| of the interpolated map is drawn as a colour
+  /// field on the faces of the grid's box, with its own scalar bar. Unit: [N]
+  GroundTruth ground_truth;
+  /// Overlay title; empty makes one from the map (device model, grid, converged vertices).
+  std::string title;
+};
+
+/// Numbers the scene shows, for captions, reports and tests.
+struct SceneSummary {
+  int vertices = 0;
+  int converged = 0;
+  int failed = 0;              ///< Visited but not converged (iteration cap, no steady state, ...).
+  int not_visited = 0;         ///< Outcome kPending.
+  double min_gravity_n = 0.0;  ///< Smallest |G_hat| over vertices with an estimate. Unit: [N]
+  double max_gravity_n = 0.0;  ///< Largest |G_hat|. Unit: [N]
+  /// Largest |G_hat(X) - G_true(X)| over the sampled residual field; 0 without ground truth.
+  /// Unit: [N]
+  double max_residual_n = 0.0;
+};
+
+/// Counts and ranges of `map` as the scene shows them (residual sampled like the scene does).
+/// Not real-time safe.
+SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth = {});
+
+/// Renders the workspace, the grid lattice, one arrow per vertex estimate (length and colour by
+/// magnitude, scalar bar in N), axes in mm, marked failed and unvisited vertices with a legend
+/// and, optionally, the device position and the residual against ground truth. Renders offscreen;
+/// needs an X display (see requireDisplay). Throws autograv::Error on a bad size (16..8192 px),
+/// a non-finite option or when no display can be opened. Not real-time safe.
+RgbImage renderScene(const GravityMap& map, const SceneOptions& options = {});
+
+}  // namespace autograv::viz

@@ -1,0 +1,97 @@
+#include "autograv/viz/common.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
+#include "autograv/error.h"
+#include "vtk_support.h"
+
+// Xlib last: it defines macros (None, Status, Bool) that clash with other headers.
+#include <X11/Xlib.h>
+
+namespace autograv::viz {
+
+const char* toString(Background background) noexcept {
+  return background == Background::kDark ? "dark" : "white";
+}
+
+bool parseBackground(const std::string& name, Background& background) noexcept {
+  if (name == "white") {
+    background = Background::kWhite;
+  } else if (name == "dark") {
+    background = Background::kDark;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* toString(ColorMap color_map) noexcept {
+  switch (color_map) {
+    case ColorMap::kCoolWarm:
+      return "coolwarm";
+    case ColorMap::kGrayscale:
+      return "grayscale";
+    case ColorMap::kViridis:
+      break;
+  }
+  return "viridis";
+}
+
+bool parseColorMap(const std::string& name, ColorMap& color_map) noexcept {
+  for (const ColorMap candidate : {ColorMap::kViridis, ColorMap::kCoolWarm, ColorMap::kGrayscale}) {
+    if (name == toString(candidate)) {
+      color_map = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace detail {
+
+void* openXDisplay(std::string* reason) {
+  const char* name = std::getenv("DISPLAY");
+  if (name == nullptr || *name == '\0') {
+    if (reason != nullptr) {
+      *reason =
+          "no X display: DISPLAY is not set. VTK 9.1 as packaged by Debian renders through X "
+          "even offscreen; run under a virtual display, e.g. `xvfb-run -a <command>` "
+          "(package xvfb)";
+    }
+    return nullptr;
+  }
+  // A busy Xvfb now and then hangs up on a new client right after accepting it; a few retries
+  // ride that out, while a server that is not there fails within about a second.
+  constexpr int kAttempts = 20;
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    if (Display* display = XOpenDisplay(nullptr)) return display;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (reason != nullptr) {
+    *reason = std::string("cannot open X display \"") + name +
+              "\": no X server answers there. Start one or run under a virtual display, e.g. "
+              "`xvfb-run -a <command>` (package xvfb)";
+  }
+  return nullptr;
+}
+
+void closeXDisplay(void* display) noexcept {
+  if (display != nullptr) XCloseDisplay(static_cast<Display*>(display));
+}
+
+}  // namespace detail
+
+bool displayAvailable(std::string* reason) {
+  void* display = detail::openXDisplay(reason);
+  detail::closeXDisplay(display);
+  return display != nullptr;
+}
+
+void requireDisplay() {
+  std::string reason;
+  if (!displayAvailable(&reason)) throw Error(reason);
+}
+
+}  // namespace autograv::viz
