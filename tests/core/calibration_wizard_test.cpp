@@ -2,12 +2,15 @@
 // simulated hand scripted as a user (the same script `autograv wizard --auto-hand` uses).
 #include "autograv/calibration_wizard.h"
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -631,6 +634,57 @@ TEST(CalibrationWizardTest, ResumingWithoutACheckpointOrOnAnotherGridSaysWhatToD
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
   EXPECT_NE(rig.wizard->status().message.find("another grid"), std::string::npos)
       << rig.wizard->status().message;
+}
+
+TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {
+  // The servo thread owns the device (ticks, physics, the user's hand); the main thread only
+  // services the wizard, reads its status and posts events, as a UI thread would.
+  const std::string path = temporaryPath("map.json");
+  auto device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice("sim:omega", 5));
+  WizardConfig config = smallConfig(path);
+  config.grid_center_m = device->workspaceCenter_m();
+  CalibrationWizard wizard(device, config);
+  std::atomic<bool> stop{false};
+  std::size_t servo_allocations = 0;
+  std::thread servo([&] {
+    sim::SimulatedHand& hand = device->hand();
+    long ticks_at_goal = 0, ticks_in_release = 0;
+    testing::AllocationCounter counter;
+    while (!stop.load()) {
+      const WizardStep step = wizard.step();  // any thread may read the step
+      if (step == WizardStep::kCentre) {
+        if (!hand.holding()) {
+          hand.grab(device->truePosition_m());
+          hand.moveTo(config.grid_center_m, 0.05);
+        }
+        ticks_at_goal = hand.atGoal() ? ticks_at_goal + 1 : 0;
+        // Hold still half a second, then click the stylus button.
+        device->setUserSwitch(0, ticks_at_goal > 500 && ticks_at_goal % 200 < 100);
+      } else if (step == WizardStep::kRelease) {
+        device->setUserSwitch(0, false);
+        if (++ticks_in_release > 600 && hand.holding()) hand.release();
+      }
+      wizard.servoTick();
+      device->advance(kPeriod);
+    }
+    servo_allocations = counter.count();
+  });
+  bool confirmed = false;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!wizard.finished() && std::chrono::steady_clock::now() < give_up) {
+    wizard.service();
+    const WizardStatus status = wizard.status();
+    if (status.step == WizardStep::kReview && status.review_valid && !confirmed) {
+      wizard.post(WizardEvent::kConfirm);
+      confirmed = true;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  stop.store(true);
+  servo.join();
+  ASSERT_EQ(wizard.step(), WizardStep::kDone) << wizard.status().message;
+  EXPECT_TRUE(loadMap(path).isComplete());
+  EXPECT_EQ(servo_allocations, 0u);
 }
 
 TEST(CalibrationWizardTest, RejectsAConfigurationWithoutAMapPath) {
