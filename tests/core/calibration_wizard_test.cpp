@@ -228,6 +228,7 @@ TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
     EXPECT_LT((map.vertices()[i].gravity_n - g).norm(), 0.01 * g.norm()) << "vertex " << i;
   }
   EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
+  RecordProperty("servo_ticks", std::to_string(rig.servo_ticks));
 }
 
 TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
@@ -263,6 +264,7 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   for (int i = 0; i < 20; ++i) rig.frame();
   EXPECT_GT(rig.servo_ticks, 10000);
   EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
+  RecordProperty("servo_ticks", std::to_string(rig.servo_ticks));
 }
 
 TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) {
