@@ -149,10 +149,10 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s)
     const double distance_m = std::sqrt(distance2);
     const Eigen::Vector3d normal = from_center / distance_m;
     const double penetration_m = distance_m - radius_m;
-    const double normal_speed = velocity_m_per_s_.dot(normal);
-    net_n -= (parameters_.end_stop_stiffness_n_per_m * penetration_m +
-              parameters_.end_stop_damping_n_s_per_m * normal_speed) *
-             normal;
+    // The rubber stop pushes back along the normal and drags on the whole velocity, so an
+    // end-effector resting on it settles instead of sliding round the sphere.
+    net_n -= parameters_.end_stop_stiffness_n_per_m * penetration_m * normal +
+             parameters_.end_stop_damping_n_s_per_m * velocity_m_per_s_;
     end_stop_hit_ = true;
   }
 

@@ -4,14 +4,16 @@
 
 #include "autograv/error.h"
 #include "autograv/sim/point_mass_device.h"
+#include "autograv/sim/serial_arm_device.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::sim {
 
-std::vector<std::string> simulatedDeviceNames() { return {"sim:omega"}; }
+std::vector<std::string> simulatedDeviceNames() { return {"sim:omega", "sim:omni"}; }
 
 std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, std::uint64_t seed) {
   if (name == "sim:omega") return std::make_unique<PointMassDevice>(omegaParameters(), seed);
+  if (name == "sim:omni") return std::make_unique<SerialArmDevice>(omniParameters(), seed);
   std::string valid;
   for (const auto& known : simulatedDeviceNames()) valid += (valid.empty() ? "" : ", ") + known;
   throw Error("unknown simulated device '" + name + "'; valid names: " + valid);

@@ -257,7 +257,7 @@ void SimulatedDriver::advance(double dt_s) noexcept {
     Eigen::Vector3d force_n = applied_force_n_;
     if (hand_.holding()) {
       force_n += hand_.update(step_s_, truePosition_m(), trueVelocity_m_per_s());
-    } else {
+    } else if (!hand_.atGoal()) {  // a released hand's target may still be gliding
       hand_.update(step_s_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
     }
     integrateStep(force_n, step_s_);

@@ -33,7 +33,8 @@ struct PointMassParameters {
   double static_friction_n = 0.007;
   /// Unit: [N s/m]
   double viscous_friction_n_s_per_m = 0.02;
-  /// Soft mechanical end stop beyond the workspace radius. Units: [N/m], [N s/m]
+  /// Soft mechanical end stop beyond the workspace radius: a spring along the normal and, while in
+  /// contact, a drag on the whole velocity (a rubber stop). Units: [N/m], [N s/m]
   double end_stop_stiffness_n_per_m = 2000.0;
   double end_stop_damping_n_s_per_m = 4.0;
   /// Position resolution of each Cartesian axis. Unit: [m]

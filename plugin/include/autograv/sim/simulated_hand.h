@@ -34,7 +34,7 @@ class SimulatedHand {
     goal_m_ = goal_m;
     speed_m_per_s_ = speed_m_per_s;
   }
-  bool atGoal() const noexcept { return (goal_m_ - target_m_).norm() < 1e-9; }
+  bool atGoal() const noexcept { return (goal_m_ - target_m_).squaredNorm() < 1e-18; }
   const Eigen::Vector3d& target_m() const noexcept { return target_m_; }
 
   /// Advances the target by `dt_s` and returns the hand's force on an end-effector at

@@ -1,0 +1,127 @@
+// autograv sim: release the end-effector with zero force and report where it goes - the
+// uncompensated drift a user feels today.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "autograv/error.h"
+#include "autograv/estimation_parameters.h"
+#include "cli_support.h"
+#include "commands.h"
+
+namespace autograv::cli {
+
+namespace {
+
+struct SimOptions {
+  std::string device = "sim:omega";
+  double seconds = 1.0;
+  std::uint64_t seed = 1;
+  std::string report_path;
+};
+
+nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+void runSimCommand(const SimOptions& options) {
+  if (!(std::isfinite(options.seconds) && options.seconds > 0.0 && options.seconds <= 3600.0)) {
+    throw Error("--seconds must be in (0, 3600]");
+  }
+  auto device = openSimulatedDevice(options.device, options.seed);
+  const Eigen::Vector3d start = device->workspaceCenter_m();
+  device->resetState(start);
+  const double radius_m = device->specifications().workspace_radius_m;
+  const Eigen::Vector3d gravity_start = device->trueGravity(start);
+
+  // A 1 kHz servo loop that reads the device as an application would and commands nothing.
+  constexpr double kServo_s = 0.001;
+  const auto ticks = static_cast<long long>(std::llround(options.seconds / kServo_s));
+  double time_to_1mm_s = -1.0, time_to_end_stop_s = -1.0, max_drift_m = 0.0;
+  Eigen::Vector3d measured = start, velocity = Eigen::Vector3d::Zero();
+  for (long long tick = 0; tick < ticks; ++tick) {
+    if (!device->getPosition(measured) || !device->getLinearVelocity(velocity) ||
+        !device->setForce(Eigen::Vector3d::Zero())) {
+      throw Error(options.device + ": the device stopped answering");
+    }
+    device->advance(kServo_s);
+    const double drift_m = (device->truePosition_m() - start).norm();
+    max_drift_m = std::max(max_drift_m, drift_m);
+    if (time_to_1mm_s < 0.0 && drift_m >= 0.001) time_to_1mm_s = device->time_s();
+    if (time_to_end_stop_s < 0.0 && device->endStopHit()) time_to_end_stop_s = device->time_s();
+  }
+  device->getPosition(measured);
+  device->getLinearVelocity(velocity);
+  const Eigen::Vector3d final_true = device->truePosition_m();
+  const double drift_mm = (final_true - start).norm() * 1e3;
+  const Eigen::Vector3d gravity_final = device->trueGravity(final_true);
+
+  std::printf(
+      "%s (seed %llu): released at rest at the workspace centre [%.1f, %.1f, %.1f] mm "
+      "with zero force for %.3g s\n",
+      options.device.c_str(), static_cast<unsigned long long>(options.seed), start.x() * 1e3,
+      start.y() * 1e3, start.z() * 1e3, options.seconds);
+  std::printf("  true |G| at the start   %.3f N (apparent mass %.1f g)\n", gravity_start.norm(),
+              gravity_start.norm() / kStandardGravity * 1e3);
+  std::printf("  final position (true)   [%.2f, %.2f, %.2f] mm\n", final_true.x() * 1e3,
+              final_true.y() * 1e3, final_true.z() * 1e3);
+  std::printf("  final position (driver) [%.2f, %.2f, %.2f] mm, speed %.1f mm/s\n",
+              measured.x() * 1e3, measured.y() * 1e3, measured.z() * 1e3, velocity.norm() * 1e3);
+  std::printf("  drift                   %.2f mm (max %.2f mm; workspace radius %.0f mm)\n",
+              drift_mm, max_drift_m * 1e3, radius_m * 1e3);
+  if (time_to_1mm_s >= 0.0) {
+    std::printf("  drifted 1 mm after      %.1f ms\n", time_to_1mm_s * 1e3);
+  }
+  if (time_to_end_stop_s >= 0.0) {
+    std::printf("  hit the end stop after  %.0f ms\n", time_to_end_stop_s * 1e3);
+  } else {
+    std::printf("  did not reach the end stop\n");
+  }
+  std::printf("  true |G| at the end     %.3f N\n", gravity_final.norm());
+
+  const nlohmann::json report = {
+      {"device", options.device},
+      {"seed", options.seed},
+      {"seconds", options.seconds},
+      {"start_m", vectorJson(start)},
+      {"final_position_m", vectorJson(final_true)},
+      {"final_measured_position_m", vectorJson(measured)},
+      {"final_speed_mm_per_s", velocity.norm() * 1e3},
+      {"drift_mm", drift_mm},
+      {"max_drift_mm", max_drift_m * 1e3},
+      {"time_to_1mm_s", time_to_1mm_s >= 0.0 ? nlohmann::json(time_to_1mm_s) : nlohmann::json()},
+      {"hit_end_stop", device->endStopHit()},
+      {"time_to_end_stop_s",
+       time_to_end_stop_s >= 0.0 ? nlohmann::json(time_to_end_stop_s) : nlohmann::json()},
+      {"workspace_radius_mm", radius_m * 1e3},
+      {"gravity_at_start_n", vectorJson(gravity_start)},
+      {"gravity_norm_at_start_n", gravity_start.norm()},
+      {"apparent_mass_at_start_g", gravity_start.norm() / kStandardGravity * 1e3},
+      {"gravity_norm_at_final_n", gravity_final.norm()}};
+  writeJsonReport(options.report_path, report);
+}
+
+void addSimCommand(CLI::App& app) {
+  auto options = std::make_shared<SimOptions>();
+  CLI::App* command = app.add_subcommand(
+      "sim",
+      "Release a simulated end-effector at rest at the workspace centre with zero force and "
+      "report where it drifts (what a user feels without gravity compensation)");
+  command->add_option("--device", options->device, "Simulated device")
+      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
+      ->capture_default_str();
+  command->add_option("--seconds", options->seconds, "Simulated time to run. Unit: [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--seed", options->seed, "Noise seed (same seed, same run)")
+      ->capture_default_str();
+  command->add_option("--report", options->report_path, "Write a JSON report here");
+  command->callback([options] { runSimCommand(*options); });
+}
+
+}  // namespace
+
+AUTOGRAV_REGISTER_COMMAND(10, addSimCommand);
+
+}  // namespace autograv::cli

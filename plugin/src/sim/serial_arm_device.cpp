@@ -1,0 +1,455 @@
+#include "autograv/sim/serial_arm_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "autograv/error.h"
+#include "autograv/estimation_parameters.h"
+
+namespace autograv::sim {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+// Damping of the elbow joint stop, so that a hit does not ring. Unit: [N m s/rad]
+constexpr double kElbowStopDamping = 0.02;
+// Gauss-Seidel sweeps of the coupled (q2, q3) dry-friction problem; 2x2, converges in a few.
+constexpr int kFrictionSweeps = 6;
+
+void requirePositive(double value, const char* name) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and > 0");
+  }
+}
+
+void requireNonNegative(double value, const char* name) {
+  if (!std::isfinite(value) || value < 0.0) {
+    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and >= 0");
+  }
+}
+
+double sign(double value) noexcept { return value > 0.0 ? 1.0 : (value < 0.0 ? -1.0 : 0.0); }
+
+}  // namespace
+
+SerialArmParameters omniParameters() {
+  SerialArmParameters parameters;
+  parameters.specifications.model_name = "sim:omni";
+  parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
+  parameters.specifications.serial_number = "SIM-OMNI-0001";
+  parameters.specifications.max_linear_force_n = 3.3;
+  // SensAble quotes > 1.02 N/mm along its weakest axis.
+  parameters.specifications.max_linear_stiffness_n_per_m = 1000.0;
+  parameters.specifications.max_linear_damping_n_s_per_m = 3.0;
+  parameters.specifications.workspace_radius_m = 0.10;
+  parameters.driver.velocity_window_s = 0.015;
+  parameters.driver.velocity_time_constant_s = 0.001;
+  parameters.driver.noise_sigma_counts = 0.05;
+  parameters.driver.noise_correlation_time_s = 0.01;
+  return parameters;
+}
+
+SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uint64_t seed)
+    : SimulatedDriver(parameters.specifications, parameters.driver, seed),
+      parameters_(parameters),
+      q_rad_(parameters.home_joint_angles_rad) {
+  const auto& p = parameters;
+  requirePositive(p.upper_arm_length_m, "upper_arm_length_m");
+  requirePositive(p.forearm_length_m, "forearm_length_m");
+  requireNonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
+  requireNonNegative(p.forearm_mass_kg, "forearm_mass_kg");
+  requirePositive(p.tip_mass_kg, "tip_mass_kg");
+  requireNonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
+  requireNonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
+  requireNonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
+  requireNonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
+  requirePositive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
+  if (!std::isfinite(p.upper_arm_com_m) || !std::isfinite(p.forearm_com_m)) {
+    throw Error("sim serial-arm device: upper_arm_com_m and forearm_com_m must be finite");
+  }
+  for (int j = 0; j < 3; ++j) {
+    requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
+    requireNonNegative(p.coulomb_friction_n_m[j], "coulomb_friction_n_m");
+    requireNonNegative(p.static_friction_n_m[j], "static_friction_n_m");
+    requireNonNegative(p.viscous_friction_n_m_s_per_rad[j], "viscous_friction_n_m_s_per_rad");
+    requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
+    if (p.static_friction_n_m[j] < p.coulomb_friction_n_m[j]) {
+      throw Error("sim serial-arm device: static_friction_n_m must be >= coulomb_friction_n_m");
+    }
+  }
+  if (!p.home_joint_angles_rad.allFinite()) {
+    throw Error("sim serial-arm device: home_joint_angles_rad must be finite");
+  }
+  requirePositive(p.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
+  requireNonNegative(p.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
+  requirePositive(p.elbow_stop_stiffness_n_m_per_rad, "elbow_stop_stiffness_n_m_per_rad");
+  if (!(p.max_elbow_offset_rad > 0.0 && p.max_elbow_offset_rad < 0.5 * kTwoPi / 2.0)) {
+    throw Error("sim serial-arm device: max_elbow_offset_rad must be in (0, pi/2)");
+  }
+  counts_per_rad_ = p.joint_counts_per_rev / kTwoPi;
+  // Constant parts of the dynamics, folded once so the 10 kHz step does not redo them.
+  Inertia& k = inertia_;
+  k.l1 = p.upper_arm_length_m;
+  k.l2 = p.forearm_length_m;
+  k.a3 = p.forearm_com_m;
+  k.m3 = p.forearm_mass_kg;
+  k.mt = p.tip_mass_kg;
+  k.yaw = p.turret_inertia_kg_m2 + p.rotor_inertia_kg_m2[0] + p.upper_arm_axial_inertia_kg_m2 +
+          p.forearm_axial_inertia_kg_m2;
+  k.upper_yaw = p.upper_arm_mass_kg * p.upper_arm_com_m * p.upper_arm_com_m +
+                p.upper_arm_inertia_kg_m2 - p.upper_arm_axial_inertia_kg_m2;
+  k.forearm_yaw = p.forearm_inertia_kg_m2 - p.forearm_axial_inertia_kg_m2;
+  k.m22 = p.rotor_inertia_kg_m2[1] + p.upper_arm_mass_kg * p.upper_arm_com_m * p.upper_arm_com_m +
+          p.upper_arm_inertia_kg_m2 + (k.m3 + k.mt) * k.l1 * k.l1;
+  k.m33 =
+      p.rotor_inertia_kg_m2[2] + k.m3 * k.a3 * k.a3 + p.forearm_inertia_kg_m2 + k.mt * k.l2 * k.l2;
+  k.coupling = (k.m3 * k.a3 + k.mt * k.l2) * k.l1;
+  k.gravity2 = kStandardGravity * (p.upper_arm_mass_kg * p.upper_arm_com_m + (k.m3 + k.mt) * k.l1);
+  k.gravity3 = kStandardGravity * (k.m3 * k.a3 + k.mt * k.l2);
+
+  home_tip_m_.setZero();
+  home_tip_m_ = tipInShoulderFrame(trig(p.home_joint_angles_rad));
+  const double home_offset = std::abs(p.home_joint_angles_rad[2] - p.home_joint_angles_rad[1]);
+  if (home_offset >= p.max_elbow_offset_rad || home_tip_m_.head<2>().norm() <= 0.0) {
+    throw Error(
+        "sim serial-arm device: home_joint_angles_rad must put the tip in front of the yaw axis "
+        "with |q3 - q2| below max_elbow_offset_rad");
+  }
+  // The whole workspace sphere (end stops included) must be reachable, away from singularities.
+  const double reach_m = p.specifications.workspace_radius_m * 1.05;
+  for (int i = -6; i <= 6; ++i) {
+    for (int j = -6; j <= 6; ++j) {
+      for (int k = -6; k <= 6; ++k) {
+        Eigen::Vector3d direction(i, j, k);
+        if (direction.isZero() || std::abs(direction.norm() - 6.0) > 0.5) continue;
+        Eigen::Vector3d q;
+        const Eigen::Vector3d point = reach_m * direction.normalized();
+        if (!inverseKinematics(point, q) || std::abs(q[2] - q[1]) >= p.max_elbow_offset_rad ||
+            tipInShoulderFrame(trig(q)).head<2>().norm() < 0.01) {
+          throw Error(
+              "sim serial-arm device: the workspace sphere (radius " +
+              std::to_string(p.specifications.workspace_radius_m * 1000.0) +
+              " mm around the home pose) leaves the arm's reach; move home_joint_angles_rad "
+              "or shrink workspace_radius_m");
+        }
+      }
+    }
+  }
+  trig_ = trig(q_rad_);
+  updateTip();
+}
+
+SerialArmDevice::Trig SerialArmDevice::trig(const Eigen::Vector3d& q) noexcept {
+  return {std::sin(q[0]), std::cos(q[0]), std::sin(q[1]),
+          std::cos(q[1]), std::sin(q[2]), std::cos(q[2])};
+}
+
+Eigen::Vector3d SerialArmDevice::tipInShoulderFrame(const Trig& t) const noexcept {
+  const double l1 = parameters_.upper_arm_length_m;
+  const double l2 = parameters_.forearm_length_m;
+  const double r = l1 * t.c2 + l2 * t.s3;
+  const double h = l1 * t.s2 - l2 * t.c3;
+  return {r * t.c1, r * t.s1, h};
+}
+
+Eigen::Vector3d SerialArmDevice::forwardKinematics(const Eigen::Vector3d& q_rad) const noexcept {
+  return tipInShoulderFrame(trig(q_rad)) - home_tip_m_;
+}
+
+bool SerialArmDevice::inverseKinematics(const Eigen::Vector3d& position_m,
+                                        Eigen::Vector3d& q_rad) const noexcept {
+  const double l1 = parameters_.upper_arm_length_m;
+  const double l2 = parameters_.forearm_length_m;
+  const Eigen::Vector3d p = position_m + home_tip_m_;
+  if (!p.allFinite()) return false;
+  const double r = std::hypot(p.x(), p.y());
+  const double h = p.z();
+  if (r <= 0.0) return false;
+  // |tip - shoulder|^2 = l1^2 + l2^2 + 2 l1 l2 sin(q3 - q2)
+  const double s = (r * r + h * h - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
+  if (!(s >= -1.0 && s <= 1.0)) return false;
+  const double offset = std::asin(s);  // q3 - q2, the device's branch: |offset| <= pi/2
+  // (r, h) is (l1 + l2 sin(offset), -l2 cos(offset)) rotated by q2.
+  const double a = l1 + l2 * s;
+  const double b = -l2 * std::cos(offset);
+  const double q2 = std::atan2(h, r) - std::atan2(b, a);
+  q_rad = Eigen::Vector3d(std::atan2(p.y(), p.x()), q2, q2 + offset);
+  return true;
+}
+
+Eigen::Matrix3d SerialArmDevice::jacobian(const Trig& t) const noexcept {
+  const double l1 = parameters_.upper_arm_length_m;
+  const double l2 = parameters_.forearm_length_m;
+  const double r = l1 * t.c2 + l2 * t.s3;
+  Eigen::Matrix3d j;
+  j << -r * t.s1, -l1 * t.s2 * t.c1, l2 * t.c3 * t.c1,  //
+      r * t.c1, -l1 * t.s2 * t.s1, l2 * t.c3 * t.s1,    //
+      0.0, l1 * t.c2, l2 * t.s3;
+  return j;
+}
+
+Eigen::Matrix3d SerialArmDevice::jacobian(const Eigen::Vector3d& q_rad) const noexcept {
+  return jacobian(trig(q_rad));
+}
+
+Eigen::Matrix3d SerialArmDevice::massMatrix(const Trig& t) const noexcept {
+  const Inertia& k = inertia_;
+  const double r3 = k.l1 * t.c2 + k.a3 * t.s3;  // forearm centre of mass, horizontal reach
+  const double rt = k.l1 * t.c2 + k.l2 * t.s3;  // tip
+  // Yaw: every body's mass at its reach, plus each link's inertia about the vertical (the upper
+  // arm is at angle q2 from the horizontal, the forearm at q3 - pi/2).
+  const double m11 = k.yaw + k.upper_yaw * t.c2 * t.c2 + k.forearm_yaw * t.s3 * t.s3 +
+                     k.m3 * r3 * r3 + k.mt * rt * rt;
+  const double m23 = k.coupling * (t.s3 * t.c2 - t.c3 * t.s2);  // K sin(q3 - q2)
+  Eigen::Matrix3d m;
+  m << m11, 0.0, 0.0,   //
+      0.0, k.m22, m23,  //
+      0.0, m23, k.m33;
+  return m;
+}
+
+Eigen::Matrix3d SerialArmDevice::massMatrix(const Eigen::Vector3d& q_rad) const noexcept {
+  return massMatrix(trig(q_rad));
+}
+
+Eigen::Vector3d SerialArmDevice::gravityTorque(const Trig& t) const noexcept {
+  return {0.0, inertia_.gravity2 * t.c2, inertia_.gravity3 * t.s3};
+}
+
+Eigen::Vector3d SerialArmDevice::gravityTorque(const Eigen::Vector3d& q_rad) const noexcept {
+  return gravityTorque(trig(q_rad));
+}
+
+double SerialArmDevice::potentialEnergy_j(const Eigen::Vector3d& q_rad) const noexcept {
+  return inertia_.gravity2 * std::sin(q_rad[1]) - inertia_.gravity3 * std::cos(q_rad[2]);
+}
+
+Eigen::Vector3d SerialArmDevice::coriolisTorque(const Trig& t,
+                                                const Eigen::Vector3d& qd) const noexcept {
+  // h_i = sum_jk (dM_ij/dq_k - 1/2 dM_jk/dq_i) qd_j qd_k, with M11(q2, q3) and
+  // M23 = K sin(q3 - q2) the only configuration-dependent entries.
+  const Inertia& k = inertia_;
+  const double r3 = k.l1 * t.c2 + k.a3 * t.s3;
+  const double rt = k.l1 * t.c2 + k.l2 * t.s3;
+  const double dm11_dq2 = -2.0 * t.s2 * (t.c2 * k.upper_yaw + k.l1 * (k.m3 * r3 + k.mt * rt));
+  const double dm11_dq3 = 2.0 * t.c3 * (t.s3 * k.forearm_yaw + k.m3 * k.a3 * r3 + k.mt * k.l2 * rt);
+  const double k_cos = k.coupling * (t.c3 * t.c2 + t.s3 * t.s2);  // K cos(q3 - q2)
+  return {qd[0] * (dm11_dq2 * qd[1] + dm11_dq3 * qd[2]),
+          k_cos * qd[2] * qd[2] - 0.5 * dm11_dq2 * qd[0] * qd[0],
+          -k_cos * qd[1] * qd[1] - 0.5 * dm11_dq3 * qd[0] * qd[0]};
+}
+
+Eigen::Vector3d SerialArmDevice::coriolisTorque(const Eigen::Vector3d& q_rad,
+                                                const Eigen::Vector3d& qd) const noexcept {
+  return coriolisTorque(trig(q_rad), qd);
+}
+
+double SerialArmDevice::kineticEnergy_j(const Eigen::Vector3d& q_rad,
+                                        const Eigen::Vector3d& qd) const noexcept {
+  return 0.5 * qd.dot(massMatrix(q_rad) * qd);
+}
+
+Eigen::Vector3d SerialArmDevice::trueVelocity_m_per_s() const noexcept {
+  // J(q) qd written out (the hand asks for it every internal step).
+  const Trig& t = trig_;
+  const Eigen::Vector3d& qd = qd_rad_per_s_;
+  const double l1 = inertia_.l1, l2 = inertia_.l2;
+  const double reach = l1 * t.c2 + l2 * t.s3;
+  const double reach_rate = -l1 * t.s2 * qd[1] + l2 * t.c3 * qd[2];
+  return {t.c1 * reach_rate - reach * t.s1 * qd[0], t.s1 * reach_rate + reach * t.c1 * qd[0],
+          l1 * t.c2 * qd[1] + l2 * t.s3 * qd[2]};
+}
+
+void SerialArmDevice::updateTip() noexcept { tip_m_ = tipInShoulderFrame(trig_) - home_tip_m_; }
+
+Eigen::Vector3d SerialArmDevice::trueGravity(const Eigen::Vector3d& position_m) const {
+  Eigen::Vector3d q;
+  if (!inverseKinematics(position_m, q)) {
+    throw Error("sim:omni trueGravity: position is outside the arm's reach");
+  }
+  const Trig t = trig(q);
+  return jacobian(t).transpose().inverse() * gravityTorque(t);
+}
+
+Eigen::Matrix3d SerialArmDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {
+  Eigen::Vector3d q;
+  if (!inverseKinematics(position_m, q)) {
+    throw Error("sim:omni trueApparentMass: position is outside the arm's reach");
+  }
+  const Trig t = trig(q);
+  const Eigen::Matrix3d inverse = jacobian(t).inverse();
+  const Eigen::Matrix3d lambda = inverse.transpose() * massMatrix(t) * inverse;
+  return 0.5 * (lambda + lambda.transpose());
+}
+
+void SerialArmDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
+  // The same model as jacobian(), massMatrix(), gravityTorque() and coriolisTorque(), written out
+  // in scalars with shared subexpressions: this runs 10,000 times per simulated second.
+  const auto& p = parameters_;
+  const Inertia& k = inertia_;
+  const Trig& t = trig_;
+  const Eigen::Vector3d& qd = qd_rad_per_s_;
+  Eigen::Vector3d cartesian_n = force_n;
+  const double radius_m = p.specifications.workspace_radius_m;
+  const double distance2 = tip_m_.squaredNorm();  // the workspace sphere is centred on home
+  if (distance2 > radius_m * radius_m) {
+    const double distance_m = std::sqrt(distance2);
+    const Eigen::Vector3d normal = tip_m_ / distance_m;
+    // Pushes back along the normal and drags on the whole tip velocity (a rubber stop).
+    cartesian_n -= p.end_stop_stiffness_n_per_m * (distance_m - radius_m) * normal +
+                   p.end_stop_damping_n_s_per_m * trueVelocity_m_per_s();
+    end_stop_hit_ = true;
+  }
+
+  const double reach = k.l1 * t.c2 + k.l2 * t.s3;          // tip, horizontal distance to the axis
+  const double forearm_reach = k.l1 * t.c2 + k.a3 * t.s3;  // forearm centre of mass
+  const double sin_offset = t.s3 * t.c2 - t.c3 * t.s2;     // sin(q3 - q2)
+  const double cos_offset = t.c3 * t.c2 + t.s3 * t.s2;
+  // J^T F, with F split into radial, tangential and vertical parts.
+  const double radial_n = t.c1 * cartesian_n.x() + t.s1 * cartesian_n.y();
+  const double tangential_n = t.c1 * cartesian_n.y() - t.s1 * cartesian_n.x();
+  // M(q) and its derivatives (Coriolis and centrifugal terms).
+  const double m11 = k.yaw + k.upper_yaw * t.c2 * t.c2 + k.forearm_yaw * t.s3 * t.s3 +
+                     k.m3 * forearm_reach * forearm_reach + k.mt * reach * reach;
+  const double m23 = k.coupling * sin_offset;
+  const double dm11_dq2 =
+      -2.0 * t.s2 * (t.c2 * k.upper_yaw + k.l1 * (k.m3 * forearm_reach + k.mt * reach));
+  const double dm11_dq3 =
+      2.0 * t.c3 * (t.s3 * k.forearm_yaw + k.m3 * k.a3 * forearm_reach + k.mt * k.l2 * reach);
+  const double k_cos = k.coupling * cos_offset;
+  const Eigen::Vector3d& viscous = p.viscous_friction_n_m_s_per_rad;
+  Eigen::Vector3d torque(
+      reach * tangential_n - qd[0] * (dm11_dq2 * qd[1] + dm11_dq3 * qd[2]) - viscous[0] * qd[0],
+      k.l1 * (t.c2 * cartesian_n.z() - t.s2 * radial_n) - k.gravity2 * t.c2 -
+          (k_cos * qd[2] * qd[2] - 0.5 * dm11_dq2 * qd[0] * qd[0]) - viscous[1] * qd[1],
+      k.l2 * (t.s3 * cartesian_n.z() + t.c3 * radial_n) - k.gravity3 * t.s3 -
+          (-k_cos * qd[1] * qd[1] - 0.5 * dm11_dq3 * qd[0] * qd[0]) - viscous[2] * qd[2]);
+  const double offset = q_rad_[2] - q_rad_[1];
+  const double excess =
+      offset - std::clamp(offset, -p.max_elbow_offset_rad, p.max_elbow_offset_rad);
+  if (excess != 0.0) {
+    const double stop =
+        p.elbow_stop_stiffness_n_m_per_rad * excess + kElbowStopDamping * (qd[2] - qd[1]);
+    torque[2] -= stop;
+    torque[1] += stop;
+  }
+
+  // M is block diagonal: the yaw joint is decoupled from the (q2, q3) pair.
+  const double det23 = k.m22 * k.m33 - m23 * m23;
+  const double scale = dt_s / (m11 * det23);  // one division for the whole inverse
+  // w = dt M^-1: joint velocity change per unit of joint torque held one step.
+  const double w00 = scale * det23;
+  const double w11 = scale * m11 * k.m33, w12 = -scale * m11 * m23, w22 = scale * m11 * k.m22;
+  const Eigen::Vector3d free_velocity(qd[0] + w00 * torque[0],
+                                      qd[1] + w11 * torque[1] + w12 * torque[2],
+                                      qd[2] + w12 * torque[1] + w22 * torque[2]);
+
+  // Dry friction as bounded joint torques: a joint sticks (velocity exactly 0) when the torque
+  // needed to hold it is within its friction level, otherwise it slides against its motion.
+  const double limit0 = qd[0] == 0.0 ? p.static_friction_n_m[0] : p.coulomb_friction_n_m[0];
+  const double limit2 = qd[1] == 0.0 ? p.static_friction_n_m[1] : p.coulomb_friction_n_m[1];
+  const double limit3 = qd[2] == 0.0 ? p.static_friction_n_m[2] : p.coulomb_friction_n_m[2];
+  Eigen::Vector3d velocity;
+  // The yaw joint is decoupled: exact in one step.
+  const double reach0 = w00 * limit0;
+  velocity[0] = std::abs(free_velocity[0]) <= reach0
+                    ? 0.0
+                    : free_velocity[0] - reach0 * sign(free_velocity[0]);
+  // The coupled (q2, q3) pair: the two common cases have closed forms, transitions iterate.
+  const double v2 = free_velocity[1], v3 = free_velocity[2];
+  const double reach2 = std::abs(w11) * limit2 + std::abs(w12) * limit3;
+  const double reach3 = std::abs(w12) * limit2 + std::abs(w22) * limit3;
+  if (std::abs(v2) > reach2 && std::abs(v3) > reach3) {
+    // Both slide: friction cannot reverse either joint within the step.
+    const double f2 = -limit2 * sign(v2), f3 = -limit3 * sign(v3);
+    velocity[1] = v2 + w11 * f2 + w12 * f3;
+    velocity[2] = v3 + w12 * f2 + w22 * f3;
+  } else {
+    // Torques that stop both joints: (dt M^-1)^-1 = M / dt on the block.
+    const double hold2 = -(k.m22 * v2 + m23 * v3) / dt_s;
+    const double hold3 = -(m23 * v2 + k.m33 * v3) / dt_s;
+    if (std::abs(hold2) <= limit2 && std::abs(hold3) <= limit3) {
+      velocity[1] = 0.0;
+      velocity[2] = 0.0;
+    } else {
+      // Projected Gauss-Seidel on the 2x2 problem.
+      double f2 = std::clamp(hold2, -limit2, limit2);
+      double f3 = std::clamp(hold3, -limit3, limit3);
+      bool stuck2 = false, stuck3 = false;
+      for (int sweep = 0; sweep < kFrictionSweeps; ++sweep) {
+        const double without2 = v2 + w12 * f3;
+        const double stop2 = -without2 / w11;
+        stuck2 = std::abs(stop2) <= limit2;
+        f2 = stuck2 ? stop2 : -limit2 * sign(without2);
+        const double without3 = v3 + w12 * f2;
+        const double stop3 = -without3 / w22;
+        stuck3 = std::abs(stop3) <= limit3;
+        f3 = stuck3 ? stop3 : -limit3 * sign(without3);
+      }
+      velocity[1] = stuck2 ? 0.0 : v2 + w11 * f2 + w12 * f3;
+      velocity[2] = stuck3 ? 0.0 : v3 + w12 * f2 + w22 * f3;
+    }
+  }
+  qd_rad_per_s_ = velocity;
+  const Eigen::Vector3d step_rad = dt_s * velocity;
+  q_rad_ += step_rad;
+  advanceTrig(step_rad);
+  updateTip();
+}
+
+namespace {
+// Rotates (sine, cosine) of an angle by a small step d: errors below d^7/5040 and d^8/40320,
+// under 1e-18 for |d| <= 0.01.
+inline void rotateSmall(double d, double& sine, double& cosine) noexcept {
+  const double d2 = d * d;
+  const double sin_d = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0));
+  const double cos_d = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0));
+  const double s = sine;
+  sine = s * cos_d + cosine * sin_d;
+  cosine = cosine * cos_d - s * sin_d;
+}
+}  // namespace
+
+void SerialArmDevice::advanceTrig(const Eigen::Vector3d& step_rad) noexcept {
+  // Rotating the cached sines and cosines by the (tiny) step with a short Taylor series costs a
+  // fraction of three sincos calls; an exact recomputation now and then bounds the rounding drift.
+  if (++steps_since_exact_trig_ >= kExactTrigInterval || std::abs(step_rad[0]) > 0.01 ||
+      std::abs(step_rad[1]) > 0.01 || std::abs(step_rad[2]) > 0.01) {
+    trig_ = trig(q_rad_);
+    steps_since_exact_trig_ = 0;
+    return;
+  }
+  if (step_rad[0] != 0.0) rotateSmall(step_rad[0], trig_.s1, trig_.c1);
+  if (step_rad[1] != 0.0) rotateSmall(step_rad[1], trig_.s2, trig_.c2);
+  if (step_rad[2] != 0.0) rotateSmall(step_rad[2], trig_.s3, trig_.c3);
+}
+
+Eigen::Vector3d SerialArmDevice::readEncoders(const Eigen::Vector3d& noise_counts) const noexcept {
+  Eigen::Vector3d measured_q;
+  for (int j = 0; j < 3; ++j) {
+    measured_q[j] =
+        std::round(q_rad_[j] * counts_per_rad_[j] + noise_counts[j]) / counts_per_rad_[j];
+  }
+  return forwardKinematics(measured_q);
+}
+
+void SerialArmDevice::resetMechanism(const Eigen::Vector3d& position_m) {
+  Eigen::Vector3d q;
+  if (position_m.norm() > parameters_.specifications.workspace_radius_m * 1.05 ||
+      !inverseKinematics(position_m, q)) {
+    throw Error(parameters_.specifications.model_name +
+                ": resetState position is outside the workspace (radius " +
+                std::to_string(parameters_.specifications.workspace_radius_m * 1000.0) +
+                " mm around the centre)");
+  }
+  q_rad_ = q;
+  qd_rad_per_s_.setZero();
+  trig_ = trig(q_rad_);
+  steps_since_exact_trig_ = 0;
+  updateTip();
+}
+
+}  // namespace autograv::sim

@@ -1,0 +1,363 @@
+#include "autograv/sim/serial_arm_device.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+
+namespace autograv::sim {
+namespace {
+
+constexpr double kServo_s = 0.001;
+
+SerialArmDevice makeOpenOmni(std::uint64_t seed = 7) {
+  SerialArmDevice device(omniParameters(), seed);
+  EXPECT_TRUE(device.open());
+  EXPECT_TRUE(device.calibrate());
+  return device;
+}
+
+// Points spread through the workspace sphere (radius 0.1 m), centre included.
+std::vector<Eigen::Vector3d> workspacePoints(double radius) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = -2; i <= 2; ++i) {
+    for (int j = -2; j <= 2; ++j) {
+      for (int k = -2; k <= 2; ++k) {
+        const Eigen::Vector3d p = Eigen::Vector3d(i, j, k) * (radius / 2.0);
+        if (p.norm() <= radius) points.push_back(p);
+      }
+    }
+  }
+  return points;
+}
+
+TEST(SerialArmDeviceTest, HomePoseIsTheWorkspaceCentre) {
+  const SerialArmDevice device(omniParameters(), 1);
+  EXPECT_LT(device.forwardKinematics(device.parameters().home_joint_angles_rad).norm(), 1e-15);
+  EXPECT_LT(device.truePosition_m().norm(), 1e-15);
+  EXPECT_EQ(device.workspaceCenter_m(), Eigen::Vector3d::Zero());
+}
+
+TEST(SerialArmDeviceTest, InverseKinematicsInvertsForwardKinematics) {
+  const SerialArmDevice device(omniParameters(), 1);
+  int checked = 0;
+  for (double q1 = -0.8; q1 <= 0.8; q1 += 0.2) {
+    for (double q2 = -0.3; q2 <= 1.2; q2 += 0.15) {
+      for (double offset = -1.3; offset <= 1.3; offset += 0.2) {
+        const Eigen::Vector3d q(q1, q2, q2 + offset);
+        // The device's branch: the tip stays in front of the yaw axis.
+        const double l = device.parameters().upper_arm_length_m;
+        if (l * std::cos(q[1]) + l * std::sin(q[2]) < 0.01) continue;
+        Eigen::Vector3d back;
+        ASSERT_TRUE(device.inverseKinematics(device.forwardKinematics(q), back));
+        EXPECT_LT((back - q).cwiseAbs().maxCoeff(), 1e-10) << q.transpose();
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 500);
+  for (const auto& p : workspacePoints(0.1)) {
+    Eigen::Vector3d q;
+    ASSERT_TRUE(device.inverseKinematics(p, q));
+    EXPECT_LT((device.forwardKinematics(q) - p).norm(), 1e-12);
+  }
+  Eigen::Vector3d q;
+  EXPECT_FALSE(device.inverseKinematics(Eigen::Vector3d(0.4, 0.0, 0.0), q));  // beyond l1 + l2
+}
+
+TEST(SerialArmDeviceTest, JacobianIsTheDerivativeOfForwardKinematics) {
+  const SerialArmDevice device(omniParameters(), 1);
+  for (const Eigen::Vector3d& q : {Eigen::Vector3d(0.0, 0.48, 0.16), Eigen::Vector3d(0.5, 0.1, 0.9),
+                                   Eigen::Vector3d(-0.6, 1.0, 0.2)}) {
+    Eigen::Matrix3d numeric;
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d step = 1e-7 * Eigen::Vector3d::Unit(j);
+      numeric.col(j) =
+          (device.forwardKinematics(q + step) - device.forwardKinematics(q - step)) / 2e-7;
+    }
+    EXPECT_LT((numeric - device.jacobian(q)).cwiseAbs().maxCoeff(), 1e-8);
+  }
+}
+
+TEST(SerialArmDeviceTest, GravityTorqueIsTheDerivativeOfThePotential) {
+  const SerialArmDevice device(omniParameters(), 1);
+  const Eigen::Vector3d q(0.3, 0.7, -0.2);
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector3d step = 1e-6 * Eigen::Vector3d::Unit(j);
+    const double numeric =
+        (device.potentialEnergy_j(q + step) - device.potentialEnergy_j(q - step)) / 2e-6;
+    EXPECT_NEAR(numeric, device.gravityTorque(q)[j], 1e-9);
+  }
+}
+
+// The brief's check: J^-T g(q) is the Cartesian gradient of the potential energy.
+TEST(SerialArmDeviceTest, CartesianGravityMatchesFiniteDifferenceOfPotentialEnergy) {
+  const SerialArmDevice device(omniParameters(), 1);
+  auto energyAt = [&](const Eigen::Vector3d& x) {
+    Eigen::Vector3d q;
+    EXPECT_TRUE(device.inverseKinematics(x, q));
+    return device.potentialEnergy_j(q);
+  };
+  const double h = 1e-6;
+  for (const auto& x : workspacePoints(0.09)) {
+    Eigen::Vector3d numeric;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(axis);
+      numeric[axis] = (energyAt(x + step) - energyAt(x - step)) / (2 * h);
+    }
+    const Eigen::Vector3d gravity = device.trueGravity(x);
+    EXPECT_LT((numeric - gravity).norm(), 1e-6 * gravity.norm() + 1e-8) << x.transpose();
+  }
+}
+
+TEST(SerialArmDeviceTest, GravityAndMassLookLikeAnOmni) {
+  const SerialArmDevice device(omniParameters(), 1);
+  double smallest = 1e9, largest = 0.0;
+  for (const auto& x : workspacePoints(0.1)) {
+    const Eigen::Vector3d g = device.trueGravity(x);
+    EXPECT_GT(g.z(), 0.0);  // holding force points up
+    smallest = std::min(smallest, g.norm());
+    largest = std::max(largest, g.norm());
+    const Eigen::Matrix3d lambda = device.trueApparentMass(x);
+    EXPECT_TRUE(lambda.isApprox(lambda.transpose(), 1e-12));
+    const Eigen::Vector3d eigen =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
+    EXPECT_GT(eigen.minCoeff(), 0.0);
+  }
+  // About 0.5 N at the centre, within the Omni's continuous force, varying by tens of percent.
+  const Eigen::Vector3d centre_gravity = device.trueGravity(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(centre_gravity.norm(), 0.5, 0.1);
+  EXPECT_LT(largest, 0.88);
+  EXPECT_GT((largest - smallest) / centre_gravity.norm(), 0.2);
+  // Apparent mass: tens of grams and anisotropic; the paper's |G|/g I is only an approximation.
+  const Eigen::Matrix3d lambda = device.trueApparentMass(Eigen::Vector3d::Zero());
+  const Eigen::Vector3d eigen =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
+  EXPECT_GT(eigen.minCoeff(), 0.02);
+  EXPECT_LT(eigen.maxCoeff(), 0.12);
+  EXPECT_GT(eigen.maxCoeff() / eigen.minCoeff(), 1.5);
+}
+
+// Largest energy error relative to the largest kinetic energy over 0.5 s of fast, frictionless
+// swinging at the given internal rate.
+double relativeEnergyError(double internal_rate_hz) {
+  SerialArmParameters parameters = omniParameters();
+  parameters.coulomb_friction_n_m.setZero();
+  parameters.static_friction_n_m.setZero();
+  parameters.viscous_friction_n_m_s_per_rad.setZero();
+  parameters.driver.internal_rate_hz = internal_rate_hz;
+  SerialArmDevice device(parameters, 1);
+  EXPECT_TRUE(device.open());
+  // A loose undamped spring to a fixed point keeps the arm swinging fast through the workspace
+  // (yaw and pitch together, so the Coriolis terms matter); total energy must stay put.
+  const Eigen::Vector3d anchor(0.01, 0.01, 0.0);
+  device.resetState(Eigen::Vector3d(-0.02, -0.02, 0.02));
+  device.hand().stiffness_n_per_m = 60.0;
+  device.hand().damping_n_s_per_m = 0.0;
+  device.hand().grab(anchor);
+  auto energy = [&] {
+    const Eigen::Vector3d x = device.truePosition_m();
+    return device.kineticEnergy_j(device.jointAngles_rad(), device.jointVelocities_rad_per_s()) +
+           device.potentialEnergy_j(device.jointAngles_rad()) +
+           0.5 * 60.0 * (x - anchor).squaredNorm();
+  };
+  const double start = energy();
+  double max_kinetic = 0.0, worst = 0.0;
+  for (int ms = 0; ms < 500; ++ms) {
+    device.advance(kServo_s);
+    max_kinetic = std::max(max_kinetic, device.kineticEnergy_j(device.jointAngles_rad(),
+                                                               device.jointVelocities_rad_per_s()));
+    worst = std::max(worst, std::abs(energy() - start));
+  }
+  EXPECT_FALSE(device.endStopHit());
+  EXPECT_GT(max_kinetic, 0.05);  // J: the tip reaches about 1.7 m/s
+  return worst / max_kinetic;
+}
+
+TEST(SerialArmDeviceTest, MotionConservesEnergyWithoutFriction) {
+  // Semi-implicit Euler keeps the energy error bounded and first order in the step: a wrong
+  // Coriolis or inertia term would leave an error that does not shrink with the step.
+  const double at_10khz = relativeEnergyError(10000.0);
+  const double at_100khz = relativeEnergyError(100000.0);
+  EXPECT_LT(at_10khz, 0.005);
+  EXPECT_LT(at_100khz, 0.0005);
+  EXPECT_NEAR(at_10khz / at_100khz, 10.0, 1.0);
+}
+
+TEST(SerialArmDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
+  SerialArmDevice device = makeOpenOmni();
+  const Eigen::Vector3d start(0.02, -0.03, 0.01);
+  device.resetState(start);
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d::Zero()));
+  const Eigen::Vector3d q = device.jointAngles_rad();
+  // Expected: M qdd = -g(q) - friction, with each joint's dry friction against its motion.
+  const Eigen::Matrix3d m = device.massMatrix(q);
+  const Eigen::Vector3d free = -m.inverse() * device.gravityTorque(q);
+  Eigen::Vector3d friction;
+  for (int j = 0; j < 3; ++j) {
+    friction[j] =
+        free[j] == 0.0 ? 0.0 : std::copysign(device.parameters().coulomb_friction_n_m[j], free[j]);
+  }
+  const Eigen::Vector3d joint_acceleration = -m.inverse() * (device.gravityTorque(q) + friction);
+  const Eigen::Vector3d expected = device.jacobian(q) * joint_acceleration;
+  // Without friction this is -Lambda^-1 G, the Cartesian form of eq. (1).
+  const Eigen::Vector3d frictionless =
+      -device.trueApparentMass(start).inverse() * device.trueGravity(start);
+  EXPECT_LT((frictionless - device.jacobian(q) * free).norm(), 1e-9 * frictionless.norm());
+  device.advance(0.002);
+  const Eigen::Vector3d measured = device.trueVelocity_m_per_s() / 0.002;
+  EXPECT_LT((measured - expected).norm(), 0.005 * expected.norm());
+  EXPECT_GT((measured - frictionless).norm(), 0.002 * expected.norm());  // friction is visible
+}
+
+TEST(SerialArmDeviceTest, CommandingTheTrueGravityHoldsItStill) {
+  SerialArmDevice device = makeOpenOmni();
+  const Eigen::Vector3d start(0.031, -0.022, -0.04);
+  device.resetState(start);
+  Eigen::Vector3d first;
+  ASSERT_TRUE(device.getPosition(first));
+  double max_reading_change = 0.0;
+  for (int ms = 0; ms < 1000; ++ms) {
+    Eigen::Vector3d measured;
+    ASSERT_TRUE(device.getPosition(measured));
+    ASSERT_TRUE(device.setForce(device.trueGravity(measured)));
+    device.advance(kServo_s);
+    max_reading_change = std::max(max_reading_change, (measured - first).norm());
+  }
+  // One encoder count at the tip is about 0.055 mm.
+  EXPECT_LT((device.truePosition_m() - start).norm(), 0.055e-3);
+  EXPECT_LT(max_reading_change, 2 * 0.055e-3);
+}
+
+TEST(SerialArmDeviceTest, SaturationClampsTheMagnitudeAndCounts) {
+  SerialArmDevice device = makeOpenOmni();
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d(0.0, 3.0, 0.0)));
+  EXPECT_EQ(device.saturationCount(), 0u);
+  const Eigen::Vector3d large(4.0, 0.0, 3.0);  // 5 N
+  ASSERT_TRUE(device.setForce(large));
+  EXPECT_NEAR(device.appliedForce_n().norm(), 3.3, 1e-12);
+  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-12));
+  EXPECT_EQ(device.saturationCount(), 1u);
+}
+
+std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
+  SerialArmDevice device = makeOpenOmni(seed);
+  std::vector<Eigen::Vector3d> trajectory;
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.03, 0.02, -0.02), 0.05);
+  for (int ms = 0; ms < 1200; ++ms) {
+    if (ms == 400) device.hand().release();
+    Eigen::Vector3d x, v;
+    EXPECT_TRUE(device.getPosition(x));
+    EXPECT_TRUE(device.getLinearVelocity(v));
+    const Eigen::Vector3d target(0.02 * std::sin(ms * 0.005), 0.0, 0.01);
+    device.setForce(60.0 * (target - x) - 0.5 * v + Eigen::Vector3d(0, 0, 0.5));
+    device.advance(kServo_s);
+    trajectory.push_back(device.truePosition_m());
+    trajectory.push_back(x);
+  }
+  return trajectory;
+}
+
+TEST(SerialArmDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
+  const auto a = runScript(5);
+  const auto b = runScript(5);
+  const auto c = runScript(6);
+  bool identical = a.size() == b.size(), differs = false;
+  for (std::size_t i = 0; i < a.size() && identical; ++i) {
+    identical = (a[i].array() == b[i].array()).all();
+  }
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differs = differs || (a[i].array() != c[i].array()).any();
+  EXPECT_TRUE(identical);
+  EXPECT_TRUE(differs);
+}
+
+TEST(SerialArmDeviceTest, ServoPathAllocatesNothing) {
+  SerialArmDevice device = makeOpenOmni();
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.02, -0.02, 0.01), 0.05);
+  Eigen::Vector3d x, v;
+  bool pressed = false;
+  testing::AllocationCounter counter;
+  for (int ms = 0; ms < 2000; ++ms) {
+    device.getPosition(x);
+    device.getLinearVelocity(v);
+    device.getUserSwitch(0, pressed);
+    device.setForce(Eigen::Vector3d(0.0, 0.0, 0.5) - 0.5 * v);
+    device.advance(kServo_s);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+}
+
+TEST(SerialArmDeviceTest, VelocityIsZeroAtRestAndTracksConstantVelocity) {
+  SerialArmDevice device = makeOpenOmni();
+  Eigen::Vector3d x, v;
+  int zero = 0;
+  for (int ms = 0; ms < 300; ++ms) {
+    ASSERT_TRUE(device.getPosition(x));
+    ASSERT_TRUE(device.getLinearVelocity(v));
+    zero += v.isZero(0.0) ? 1 : 0;
+    device.setForce(device.trueGravity(device.truePosition_m()));
+    device.advance(kServo_s);
+  }
+  EXPECT_GT(zero, 250);  // only encoder flicker near a count transition can make it nonzero
+  const Eigen::Vector3d direction = Eigen::Vector3d(-1.0, 1.0, 0.5).normalized();
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(device.truePosition_m() + 0.05 * direction, 0.05);
+  double worst = 0.0;
+  for (int ms = 0; ms < 900; ++ms) {
+    ASSERT_TRUE(device.getPosition(x));
+    ASSERT_TRUE(device.getLinearVelocity(v));
+    if (ms >= 300) worst = std::max(worst, (v - 0.05 * direction).norm());
+    device.setForce(device.trueGravity(device.truePosition_m()));
+    device.advance(kServo_s);
+  }
+  EXPECT_LT(worst, 0.005);  // m/s: 10 %; one tip count over the 15 ms window is 3.7 mm/s
+}
+
+TEST(SerialArmDeviceTest, ReleasedWithZeroForceFallsOntoTheEndStop) {
+  SerialArmDevice device = makeOpenOmni();
+  device.setForce(Eigen::Vector3d::Zero());
+  device.advance(2.0);
+  EXPECT_TRUE(device.endStopHit());
+  const double distance = device.truePosition_m().norm();
+  EXPECT_GT(distance, 0.099);
+  EXPECT_LT(distance, 0.1 + 0.002);
+  EXPECT_LT(device.truePosition_m().z(), -0.05);
+}
+
+TEST(SerialArmDeviceTest, ResetStateRejectsUnreachablePositions) {
+  SerialArmDevice device(omniParameters(), 1);
+  EXPECT_THROW(device.resetState(Eigen::Vector3d(0.0, 0.0, 0.3)), Error);
+  EXPECT_THROW(device.trueGravity(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
+  device.resetState(Eigen::Vector3d(0.05, 0.05, 0.05));
+  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.05, 0.05, 0.05)).norm(), 1e-12);
+}
+
+TEST(SerialArmDeviceTest, SpecificationsDescribeAnOmni) {
+  const SerialArmDevice device(omniParameters(), 1);
+  const auto& spec = device.specifications();
+  EXPECT_EQ(spec.model_name, "sim:omni");
+  EXPECT_FALSE(spec.manufacturer.empty());
+  EXPECT_EQ(spec.max_linear_force_n, 3.3);
+  EXPECT_EQ(spec.workspace_radius_m, 0.10);
+  EXPECT_NO_THROW(validateSpecifications(spec));
+}
+
+TEST(SerialArmDeviceTest, BadParametersAreRefused) {
+  SerialArmParameters parameters = omniParameters();
+  parameters.specifications.workspace_radius_m = 0.2;  // beyond the arm's reach
+  EXPECT_THROW(SerialArmDevice(parameters, 1), Error);
+  parameters = omniParameters();
+  parameters.tip_mass_kg = -0.01;
+  EXPECT_THROW(SerialArmDevice(parameters, 1), Error);
+}
+
+}  // namespace
+}  // namespace autograv::sim
