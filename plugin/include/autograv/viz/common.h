@@ -19,13 +19,13 @@ enum class Background : std::uint8_t { kWhite, kDark };
 /// colour-blind users.
 enum class ColorMap : std::uint8_t { kViridis, kCoolWarm, kGrayscale };
 
-/// "white", "dark". Not real-time safe.
+/// "white", "dark". Real-time safe.
 const char* toString(Background background) noexcept;
-/// Inverse of toString; false for an unknown name.
+/// Inverse of toString; false for an unknown name. Real-time safe.
 bool parseBackground(const std::string& name, Background& background) noexcept;
-/// "viridis", "coolwarm", "grayscale".
+/// "viridis", "coolwarm", "grayscale". Real-time safe.
 const char* toString(ColorMap color_map) noexcept;
-/// Inverse of toString; false for an unknown name.
+/// Inverse of toString; false for an unknown name. Real-time safe.
 bool parseColorMap(const std::string& name, ColorMap& color_map) noexcept;
 
 /// True when an X display can be opened. Debian's VTK 9.1 renders through X even offscreen, so

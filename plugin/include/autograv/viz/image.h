@@ -14,12 +14,14 @@ struct RgbImage {
   std::vector<std::uint8_t> rgb;
 
   /// Pointer to the 3 bytes of pixel (x, y), y counted from the top row. No bounds check.
+  /// Real-time safe.
   const std::uint8_t* pixel(int x, int y) const noexcept {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * width_px + x);
   }
   std::uint8_t* pixel(int x, int y) noexcept {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * width_px + x);
   }
+  /// Real-time safe.
   bool empty() const noexcept { return width_px <= 0 || height_px <= 0; }
 };
 

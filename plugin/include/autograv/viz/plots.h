@@ -29,6 +29,7 @@ struct Histogram {
   double width = 1.0;
   std::vector<int> counts;
 
+  /// Sum of the counts. Real-time safe.
   int total() const noexcept;
 };
 

@@ -19,9 +19,9 @@ enum class CameraView : std::uint8_t {
   kTop,    ///< From above, looking along -z, the operator at the bottom of the picture.
 };
 
-/// "iso", "front", "top".
+/// "iso", "front", "top". Real-time safe.
 const char* toString(CameraView view) noexcept;
-/// Inverse of toString; false for an unknown name.
+/// Inverse of toString; false for an unknown name. Real-time safe.
 bool parseCameraView(const std::string& name, CameraView& view) noexcept;
 
 /// What the scene shows and how.
