@@ -1,0 +1,54 @@
+#!/bin/sh
+# Regenerates the golden pictures of the screenshot regression test
+# (tests/viz/visual_regression_test.cpp) and, with --maps, the fixture maps they are drawn from.
+#
+#   tests/visual/regenerate_goldens.sh [--maps] [BUILD_DIR]
+#
+# BUILD_DIR is a configured build folder of this checkout (default: ./build). The pictures are
+# rendered headless under `xvfb-run -a` (Mesa llvmpipe), like the test renders them.
+#
+# --maps first remakes the fixture maps from the simulated devices with fixed seeds:
+#   omega_map.json: the real calibrator,
+#     autograv calibrate --device sim:omega --grid 4 --seed 1 --out .../omega_map.json
+#   omni_map.json: made by the test itself (AUTOGRAV_UPDATE_FIXTURES=1) from the omni's true
+#     field with a small estimation error and a few failed and unvisited vertices, so that the
+#     pictures show every kind of marker.
+#
+# Look at the new pictures (and `git diff --stat tests/visual/golden`) before committing them.
+set -eu
+
+here=$(cd "$(dirname "$0")" && pwd)
+source_dir=$(cd "$here/../.." && pwd)
+golden="$here/golden"
+maps=0
+build=""
+for argument in "$@"; do
+  case "$argument" in
+    --maps) maps=1 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    *) build="$argument" ;;
+  esac
+done
+build=${build:-$source_dir/build}
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  echo "regenerate_goldens: $build is not a configured build folder;" >&2
+  echo "  configure one first: cmake -S $source_dir -B $build" >&2
+  exit 2
+fi
+command -v xvfb-run >/dev/null 2>&1 || { echo "regenerate_goldens: needs xvfb-run (package xvfb)" >&2; exit 2; }
+
+cmake --build "$build" --target autograv visual_regression_test -j 2
+
+if [ "$maps" = 1 ]; then
+  "$build/demo/autograv" calibrate --device sim:omega --grid 4 --seed 1 \
+    --out "$golden/omega_map.json"
+  fixtures=1
+else
+  fixtures=0
+fi
+
+AUTOGRAV_UPDATE_FIXTURES=$fixtures AUTOGRAV_UPDATE_GOLDENS=1 xvfb-run -a "$build/tests/visual_regression_test" \
+  --gtest_filter='VisualRegressionTest.RendersMatchTheGoldens'
+# The fresh goldens must pass their own test, broken renders included.
+xvfb-run -a "$build/tests/visual_regression_test"
+echo "regenerate_goldens: new goldens in $golden; review them before committing"

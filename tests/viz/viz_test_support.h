@@ -1,0 +1,81 @@
+#pragma once
+
+// Fixtures shared by the autograv::viz tests: maps with a known ground truth, and the display
+// check every rendering test makes first (no X display = a clear failure, never a hang).
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "autograv/estimation_parameters.h"
+#include "autograv/gravity_map.h"
+#include "autograv/viz/common.h"
+
+namespace autograv::viz::testing {
+
+/// A smooth apparent-gravity field shaped like a 3-DoF device's: about 0.2 kg hanging along -z,
+/// with position-dependent terms of a few percent. Argument unit: [m]; result unit: [N].
+inline Eigen::Vector3d analyticGravity(const Eigen::Vector3d& x) {
+  return {-0.4 - 3.0 * x.x(), 1.5 * x.y(), -2.1 + 6.0 * x.z() + 20.0 * x.x() * x.x()};
+}
+
+struct FixtureSpec {
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
+  double side_m = 0.08;
+  int resolution = 5;
+  std::vector<int> failed;       ///< Vertices marked kIterationCap.
+  std::vector<int> not_visited;  ///< Vertices left kPending with a zero estimate.
+  /// Relative size of the deterministic estimation error added to the truth.
+  double error_fraction = 0.01;
+  std::string model = "fixture:analytic";
+};
+
+/// A map whose estimates are the truth plus a small deterministic error, with a synthetic
+/// convergence history per vertex (Delta_j shrinking geometrically, M_hat_j approaching the true
+/// mass): enough to draw everything the scene and the plots show.
+inline GravityMap makeFixtureMap(const GroundTruth& truth, const FixtureSpec& spec = {}) {
+  WorkspaceGrid grid(spec.center_m, spec.side_m, spec.resolution);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d g = truth(grid.vertexPosition(i));
+    const Eigen::Vector3d wobble(std::sin(1.7 * i), std::cos(2.3 * i), std::sin(0.9 * i + 1.0));
+    v.gravity_n = g + spec.error_fraction * g.norm() * wobble;
+    v.iterations = 6 + (i * 7) % 9;
+    v.seconds = 0.25 * v.iterations;
+    v.outcome = VertexOutcome::kConverged;
+    const double true_mass_kg = g.norm() / kStandardGravity;
+    for (int j = 1; j <= v.iterations; ++j) {
+      IterationRecord record;
+      record.position_error_m = 0.008 * std::pow(0.45, j - 1);
+      record.mass_estimate_kg = true_mass_kg * (1.0 - 0.35 * std::pow(0.5, j - 1));
+      record.gravity_estimate_n = v.gravity_n * (record.mass_estimate_kg / true_mass_kg);
+      record.duration_s = 0.25;
+      v.history.push_back(record);
+    }
+  }
+  for (int i : spec.failed)
+    vertices[static_cast<std::size_t>(i)].outcome = VertexOutcome::kIterationCap;
+  for (int i : spec.not_visited) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    v = VertexEstimate{};
+  }
+  MapMetadata metadata;
+  metadata.device_model = spec.model;
+  metadata.created_utc = "2026-01-01T00:00:00Z";
+  return GravityMap(grid, std::move(vertices), metadata);
+}
+
+}  // namespace autograv::viz::testing
+
+/// First statement of every test that renders: fails at once with the reason and the fix when
+/// no X display can be opened (run the tests under `xvfb-run -a ctest -L xvfb`).
+#define AUTOGRAV_REQUIRE_DISPLAY()                                    \
+  do {                                                                \
+    std::string autograv_display_reason;                              \
+    if (!::autograv::viz::displayAvailable(&autograv_display_reason)) \
+      GTEST_FAIL() << autograv_display_reason;                        \
+  } while (false)
