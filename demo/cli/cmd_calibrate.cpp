@@ -54,8 +54,10 @@ double median(std::vector<int> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-void runCalibrateCommand(const CalibrateOptions& options) {
+void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed);
+  EstimationParameters parameters = options.parameters;
+  applyDeviceDefaults(command, parameters, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
   // Default grid: the cube inscribed in the workspace sphere, shrunk to 80 % to stay clear of the
   // end stops; 5 vertices per axis.
@@ -65,14 +67,14 @@ void runCalibrateCommand(const CalibrateOptions& options) {
   run.grid_center_m = device->workspaceCenter_m();
   run.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : default_side_m;
   run.grid_resolution = options.grid > 0 ? options.grid : 5;
-  run.parameters = options.parameters;
+  run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
   const WorkspaceGrid grid(run.grid_center_m, run.grid_side_m, run.grid_resolution);
 
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
-  metadata.parameters = options.parameters;
+  metadata.parameters = parameters;
   const std::string checkpoint_path = options.out_path + ".partial";
   if (options.resume) {
     if (!std::filesystem::exists(checkpoint_path)) {
@@ -162,10 +164,10 @@ void runCalibrateCommand(const CalibrateOptions& options) {
               100.0 * accuracy.max_error_rel, accuracy.worst_vertex);
   std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
               100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
-  std::printf("%-34s %.1f N/m (beta |G| / (2 g) = %.1f N/m)\n", "Lipschitz constant c (measured)",
-              result.lipschitz_n_per_m,
-              options.parameters.beta_per_s2 * result.initialization.gravity_n.norm() /
-                  (2.0 * kStandardGravity));
+  std::printf(
+      "%-34s %.1f N/m (beta |G| / (2 g) = %.1f N/m)\n", "Lipschitz constant c (measured)",
+      result.lipschitz_n_per_m,
+      parameters.beta_per_s2 * result.initialization.gravity_n.norm() / (2.0 * kStandardGravity));
   std::printf("%-34s %.2f N of %.2f N, %llu clamps\n", "peak force", result.peak_force_n,
               specs.max_linear_force_n, static_cast<unsigned long long>(result.saturation_count));
   for (int index : failed) {
@@ -206,7 +208,7 @@ void runCalibrateCommand(const CalibrateOptions& options) {
       {"initial_gravity_n",
        {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
         result.initialization.gravity_n.z()}},
-      {"parameters", parametersJson(options.parameters)}};
+      {"parameters", parametersJson(parameters)}};
   writeJsonReport(options.report_path, report);
 }
 
@@ -232,7 +234,7 @@ void addCalibrateCommand(CLI::App& app) {
                     "Start each vertex from the previous estimate exactly as eq. (9) says, "
                     "instead of extrapolating from the two previous vertices");
   addEstimationOptions(*command, options->parameters);
-  command->callback([options] { runCalibrateCommand(*options); });
+  command->callback([options, command] { runCalibrateCommand(*options, *command); });
 }
 
 }  // namespace

@@ -23,9 +23,11 @@ struct PaperExperimentOptions {
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-void runPaperExperimentCommand(const PaperExperimentOptions& options) {
+void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed);
-  const auto& p = options.parameters;
+  EstimationParameters parameters = options.parameters;
+  applyDeviceDefaults(command, parameters, device->specifications());
+  const auto& p = parameters;
   std::printf(
       "Paper Sec. V on %s (seed %llu): alpha = %g 1/s, beta = %g 1/s^2, k0 = %g N/mm,\n"
       "n_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
@@ -93,7 +95,7 @@ void addPaperExperimentCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   command->add_option("--report", options->report_path, "Write a JSON report here");
   addEstimationOptions(*command, options->parameters);
-  command->callback([options] { runPaperExperimentCommand(*options); });
+  command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
 }
 
 }  // namespace

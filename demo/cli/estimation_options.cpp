@@ -1,5 +1,7 @@
 #include "estimation_options.h"
 
+#include "autograv/pd_design.h"
+
 namespace autograv::cli {
 
 void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
@@ -12,7 +14,8 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
   command
       .add_option_function<double>(
           "--k0", [&p](double n_per_mm) { p.k0_n_per_m = n_per_mm * 1e3; },
-          "Initialization field stiffness [N/mm] (default 0.5)")
+          "Initialization field stiffness [N/mm] (default 0.5, at most a tenth of the device's "
+          "max stiffness)")
       ->check(CLI::PositiveNumber);
   command.add_option("--n-s", p.n_s, "Slow samples that make a steady state")
       ->check(CLI::Range(1, 100000))
@@ -33,6 +36,13 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
   command.add_option("--max-iterations", p.max_iterations, "Iteration cap per vertex")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
+}
+
+void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,
+                         const DeviceSpecifications& specifications) {
+  if (command.count("--k0") == 0) {
+    parameters.k0_n_per_m = defaultInitializationStiffness(specifications);
+  }
 }
 
 nlohmann::json parametersJson(const EstimationParameters& p) {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device_specifications.h"
 #include "autograv/estimation_parameters.h"
 
 namespace autograv {
@@ -56,6 +57,13 @@ FeasibilityCheck checkConvergence(double beta_per_s2, double gravity_norm_n,
 /// Not real-time safe.
 FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, double cell_m,
                                  double max_force_n, double margin = 0.9);
+
+/// Stiffness of the initialization field (eq. 7) for a device: the paper's 0.5 N/mm, but never
+/// more than a tenth of the stiffness the device can render. Above that, one encoder count of
+/// position error is a force step larger than the device's stiction and the field limit-cycles
+/// instead of settling (seen on the Omni-like arm at 0.5 N/mm); a tenth still sags a few
+/// millimetres, which eq. (7) needs. Unit: [N/m]. Not real-time safe.
+double defaultInitializationStiffness(const DeviceSpecifications& specifications);
 
 /// Both checks for a calibration plan, run after the manual initialization and before the device
 /// moves by itself, with G_hat_0 standing in for the unknown field: its norm is divided by

@@ -1,5 +1,6 @@
 #include "autograv/pd_design.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -116,6 +117,12 @@ FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, doub
   }
   check.message = message.str();
   return check;
+}
+
+double defaultInitializationStiffness(const DeviceSpecifications& specifications) {
+  const double paper_n_per_m = EstimationParameters{}.k0_n_per_m;
+  if (!(specifications.max_linear_stiffness_n_per_m > 0.0)) return paper_n_per_m;
+  return std::min(paper_n_per_m, 0.1 * specifications.max_linear_stiffness_n_per_m);
 }
 
 std::vector<std::string> checkCalibrationPlan(const EstimationParameters& parameters, double cell_m,
