@@ -9,7 +9,7 @@ packages=(
   nlohmann-json3-dev               # map files and reports
   libcli11-dev                     # command-line parsing
   libvtk9-dev mpi-default-dev      # autograv::viz (Debian's VTK config needs MPI C)
-  libglfw3-dev libosmesa6-dev libepoxy-dev libgl-dev  # autograv::gl
+  libglfw3-dev libosmesa6-dev libgl-dev libpng-dev  # autograv::gl
   libgtest-dev libgmock-dev libbenchmark-dev          # tests and benchmarks
   xvfb xauth                       # X server for the VTK screenshot tests
   tmux                             # drives the terminal wizard in its end-to-end test
