@@ -118,8 +118,11 @@ std::vector<std::string> lines(const std::string& text) {
 class WizardTerminalTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    ASSERT_TRUE(std::filesystem::exists(kBinary))
-        << kBinary << " is missing: build the autograv target before this test";
+    // A build without the demo (AUTOGRAV_BUILD_DEMO=OFF, as the sanitizer builds are) has no
+    // binary to drive; in a build with it, the test depends on the autograv target.
+    if (!std::filesystem::exists(kBinary)) {
+      GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+    }
     ASSERT_EQ(runCommand("tmux -V").exit_code, 0) << "tmux is needed for the pseudo-terminal";
   }
 };
