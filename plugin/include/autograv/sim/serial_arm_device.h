@@ -45,11 +45,13 @@ struct SerialArmParameters {
   /// Motor rotor inertia reflected through each capstan (J_rotor * ratio^2). Unit: [kg m^2]
   Eigen::Vector3d rotor_inertia_kg_m2 = Eigen::Vector3d(5.0e-5, 5.0e-5, 5.0e-5);
 
-  /// Joint dry friction while sliding and from rest, and joint viscous friction.
-  /// Units: [N m], [N m], [N m s/rad]
+  /// Joint dry friction while sliding and from rest, and joint viscous friction. The viscous term
+  /// stands for motor back-EMF and amplifier damping too: about 0.35 N s/m at the tip, which is
+  /// what lets a 1 kHz loop render the quoted 1 N/mm (a sampled spring k needs physical damping
+  /// above k T / 2 to stay passive). Units: [N m], [N m], [N m s/rad]
   Eigen::Vector3d coulomb_friction_n_m = Eigen::Vector3d(4.0e-4, 4.0e-4, 4.0e-4);
   Eigen::Vector3d static_friction_n_m = Eigen::Vector3d(5.5e-4, 5.5e-4, 5.5e-4);
-  Eigen::Vector3d viscous_friction_n_m_s_per_rad = Eigen::Vector3d(2.0e-5, 2.0e-5, 2.0e-5);
+  Eigen::Vector3d viscous_friction_n_m_s_per_rad = Eigen::Vector3d(6.0e-3, 6.0e-3, 6.0e-3);
 
   /// Encoder counts per joint revolution (motor encoder counts times the capstan ratio).
   Eigen::Vector3d joint_counts_per_rev = Eigen::Vector3d(15360.0, 15360.0, 15360.0);
