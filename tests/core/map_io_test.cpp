@@ -237,6 +237,12 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
        "field /parameters/max_step_duration_s:", ">= /parameters/min_step_duration_s"},
       {"bad timestamp", [](json& d) { d["created_utc"] = "yesterday"; },
        "field /created_utc:", "ISO 8601"},
+      {"month 13", [](json& d) { d["created_utc"] = "2026-13-23T13:25:00Z"; },
+       "field /created_utc:", "ISO 8601"},
+      {"no zone", [](json& d) { d["created_utc"] = "2026-11-23T13:25:00"; },
+       "field /created_utc:", "ISO 8601"},
+      {"empty fraction", [](json& d) { d["created_utc"] = "2026-11-23T13:25:00.Z"; },
+       "field /created_utc:", "ISO 8601"},
       {"empty model", [](json& d) { d["device"]["model"] = ""; },
        "field /device/model:", "non-empty string"},
       {"huge integer", [](json& d) { d["parameters"]["n_s"] = 18446744073709551615ULL; },
@@ -362,6 +368,14 @@ TEST(MapIoTest, AFailedSaveKeepsThePreviousFile) {
   const std::string nowhere = folder.file("missing/map.json");
   EXPECT_NE(errorOf([&] { saveMap(good, nowhere); }).find(folder.file("missing")),
             std::string::npos);
+}
+
+TEST(MapIoTest, FractionalSecondsAreAccepted) {
+  json document = json::parse(mapToJson(makeMap()));
+  document["created_utc"] = "2026-11-23T13:25:00.123456789012Z";
+  detail::stampChecksum(document);
+  EXPECT_EQ(mapFromJson(document.dump(), "m").metadata().created_utc,
+            "2026-11-23T13:25:00.123456789012Z");
 }
 
 TEST(MapIoTest, AnEmptyCreationTimeIsStampedWithTheCurrentTime) {

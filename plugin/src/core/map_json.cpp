@@ -7,7 +7,6 @@
 #include <ctime>
 #include <initializer_list>
 #include <limits>
-#include <regex>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -74,6 +73,33 @@ std::string escapePointerToken(const std::string& key) {
     }
   }
   return escaped;
+}
+
+/// "YYYY-MM-DDTHH:MM:SS[.fraction]Z" with plausible field ranges. (std::regex would do, but
+/// GCC 12 warns inside <regex> under the sanitizers.)
+bool isIso8601Utc(const std::string& text) {
+  const auto digits = [&](std::size_t from, std::size_t count, int low, int high) {
+    if (from + count > text.size()) return false;
+    int value = 0;
+    for (std::size_t i = from; i < from + count; ++i) {
+      if (text[i] < '0' || text[i] > '9') return false;
+      value = 10 * value + (text[i] - '0');
+    }
+    return value >= low && value <= high;
+  };
+  if (text.size() < 20 || text[4] != '-' || text[7] != '-' || text[10] != 'T' || text[13] != ':' ||
+      text[16] != ':' || text.back() != 'Z') {
+    return false;
+  }
+  if (!digits(0, 4, 0, 9999) || !digits(5, 2, 1, 12) || !digits(8, 2, 1, 31) ||
+      !digits(11, 2, 0, 23) || !digits(14, 2, 0, 59) || !digits(17, 2, 0, 60)) {
+    return false;
+  }
+  if (text.size() == 20) return true;
+  // A fraction: '.', at least one digit, then the final 'Z'.
+  if (text[19] != '.' || text.size() < 22) return false;
+  return std::all_of(text.begin() + 20, text.end() - 1,
+                     [](char c) { return c >= '0' && c <= '9'; });
 }
 
 enum class Range { kAny, kNonNegative, kPositive };
@@ -370,9 +396,7 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   metadata.device_serial = reader.string(device, "/device", "serial", false);
 
   metadata.created_utc = reader.string(document, "", "created_utc", true);
-  static const std::regex kIso8601Utc(
-      R"(^[0-9]{4}-(0[1-9]|1[0-2])-(0[1-9]|[12][0-9]|3[01])T([01][0-9]|2[0-3]):[0-5][0-9]:[0-5][0-9](\.[0-9]+)?Z$)");
-  if (!std::regex_match(metadata.created_utc, kIso8601Utc)) {
+  if (!isIso8601Utc(metadata.created_utc)) {
     reader.expected("/created_utc", "an ISO 8601 UTC time like \"2026-11-23T13:25:00Z\"",
                     document.at("created_utc"));
   }
