@@ -99,8 +99,8 @@ struct Rig {
   void frame() {
     // The scripted user acts in Centre and Release, and lets go if still holding afterwards.
     const WizardStep step = wizard->step();
-    if (auto_hand && (step == WizardStep::kCentre || step == WizardStep::kRelease ||
-                      device->hand().holding())) {
+    if (auto_hand &&
+        (step == WizardStep::kCentre || step == WizardStep::kRelease || device->hand().holding())) {
       hand->update(wizard->status());
     }
     for (int i = 0; i < kTicksPerFrame; ++i) {
@@ -364,6 +364,23 @@ TEST(CalibrationWizardTest, ConfirmingFarFromTheCentreIsRefused) {
   hand.moveTo(rig.device->workspaceCenter_m(), 0.05);
   for (int i = 0; i < 60; ++i) rig.frame();
   EXPECT_TRUE(rig.wizard->status().within_tolerance);
+  // Close enough but on the move (a 3 mm circle at 4 Hz): not taken either.
+  const Eigen::Vector3d centre_m = rig.device->workspaceCenter_m();
+  double angle = 0.0;
+  for (int i = 0; i < 25; ++i) {
+    angle += 2.0 * 3.141592653589793 * 4.0 * kTicksPerFrame * kPeriod;
+    hand.setTarget(centre_m + 3e-3 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0));
+    rig.frame();
+  }
+  ASSERT_TRUE(rig.wizard->status().within_tolerance);
+  ASSERT_GT(rig.wizard->status().speed_m_per_s, 0.02);
+  rig.wizard->post(WizardEvent::kConfirm);
+  rig.frame();
+  EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre);
+  EXPECT_NE(rig.wizard->status().message.find("it was moving"), std::string::npos)
+      << rig.wizard->status().message;
+  hand.setTarget(centre_m);
+  for (int i = 0; i < 25; ++i) rig.frame();
   rig.wizard->post(WizardEvent::kConfirm);
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kRelease);

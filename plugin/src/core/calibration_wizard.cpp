@@ -221,9 +221,17 @@ void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std:
   if (!confirm) return;
   if (!within) {
     live_->confirm_rejected = true;
+    live_->confirm_rejected_moving = false;
+    return;
+  }
+  // X0 must be a point where the user holds still: confirming on the move would centre the field
+  // on a point the hand is leaving, and the hand's pull would pass for gravity in eq. (7).
+  if (sample.velocity_m_per_s.norm() > wizard::kCentreStillSpeed_m_per_s) {
+    live_->confirm_rejected_moving = true;
     return;
   }
   live_->confirm_rejected = false;
+  live_->confirm_rejected_moving = false;
   // X0 is where the user chose to stop (paper Sec. III-A), not the exact centre.
   initialization_->start(sample.position_m);
   live_->release_status = InitializationEstimator::Status::kRampingIn;

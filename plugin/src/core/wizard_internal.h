@@ -41,6 +41,9 @@ constexpr int kFaultWritesFailed = 3;
 
 /// Consecutive invalid samples tolerated before a fault: 20 ms at 1 kHz, as the estimators do.
 constexpr int kMaxInvalidSamples = 20;
+/// Centre is confirmed only with the end-effector about still (a hand holding it shakes a
+/// little; carrying it moves it at several cm/s). Unit: [m/s]
+constexpr double kCentreStillSpeed_m_per_s = 0.02;
 /// Consecutive refused setForce calls tolerated before a fault.
 constexpr int kMaxFailedWrites = 50;
 /// The "still held" notice stays up this long after the estimator last reported it. Unit: [s]
@@ -54,7 +57,8 @@ struct Live {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   double speed_m_per_s = 0.0;
   bool position_valid = false;
-  bool confirm_rejected = false;
+  bool confirm_rejected = false;         // too far from the centre
+  bool confirm_rejected_moving = false;  // within reach but moving
   InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
   double sag_m = 0.0;
   double release_elapsed_s = 0.0;

@@ -163,6 +163,8 @@ WizardStatus CalibrationWizard::status() const {
         if (live.confirm_rejected && !s.within_tolerance) {
           message << "Not close enough yet: confirm within " << mm(config_.centre_tolerance_m)
                   << " of the centre.\n";
+        } else if (live.confirm_rejected_moving) {
+          message << "Not taken: it was moving. Hold it still, then confirm again.\n";
         }
       }
       message << "Hold the end-effector and bring it near the centre of the workspace.";
