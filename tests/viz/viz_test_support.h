@@ -14,6 +14,20 @@
 #include "autograv/gravity_map.h"
 #include "autograv/viz/common.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <dlfcn.h>
+
+// Mesa's software rasterizer (llvmpipe, in swrast_dri.so) leaks a few hundred bytes per process
+// and is unloaded before LeakSanitizer looks, so the leak cannot even be attributed. Keeping the
+// driver loaded lets its frames be named, and suppressed: the leak is Mesa's, not ours.
+extern "C" const char* __lsan_default_suppressions() { return "leak:swrast_dri.so\n"; }
+namespace autograv::viz::testing {
+inline const bool kMesaDriverPinned =
+    dlopen("swrast_dri.so", RTLD_LAZY | RTLD_NODELETE) != nullptr ||
+    dlopen("/usr/lib/x86_64-linux-gnu/dri/swrast_dri.so", RTLD_LAZY | RTLD_NODELETE) != nullptr;
+}  // namespace autograv::viz::testing
+#endif
+
 namespace autograv::viz::testing {
 
 /// A smooth apparent-gravity field shaped like a 3-DoF device's: about 0.2 kg hanging along -z,
