@@ -207,29 +207,29 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
                       {"residual_force_n", result.residual_force_n}});
   }
   const WorkspaceGrid& grid = wizard.grid();
-  return {{"device", options.device},
-          {"seed", options.seed},
-          {"outcome", toString(status.step)},
-          {"map", status.map_saved ? options.out_path : ""},
-          {"checkpoint",
-           status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
-          {"grid",
-           {{"resolution", grid.resolution()},
-            {"side_m", grid.side_m()},
-            {"center_m", vectorJson(grid.center_m())}}},
-          {"vertices", status.vertex_count},
-          {"converged", status.converged},
-          {"restored", status.review.restored},
-          {"failed", failed},
-          {"iterations_median", status.review.iterations_median},
-          {"iterations_max", status.review.iterations_max},
-          {"lipschitz_n_per_m", status.review.lipschitz_n_per_m},
-          {"peak_force_n", status.review.peak_force_n},
-          {"initial_gravity_n", vectorJson(status.initial_gravity_n)},
-          {"verify", verify},
-          {"max_drift_m", status.max_drift_m},
-          {"simulated_seconds", status.time_s},
-          {"parameters", parametersJson(options.parameters)}};
+  return {
+      {"device", options.device},
+      {"seed", options.seed},
+      {"outcome", toString(status.step)},
+      {"map", status.map_saved ? options.out_path : ""},
+      {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
+      {"grid",
+       {{"resolution", grid.resolution()},
+        {"side_m", grid.side_m()},
+        {"center_m", vectorJson(grid.center_m())}}},
+      {"vertices", status.vertex_count},
+      {"converged", status.converged},
+      {"restored", status.review.restored},
+      {"failed", failed},
+      {"iterations_median", status.review.iterations_median},
+      {"iterations_max", status.review.iterations_max},
+      {"lipschitz_n_per_m", status.review.lipschitz_n_per_m},
+      {"peak_force_n", status.review.peak_force_n},
+      {"initial_gravity_n", vectorJson(status.initial_gravity_n)},
+      {"verify", verify},
+      {"max_drift_m", status.max_drift_m},
+      {"simulated_seconds", status.time_s},
+      {"parameters", parametersJson(options.parameters)}};
 }
 
 void runWizardCommand(const WizardOptions& options) {
