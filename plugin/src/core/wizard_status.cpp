@@ -296,7 +296,7 @@ WizardStatus CalibrationWizard::status() const {
         if (!result.finished) continue;
         message << "\n  vertex #" << result.vertex << ": drift " << mm(result.drift_m) << " in "
                 << format("%.2f s", result.duration_s) << " (residual about "
-                << format("%.0f mN", result.residual_force_n * 1e3) << ")";
+                << format("%.1f mN", result.residual_force_n * 1e3) << ")";
       }
       s.prompt =
           "Keep clear: the device lets go of itself briefly at each vertex. q skips the "
@@ -317,7 +317,7 @@ WizardStatus CalibrationWizard::status() const {
         for (const VerifyResult& result : s.verify) {
           if (!result.finished) continue;
           message << "\n  vertex #" << result.vertex << ": drift " << mm(result.drift_m)
-                  << " (residual about " << format("%.0f mN", result.residual_force_n * 1e3) << ")";
+                  << " (residual about " << format("%.1f mN", result.residual_force_n * 1e3) << ")";
         }
       }
       if (s.verify_cancelled) message << "\nVerification stopped before the end.";
