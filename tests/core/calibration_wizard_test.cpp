@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "../../demo/cli/wizard_auto_hand.h"
 #include "allocation_counter.h"
@@ -27,15 +28,30 @@ namespace {
 constexpr double kPeriod = 1e-3;
 constexpr int kTicksPerFrame = 20;  // 20 ms of simulated time per "UI frame"
 
+/// Per-test folder under the system's temporary folder, empty at the start of the test and
+/// removed after it unless it failed (its files then help to see why).
+std::filesystem::path testFolder(const std::string& test_name) {
+  return std::filesystem::temp_directory_path() /
+         ("autograv_wizard_test_" + std::to_string(::getpid()) + "_" + test_name);
+}
+
 std::string temporaryPath(const std::string& name) {
   const std::filesystem::path folder =
-      std::filesystem::temp_directory_path() /
-      ("autograv_wizard_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-       "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  std::filesystem::remove_all(folder);  // leftovers of an earlier run (a stale checkpoint)
+      testFolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
   std::filesystem::create_directories(folder);
   return (folder / name).string();
 }
+
+class RemoveTestFolders : public ::testing::EmptyTestEventListener {
+  void OnTestEnd(const ::testing::TestInfo& info) override {
+    std::error_code ignored;
+    if (info.result()->Passed()) std::filesystem::remove_all(testFolder(info.name()), ignored);
+  }
+};
+const bool kRemoveTestFolders = [] {
+  ::testing::UnitTest::GetInstance()->listeners().Append(new RemoveTestFolders);
+  return true;
+}();
 
 bool bitwiseEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

@@ -98,6 +98,7 @@ class TmuxSession {
   bool started_ = false;
 };
 
+/// A folder for one test, removed after it unless the test failed.
 std::string freshFolder(const std::string& name) {
   const std::filesystem::path folder =
       std::filesystem::temp_directory_path() /
@@ -117,6 +118,18 @@ std::vector<std::string> lines(const std::string& text) {
 
 class WizardTerminalTest : public ::testing::Test {
  protected:
+  std::string folder(const std::string& name) {
+    folders_.push_back(freshFolder(name));
+    return folders_.back();
+  }
+  void TearDown() override {
+    if (HasFailure()) return;  // keep the files of a failed test
+    std::error_code ignored;
+    for (const auto& path : folders_) std::filesystem::remove_all(path, ignored);
+  }
+
+  std::vector<std::string> folders_;
+
   void SetUp() override {
     // A build without the demo (AUTOGRAV_BUILD_DEMO=OFF, as the sanitizer builds are) has no
     // binary to drive; in a build with it, the test depends on the autograv target.
@@ -128,7 +141,7 @@ class WizardTerminalTest : public ::testing::Test {
 };
 
 TEST_F(WizardTerminalTest, AutoHandRunInATerminalWaitsForEnterAtReviewAndSavesTheMap) {
-  const std::string folder = freshFolder("full");
+  const std::string folder = this->folder("full");
   const std::string map_path = folder + "/map.json";
   TmuxSession session(kBinary + " wizard" + kRunOptions + " --speed 0 --out " + map_path, 100, 30);
   ASSERT_TRUE(session.started());
@@ -168,7 +181,7 @@ TEST_F(WizardTerminalTest, AutoHandRunInATerminalWaitsForEnterAtReviewAndSavesTh
 }
 
 TEST_F(WizardTerminalTest, CtrlCCheckpointsRestoresTheTerminalAndResumeFinishesTheRun) {
-  const std::string folder = freshFolder("interrupt");
+  const std::string folder = this->folder("interrupt");
   const std::string map_path = folder + "/map.json";
   const std::string partial = map_path + ".partial";
   {
@@ -216,7 +229,7 @@ TEST_F(WizardTerminalTest, CtrlCCheckpointsRestoresTheTerminalAndResumeFinishesT
 }
 
 TEST_F(WizardTerminalTest, ANarrowTerminalKeepsThePromptAndQuittingKeepsTheCheckpoint) {
-  const std::string folder = freshFolder("narrow");
+  const std::string folder = this->folder("narrow");
   const std::string map_path = folder + "/m.json";
   TmuxSession session(kBinary + " wizard" + kOmegaOptions + " --speed 0 --out " + map_path, 40, 14);
   ASSERT_TRUE(session.started());
@@ -282,7 +295,7 @@ std::string keysForMove(const std::string& screen) {
 }
 
 TEST_F(WizardTerminalTest, TheUserCarriesTheEndEffectorWithTheKeysAndLetsGo) {
-  const std::string folder = freshFolder("keys");
+  const std::string folder = this->folder("keys");
   const std::string map_path = folder + "/m.json";
   // No --auto-hand: the keys move the simulated hand. --speed 0 makes the waits short.
   TmuxSession session(kBinary +
@@ -327,7 +340,7 @@ TEST_F(WizardTerminalTest, TheUserCarriesTheEndEffectorWithTheKeysAndLetsGo) {
 }
 
 TEST_F(WizardTerminalTest, AnInterruptedCalibrateRunIsFinishedByTheWizard) {
-  const std::string folder = freshFolder("calibrate");
+  const std::string folder = this->folder("calibrate");
   const std::string map_path = folder + "/m.json";
   const std::string partial = map_path + ".partial";
   // 64 vertices: time enough to interrupt after the first few.
@@ -362,7 +375,7 @@ TEST_F(WizardTerminalTest, AnInterruptedCalibrateRunIsFinishedByTheWizard) {
 }
 
 TEST_F(WizardTerminalTest, WithoutATerminalItNeedsTheAutoHand) {
-  const std::string folder = freshFolder("plain");
+  const std::string folder = this->folder("plain");
   const CommandResult refused =
       runCommand(kBinary + " wizard --device sim:omni --out " + folder + "/m.json");
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
