@@ -32,12 +32,14 @@ cmake --build build/asan -j "$jobs"
   ctest --output-on-failure -j "$jobs" -LE "xvfb|slow")
 
 if [[ -f tests/core/gravity_compensated_device_concurrency_test.cpp ]]; then
-  step "ThreadSanitizer: map published to a live servo thread"
+  step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread"
   cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-fsanitize=thread \
     -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \
     -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
-  cmake --build build/tsan -j "$jobs" --target gravity_compensated_device_concurrency_test
+  cmake --build build/tsan -j "$jobs" --target gravity_compensated_device_concurrency_test \
+    calibration_wizard_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/gravity_compensated_device_concurrency_test
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/calibration_wizard_test --gtest_filter='*OwnThread*'
 fi
 
 step "all tests passed"

@@ -90,9 +90,7 @@ struct CalibrationFigures {
 CalibrationFigures calibrationFigures(const std::string& name, int resolution, bool extrapolate,
                                       GravityMap* map_out) {
   auto device = openSimulatedDevice(name, 1);
-  const double side_m =
-      std::round(0.8 * 2.0 * device->specifications().workspace_radius_m / std::sqrt(3.0) * 1e3) *
-      1e-3;
+  const double side_m = defaultGridSide_m(device->specifications().workspace_radius_m);
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
   options.grid_side_m = side_m;

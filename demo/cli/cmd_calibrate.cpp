@@ -61,8 +61,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   const DeviceSpecifications& specs = device->specifications();
   // Default grid: the cube inscribed in the workspace sphere, shrunk to 80 % to stay clear of the
   // end stops; 5 vertices per axis.
-  const double default_side_m =
-      std::round(0.8 * 2.0 * specs.workspace_radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+  const double default_side_m = defaultGridSide_m(specs.workspace_radius_m);
   sim::CalibrationRunOptions run;
   run.grid_center_m = device->workspaceCenter_m();
   run.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : default_side_m;

@@ -251,7 +251,7 @@ void runWizardCommand(const WizardOptions& options) {
   const double radius_m = device->specifications().workspace_radius_m;
   config.grid_side_m = options.side_mm > 0.0
                            ? options.side_mm * 1e-3
-                           : std::round(0.8 * 2.0 * radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+                           : defaultGridSide_m(radius_m);
   config.grid_resolution = options.grid > 0 ? options.grid : 5;
   config.parameters = options.parameters;
   config.map_path = options.out_path;

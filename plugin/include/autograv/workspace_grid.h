@@ -6,6 +6,10 @@
 
 namespace autograv {
 
+/// Default grid edge for a workspace sphere of `workspace_radius_m`: 80 % of the inscribed cube
+/// (clear of the end stops), rounded to the millimetre. Unit: [m]. Real-time safe.
+double defaultGridSide_m(double workspace_radius_m) noexcept;
+
 /// A cubic grid of resolution^3 vertices centred in the workspace (paper Section I).
 /// Vertex index = ix + N * (iy + N * iz), with N = resolution and ix along +x.
 class WorkspaceGrid {

@@ -8,6 +8,10 @@
 
 namespace autograv {
 
+double defaultGridSide_m(double workspace_radius_m) noexcept {
+  return std::round(0.8 * 2.0 * workspace_radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
+}
+
 WorkspaceGrid::WorkspaceGrid(const Eigen::Vector3d& center_m, double side_m, int resolution)
     : center_m_(center_m), side_m_(side_m), resolution_(resolution) {
   if (!center_m.allFinite()) throw Error("workspace grid: centre must be finite");
