@@ -1,5 +1,6 @@
 #include "estimation_options.h"
 
+#include "autograv/map_io.h"
 #include "autograv/pd_design.h"
 
 namespace autograv::cli {
@@ -46,18 +47,7 @@ void applyDeviceDefaults(const CLI::App& command, EstimationParameters& paramete
 }
 
 nlohmann::json parametersJson(const EstimationParameters& p) {
-  return {{"alpha_per_s", p.alpha_per_s},
-          {"beta_per_s2", p.beta_per_s2},
-          {"k0_n_per_m", p.k0_n_per_m},
-          {"n_s", p.n_s},
-          {"eps_s_m_per_s", p.eps_s_m_per_s},
-          {"n_g", p.n_g},
-          {"eps_g_n", p.eps_g_n},
-          {"min_step_duration_s", p.min_step_duration_s},
-          {"max_step_duration_s", p.max_step_duration_s},
-          {"max_iterations", p.max_iterations},
-          {"servo_period_s", p.servo_period_s},
-          {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m}};
+  return nlohmann::json::parse(parametersToJson(p));  // the map file's own encoding
 }
 
 }  // namespace autograv::cli

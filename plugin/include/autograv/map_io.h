@@ -50,6 +50,10 @@ std::uint64_t fnv1a64(const std::string& bytes) noexcept;
 /// Not real-time safe.
 std::string mapToJson(const GravityMap& map);
 
+/// The "parameters" object of a map file on its own (compact JSON text, the same keys and SI
+/// units), for reports. Not real-time safe.
+std::string parametersToJson(const EstimationParameters& parameters);
+
 /// Parses and validates `text` exactly as loadMap validates a file; `source` names the text in
 /// error messages (a path, "<stdin>", ...). Not real-time safe.
 GravityMap mapFromJson(const std::string& text, const std::string& source,

@@ -21,7 +21,9 @@ using nlohmann::json;
 
 json vectorToJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-json parametersToJson(const EstimationParameters& p) {
+}  // namespace
+
+json parametersDocument(const EstimationParameters& p) {
   return json{{"alpha_per_s", p.alpha_per_s},
               {"beta_per_s2", p.beta_per_s2},
               {"k0_n_per_m", p.k0_n_per_m},
@@ -35,6 +37,8 @@ json parametersToJson(const EstimationParameters& p) {
               {"servo_period_s", p.servo_period_s},
               {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m}};
 }
+
+namespace {
 
 json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& vertex) {
   json history = json::array();
@@ -338,7 +342,7 @@ json mapToDocument(const GravityMap& map) {
       {"grid", json{{"center_m", vectorToJson(grid.center_m())},
                     {"side_m", grid.side_m()},
                     {"resolution", grid.resolution()}}},
-      {"parameters", parametersToJson(metadata.parameters)},
+      {"parameters", parametersDocument(metadata.parameters)},
       {"vertices", std::move(vertices)},
   };
   stampChecksum(document);
@@ -460,3 +464,11 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
 }
 
 }  // namespace autograv::detail
+
+namespace autograv {
+
+std::string parametersToJson(const EstimationParameters& parameters) {
+  return detail::parametersDocument(parameters).dump();
+}
+
+}  // namespace autograv
