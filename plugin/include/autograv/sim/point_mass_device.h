@@ -66,7 +66,7 @@ class PointMassDevice final : public SimulatedDriver {
   Eigen::Vector3d workspaceCenter_m() const noexcept override {
     return parameters_.workspace_center_m;
   }
-  /// Potential energy U(X) whose gradient is G(X) (for tests). Unit: [J]
+  /// Potential energy U(X) whose gradient is G(X) (for tests). Real-time safe. Unit: [J]
   double potentialEnergy_j(const Eigen::Vector3d& position_m) const noexcept;
   const PointMassParameters& parameters() const noexcept { return parameters_; }
 

@@ -103,6 +103,7 @@ class SimulatedDriver : public SimulatedDevice {
   /// force is refused: false, and the actuators go to zero. False when closed or not answering
   /// (the device's watchdog then zeroes the force). Real-time safe.
   bool setForce(const Eigen::Vector3d& force_n) override;
+  /// Real-time safe.
   const DeviceSpecifications& specifications() const override { return specifications_; }
 
   /// Real-time safe.
@@ -113,6 +114,7 @@ class SimulatedDriver : public SimulatedDevice {
   Eigen::Vector3d appliedForce_n() const noexcept override { return applied_force_n_; }
   /// Real-time safe.
   std::uint64_t saturationCount() const noexcept override { return saturation_count_; }
+  /// Real-time safe.
   SimulatedHand& hand() noexcept override { return hand_; }
   /// Real-time safe.
   void injectFault(DeviceFault fault) noexcept override;
