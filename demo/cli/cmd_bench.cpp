@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/gravity_compensated_device.h"
+#include "autograv/pd_design.h"
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"
@@ -96,6 +97,7 @@ CalibrationFigures calibrationFigures(const std::string& name, int resolution, b
   options.grid_side_m = side_m;
   options.grid_resolution = resolution;
   options.calibrator.extrapolate_initial_estimate = extrapolate;
+  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
   const auto start = Clock::now();
   const sim::CalibrationRunResult result = sim::runSimulatedCalibration(*device, options);
   CalibrationFigures figures;
