@@ -5,7 +5,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,15 +37,6 @@ struct CalibrateOptions {
   EstimationParameters parameters;
 };
 
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
-
 double median(std::vector<int> values) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -73,7 +63,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
-  metadata.parameters = parameters;
+  metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
   const std::string checkpoint_path = options.out_path + ".partial";
   if (options.resume) {
     if (!std::filesystem::exists(checkpoint_path)) {
@@ -112,7 +102,6 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     progress.update(calibrator.visitedCount(), calibrator.toVisitCount(), detail);
   };
   run.on_vertex_finished = [&](const AutoCalibrator& calibrator, int) {
-    metadata.created_utc = utcNow();
     saveMap(calibrator.makeMap(metadata), checkpoint_path);  // atomic: temp file + rename
   };
   g_stop_requested.store(false);
@@ -128,7 +117,6 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
 
-  metadata.created_utc = utcNow();
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     saveMap(map, checkpoint_path);
