@@ -8,7 +8,8 @@ packages=(
   libeigen3-dev                    # maths (autograv::core)
   nlohmann-json3-dev               # map files and reports
   libcli11-dev                     # command-line parsing
-  libvtk9-dev mpi-default-dev      # autograv::viz (Debian's VTK config needs MPI C)
+  libvtk9-dev mpi-default-dev libx11-dev  # autograv::viz (Debian's VTK config needs MPI C)
+  fonts-dejavu-core                # scene and plot text (the goldens were rendered with it)
   libglfw3-dev libosmesa6-dev libgl-dev libpng-dev  # autograv::gl
   libgtest-dev libgmock-dev libbenchmark-dev          # tests and benchmarks
   xvfb xauth                       # X server for the VTK screenshot tests
