@@ -15,6 +15,16 @@ struct Outcome {
   int converged = 0;
 };
 
+// Options for a run on `device`'s workspace centre; tests set what they vary.
+sim::CalibrationRunOptions optionsFor(const sim::SimulatedDevice& device, double side_m,
+                                      int resolution) {
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device.workspaceCenter_m();
+  options.grid_side_m = side_m;
+  options.grid_resolution = resolution;
+  return options;
+}
+
 Outcome calibrate(const std::string& name, int resolution, double side_m, std::uint64_t seed,
                   const EstimationParameters& parameters = {}) {
   auto device = sim::makeSimulatedDevice(name, seed);
@@ -97,10 +107,7 @@ TEST(CalibrationTest, VerticesThatHitTheCapAreMarkedAndTheGridGoesOn) {
 TEST(CalibrationTest, AStoppedRunResumesKeepingFinishedVerticesBitForBit) {
   auto device = sim::makeSimulatedDevice("sim:omega", 4);
   ASSERT_TRUE(device->open());
-  sim::CalibrationRunOptions options;
-  options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = 0.04;
-  options.grid_resolution = 3;
+  sim::CalibrationRunOptions options = optionsFor(*device, 0.04, 3);
   std::atomic<bool> stop{false};
   int finished = 0;
   options.stop_requested = &stop;
@@ -130,10 +137,7 @@ TEST(CalibrationTest, AStoppedRunResumesKeepingFinishedVerticesBitForBit) {
 TEST(CalibrationTest, ADeviceThatStopsAnsweringEndsTheRunAndKeepsTheFinishedVertices) {
   auto device = sim::makeSimulatedDevice("sim:omega", 6);
   ASSERT_TRUE(device->open());
-  sim::CalibrationRunOptions options;
-  options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = 0.04;
-  options.grid_resolution = 3;
+  sim::CalibrationRunOptions options = optionsFor(*device, 0.04, 3);
   int finished = 0;
   options.on_vertex_finished = [&](const AutoCalibrator&, int) {
     if (++finished == 5) device->injectFault(sim::DeviceFault::kStopsAnswering);
