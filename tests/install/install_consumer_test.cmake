@@ -1,6 +1,7 @@
 # ctest script: install autograv into a fresh prefix, then configure, build and run a consumer
 # project that only does find_package(autograv) and links autograv::core.
 # Arguments: -DBINARY_DIR=<autograv build> -DSOURCE_DIR=<tests/install/consumer> -DWORK_DIR=<scratch>
+#            [-DCONSUMER_LINK_FLAGS=<flags the consumer links with, e.g. the sanitizers>]
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run)
@@ -10,7 +11,8 @@ function(run)
   endif()
 endfunction()
 run(${CMAKE_COMMAND} --install "${BINARY_DIR}" --prefix "${WORK_DIR}/prefix" --component Unspecified)
-run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
+    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer")
 message(STATUS "consumer built against ${WORK_DIR}/prefix and ran")
