@@ -21,6 +21,7 @@
 
 #include "autograv/gravity_compensated_device.h"
 #include "autograv/sim/simulated_device.h"
+#include "core/map_interpolator.h"
 
 namespace {
 
@@ -179,6 +180,35 @@ void BM_DecoratedTick(benchmark::State& state) {
   for (auto _ : state) tick(*setup.decorated, force_n);
 }
 BENCHMARK(BM_DecoratedTick);
+
+// Where a decorated tick's time goes: the same tick with no map published (forwarding, checks,
+// ramp and clamp only), and the servo path's map lookup alone on the same positions.
+void BM_DecoratedTickWithoutMap(benchmark::State& state) {
+  Setup setup = makeSetup(false);
+  setup.decorated->publishMap(nullptr);
+  const Eigen::Vector3d force_n(0.1, -0.05, 0.2);
+  for (int k = 0; k < 1000; ++k) tick(*setup.decorated, force_n);  // the null map taken
+  for (auto _ : state) tick(*setup.decorated, force_n);
+}
+BENCHMARK(BM_DecoratedTickWithoutMap);
+
+void BM_ServoMapLookup(benchmark::State& state) {
+  const std::vector<Eigen::Vector3d> positions = randomPositions(4096);
+  const autograv::detail::MapInterpolator lookup(
+      makeMap("bench:table",
+              [](const Eigen::Vector3d& x) {
+                return Eigen::Vector3d(0.1 * x.y(), -0.2 * x.x(), -0.5 + 3.0 * x.z());
+              }),
+      0.01);
+  std::size_t next = 0;
+  for (auto _ : state) {
+    bool inside = false;
+    benchmark::DoNotOptimize(lookup.gravityAt(positions[next], inside));
+    benchmark::DoNotOptimize(inside);
+    next = (next + 1) % positions.size();
+  }
+}
+BENCHMARK(BM_ServoMapLookup);
 
 }  // namespace
 

@@ -175,8 +175,9 @@ class GravityCompensatedDevice final : public HapticDevice {
   };
 
   void takeNewMap() noexcept;
-  Eigen::Vector3d compensation(const Eigen::Vector3d& position_m) const noexcept;
-  bool outsideMaps(const Eigen::Vector3d& position_m) const noexcept;
+  /// The maps' gravity at `position_m`, blended during a fade; `inside` is false when the
+  /// position is beyond the outside margin of a map in use.
+  Eigen::Vector3d compensation(const Eigen::Vector3d& position_m, bool& inside) const noexcept;
   bool stale(const Eigen::Vector3d& position_m, const Eigen::Vector3d& commanded_n) noexcept;
   bool fault(ServoFault fault) noexcept;
   void countTick(ServoFault fault) noexcept;

@@ -114,7 +114,11 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
     cached_fresh_ = false;  // a reading from before this thread became the servo thread
   }
   increment(tick_count_);
-  takeNewMap();
+  // Out of line only when there is something to do: a new publication or a fade in progress.
+  if (blend_ticks_ < ramp_ticks_ ||
+      published_sequence_.load(std::memory_order_acquire) != taken_sequence_) {
+    takeNewMap();
+  }
 
   Eigen::Vector3d position_m;
   bool read_ok;
@@ -132,7 +136,6 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   const double max_force_n = inner_->specifications().max_linear_force_n;
   if (!(std::isfinite(max_force_n) && max_force_n > 0.0)) return fault(ServoFault::kNoForceLimit);
   const bool enabled = enabled_.load(std::memory_order_relaxed);
-  if (enabled && outsideMaps(position_m)) return fault(ServoFault::kOutsideMap);
 
   int level = level_ticks_.load(std::memory_order_relaxed);
   if (enabled && level < ramp_ticks_) {
@@ -143,8 +146,15 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   level_ticks_.store(level, std::memory_order_relaxed);
 
   Eigen::Vector3d commanded_n = force_n;
-  if (level > 0) {
-    commanded_n += (static_cast<double>(level) / ramp_ticks_) * compensation(position_m);
+  if (level > 0) {  // always the case while enabled
+    bool inside = true;
+    // The usual case inline: one map and no fade in progress.
+    const Eigen::Vector3d gravity_n = previous_ == nullptr && current_ != nullptr
+                                          ? current_->gravityAt(position_m, inside)
+                                          : compensation(position_m, inside);
+    // Beyond the map, the clamped boundary value is a guess: refuse it, except while fading out.
+    if (enabled && !inside) return fault(ServoFault::kOutsideMap);
+    commanded_n += (static_cast<double>(level) / ramp_ticks_) * gravity_n;
   }
   if (stale(position_m, commanded_n)) return fault(ServoFault::kStalePosition);
 
@@ -191,20 +201,20 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
   }
 }
 
-Eigen::Vector3d GravityCompensatedDevice::compensation(
-    const Eigen::Vector3d& position_m) const noexcept {
-  if (previous_ == nullptr) {  // the usual case: no fade in progress
-    return current_ != nullptr ? current_->gravityAt(position_m) : Eigen::Vector3d::Zero();
+Eigen::Vector3d GravityCompensatedDevice::compensation(const Eigen::Vector3d& position_m,
+                                                       bool& inside) const noexcept {
+  inside = true;
+  if (previous_ == nullptr) {
+    return current_ != nullptr ? current_->gravityAt(position_m, inside) : Eigen::Vector3d::Zero();
   }
   const double weight = static_cast<double>(blend_ticks_) / ramp_ticks_;
-  Eigen::Vector3d gravity_n = (1.0 - weight) * previous_->gravityAt(position_m);
-  if (current_ != nullptr) gravity_n += weight * current_->gravityAt(position_m);
+  Eigen::Vector3d gravity_n = (1.0 - weight) * previous_->gravityAt(position_m, inside);
+  if (current_ != nullptr) {
+    bool inside_current = true;
+    gravity_n += weight * current_->gravityAt(position_m, inside_current);
+    inside = inside && inside_current;
+  }
   return gravity_n;
-}
-
-bool GravityCompensatedDevice::outsideMaps(const Eigen::Vector3d& position_m) const noexcept {
-  return (current_ != nullptr && !current_->contains(position_m)) ||
-         (previous_ != nullptr && !previous_->contains(position_m));
 }
 
 bool GravityCompensatedDevice::stale(const Eigen::Vector3d& position_m,

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "autograv/error.h"
+#include "trilinear.h"
 
 namespace autograv {
 
@@ -65,30 +66,11 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m) const noexcept {
-  const int last = grid_.resolution() - 1;
-  const Eigen::Vector3d scaled = (position_m - grid_.minCorner_m()) / grid_.spacing_m();
-  std::array<int, 3> cell{};
-  std::array<double, 3> fraction{};
-  for (int axis = 0; axis < 3; ++axis) {
-    // Clamp to the grid so that a point outside gets the boundary value (NaN goes to 0).
-    const double clamped = std::isfinite(scaled[axis])
-                               ? std::clamp(scaled[axis], 0.0, static_cast<double>(last))
-                               : 0.0;
-    cell[axis] = std::min(static_cast<int>(clamped), last - 1);
-    fraction[axis] = clamped - cell[axis];
-  }
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1;
-    const int dy = (corner >> 1) & 1;
-    const int dz = (corner >> 2) & 1;
-    const double weight = (dx ? fraction[0] : 1.0 - fraction[0]) *
-                          (dy ? fraction[1] : 1.0 - fraction[1]) *
-                          (dz ? fraction[2] : 1.0 - fraction[2]);
-    const int index = grid_.vertexIndex(cell[0] + dx, cell[1] + dy, cell[2] + dz);
-    sum += weight * vertices_[static_cast<std::size_t>(index)].gravity_n;
-  }
-  return sum;
+  const detail::TrilinearGrid grid(grid_);
+  return detail::interpolateTrilinear(grid, grid.toCells(position_m),
+                                      [this](int index) -> const Eigen::Vector3d& {
+                                        return vertices_[static_cast<std::size_t>(index)].gravity_n;
+                                      });
 }
 
 int GravityMap::convergedCount() const noexcept {
