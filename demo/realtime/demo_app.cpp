@@ -24,15 +24,11 @@ constexpr int kHeadlessFramesPerSecond = 30;
 constexpr const char* kDefaultMapPath = "autograv-map.json";
 constexpr double kMessageSeconds = 6.0;
 
-std::string upper(std::string text) {
-  for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return text;
-}
-
 SessionOptions sessionOptions(const DemoOptions& options) {
   SessionOptions session = options.session;
   session.device = options.device;
   session.seed = options.seed;
+  session.calibration_map_path = options.map_path.empty() ? kDefaultMapPath : options.map_path;
   session.realtime_priority = options.realtime_priority;
   return session;
 }
@@ -58,7 +54,8 @@ gl::OrbitCamera initialCamera(const DemoSession& session) {
 gl::Scene frameScene(const DemoView& view, const ServoSnapshot& snapshot,
                      const DemoSession& session, const gl::OrbitCamera& camera, bool simulated_time,
                      const std::string& status) {
-  gl::Scene scene = view.build(snapshot, session.map(), camera, simulated_time, status);
+  gl::Scene scene = view.build(snapshot, session.map(), camera, simulated_time, status,
+                               session.calibrationStatus());
   if (!scene.map) scene.grid = session.calibrationGrid();
   return scene;
 }
@@ -101,7 +98,7 @@ HeadlessResult runHeadlessFrames(const DemoOptions& options) {
   gl::RendererOptions renderer_options;
   renderer_options.shader_directory = options.shader_dir;
   gl::Renderer renderer(context, renderer_options);
-  DemoView view(upper(options.device));
+  DemoView view(upperCase(options.device));
   const gl::OrbitCamera camera = initialCamera(*session);
   std::string message;
   for (int frame = 1; frame <= result.frames; ++frame) {
@@ -114,7 +111,7 @@ HeadlessResult runHeadlessFrames(const DemoOptions& options) {
     std::snprintf(status, sizeof status, "HEADLESS  FRAME %d OF %d  %lld TICKS PER FRAME", frame,
                   result.frames, static_cast<long long>(result.ticks_per_frame));
     renderer.render(frameScene(view, snapshot, *session, camera, true,
-                               message.empty() ? status : upper(message)));
+                               message.empty() ? status : upperCase(message)));
   }
   result.last_frame = context.readImage();
   result.last_snapshot = session->snapshot();
@@ -129,7 +126,7 @@ ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds) {
   gl::RendererOptions renderer_options;
   renderer_options.shader_directory = options.shader_dir;
   gl::Renderer renderer(context, renderer_options);
-  DemoView view(upper(options.device));
+  DemoView view(upperCase(options.device));
   const gl::OrbitCamera camera = initialCamera(*session);
   session->startRealTime();
   // Render at a window's pace meanwhile: the servo thread must hold its rate under that load.
@@ -176,7 +173,7 @@ int runWindowed(const DemoOptions& options) {
   gl::Renderer renderer(window, renderer_options);
   std::printf("autograv-demo: OpenGL %s, shaders %s\n", renderer.glVersion().c_str(),
               renderer.shaderOrigin().c_str());
-  DemoView view(upper(options.device));
+  DemoView view(upperCase(options.device));
   gl::OrbitCamera camera = initialCamera(*session);
   auto message_time = std::chrono::steady_clock::now();
   const auto say = [&](const std::string& text) {
@@ -245,10 +242,22 @@ int runWindowed(const DemoOptions& options) {
         case 'A':
           if (session->calibrationRunning()) {
             session->abortCalibration();
-            say("calibration aborted");
+            say("calibration: aborting, finished vertices are kept");
           } else {
             say(session->startCalibration());
           }
+          break;
+        case gl::kKeyEnter:
+          session->postCalibrationEvent(WizardEvent::kConfirm);
+          break;
+        case 'P':
+          if (const WizardStatus* status = session->calibrationStatus()) {
+            session->postCalibrationEvent(status->paused ? WizardEvent::kResume
+                                                         : WizardEvent::kPause);
+          }
+          break;
+        case 'X':
+          session->postCalibrationEvent(WizardEvent::kRedoFailed);
           break;
         case 'S':
           if (const auto map = session->map()) {
@@ -259,6 +268,10 @@ int runWindowed(const DemoOptions& options) {
           }
           break;
         case 'L':
+          if (session->calibrationRunning()) {
+            say("a calibration is running: press A to abort it first");
+            break;
+          }
           session->publishMap(loadMapFor(*session, map_path));
           camera = initialCamera(*session);
           say("map loaded from " + map_path);
@@ -285,7 +298,8 @@ int runWindowed(const DemoOptions& options) {
   session->startRealTime();
   const auto start = std::chrono::steady_clock::now();
   const char* const help =
-      "LEFT DRAG: HAND  RIGHT DRAG: VIEW  C: COMPENSATION  A: CALIBRATE  S/L: SAVE/LOAD  Q: QUIT";
+      "LEFT DRAG: HAND  RIGHT DRAG: VIEW  C: COMPENSATION  A: CALIBRATE  ENTER: CONFIRM  "
+      "S/L: SAVE/LOAD  Q: QUIT";
   gl::Image last_frame;
   while (!window.shouldClose()) {
     window.pollEvents();
@@ -296,7 +310,7 @@ int runWindowed(const DemoOptions& options) {
     const bool recent = std::chrono::steady_clock::now() - message_time <
                         std::chrono::duration<double>(kMessageSeconds);
     gl::Scene scene = frameScene(view, snapshot, *session, camera, false,
-                                 recent && !message.empty() ? upper(message) : help);
+                                 recent && !message.empty() ? upperCase(message) : help);
     scene.show_arrows = show_map;
     scene.show_grid = show_map;
     renderer.render(scene);

@@ -2,11 +2,12 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
+#include <filesystem>
 
 #include "autograv/error.h"
 #include "autograv/pd_design.h"
@@ -20,29 +21,14 @@ std::int64_t steadyNanoseconds(std::chrono::steady_clock::time_point time) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
 }
 
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
-
 }  // namespace
 
 const char* toString(ServoMode mode) noexcept {
   switch (mode) {
     case ServoMode::kApplication:
       return "application";
-    case ServoMode::kInitializing:
-      return "initializing";
-    case ServoMode::kInitialized:
-      return "initialized";
-    case ServoMode::kAutoCalibrating:
-      return "auto-calibrating";
-    case ServoMode::kCalibrated:
-      return "calibrated";
+    case ServoMode::kCalibrating:
+      return "calibrating";
     case ServoMode::kHandover:
       return "handover";
   }
@@ -67,6 +53,8 @@ DemoSession::DemoSession(const SessionOptions& options)
   decorator_ = std::make_shared<GravityCompensatedDevice>(simulation_, compensation);
   if (!decorator_->open()) throw Error(options.device + ": open() through the decorator failed");
   options_.estimation.servo_period_s = options.servo_period_s;
+  // The demo has no k0 option: the device-aware default, as `autograv calibrate` uses.
+  options_.estimation.k0_n_per_m = defaultInitializationStiffness(simulation_->specifications());
   last_position_m_ = simulation_->truePosition_m();
   // A first snapshot so that the UI has something to draw before the first tick.
   ServoSample sample;
@@ -121,92 +109,75 @@ WorkspaceGrid DemoSession::calibrationGrid() const {
 }
 
 std::string DemoSession::startCalibration() {
-  if (ui_calibration_ == UiCalibration::kInitializing ||
-      ui_calibration_ == UiCalibration::kRunning) {
-    return "a calibration is already running (press A again to abort it)";
-  }
-  const double max_force_n = simulation_->specifications().max_linear_force_n;
-  initializers_.push_back(
-      std::make_unique<InitializationEstimator>(options_.estimation, max_force_n));
+  if (wizard_ui_ != nullptr) return "a calibration is already running (press A to abort it)";
+  const WorkspaceGrid grid = calibrationGrid();
+  WizardConfig config;
+  config.grid_center_m = grid.center_m();
+  config.grid_side_m = grid.side_m();
+  config.grid_resolution = grid.resolution();
+  config.parameters = options_.estimation;
+  config.map_path = options_.calibration_map_path;
+  config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");
+  config.verify_points = options_.calibration_verify_points;
+  wizards_.push_back(std::make_unique<CalibrationWizard>(simulation_, config));
+  wizard_ui_ = wizards_.back().get();
+  wizard_ui_->service();  // Check: the device is open already, so this passes at once
+  wizard_status_ = wizard_ui_->status();
+  last_wizard_step_ = wizard_status_.step;
   compensation_before_calibration_ = decorator_->compensationEnabled();
   decorator_->setCompensationEnabled(false);
   Command command;
-  command.kind = Command::Kind::kStartInitialization;
-  command.initializer = initializers_.back().get();
+  command.kind = Command::Kind::kStartCalibration;
+  command.wizard = wizard_ui_;
   sendCommand(command);
-  ui_calibration_ = UiCalibration::kInitializing;
-  return "calibration: k0 field on where the end-effector is; let go and it settles (eq. 7)";
+  return std::string("calibration: ") +
+         (config.resume ? "resuming the checkpoint " + wizard_ui_->checkpointPath()
+                        : "checkpoints go to " + wizard_ui_->checkpointPath());
+}
+
+void DemoSession::postCalibrationEvent(WizardEvent event) noexcept {
+  if (wizard_ui_ != nullptr) wizard_ui_->post(event);
 }
 
 void DemoSession::abortCalibration() {
-  if (ui_calibration_ != UiCalibration::kInitializing &&
-      ui_calibration_ != UiCalibration::kRunning) {
-    return;
-  }
-  Command command;
-  command.kind = Command::Kind::kEndCalibration;
-  sendCommand(command);
-  decorator_->setCompensationEnabled(compensation_before_calibration_);
-  ui_calibration_ = UiCalibration::kNone;
+  if (wizard_ui_ != nullptr) wizard_ui_->post(WizardEvent::kAbort);
 }
 
 std::string DemoSession::updateCalibration() {
-  const ServoSnapshot& state = snapshot();
-  if (ui_calibration_ == UiCalibration::kInitializing && state.mode == ServoMode::kApplication &&
-      state.initialization == InitializationEstimator::Status::kDeviceFault) {
-    ui_calibration_ = UiCalibration::kNone;
-    decorator_->setCompensationEnabled(compensation_before_calibration_);
-    return "calibration stopped: the device stopped answering during the initialization";
+  if (wizard_ui_ == nullptr) return "";
+  wizard_ui_->service();
+  wizard_status_ = wizard_ui_->status();
+  std::string message;
+  if (wizard_status_.step != last_wizard_step_) {
+    last_wizard_step_ = wizard_status_.step;
+    message = "calibration: " + wizard_status_.title;
   }
-  if (ui_calibration_ == UiCalibration::kInitializing && state.mode == ServoMode::kInitialized) {
-    const WorkspaceGrid grid = calibrationGrid();
-    const double max_force_n = simulation_->specifications().max_linear_force_n;
-    const auto problems = checkCalibrationPlan(options_.estimation, grid.spacing_m(), max_force_n,
-                                               state.initial_gravity_n);
-    if (!problems.empty()) {
-      abortCalibration();
-      return "calibration refused: " + problems.front();
-    }
-    calibrators_.push_back(
-        std::make_unique<AutoCalibrator>(grid, options_.estimation, max_force_n));
-    calibration_metadata_ = MapMetadata();
-    calibration_metadata_.device_model = simulation_->specifications().model_name;
-    calibration_metadata_.device_serial = simulation_->specifications().serial_number;
-    calibration_metadata_.parameters = options_.estimation;
-    Command command;
-    command.kind = Command::Kind::kStartAutoCalibration;
-    command.calibrator = calibrators_.back().get();
-    sendCommand(command);
-    ui_calibration_ = UiCalibration::kRunning;
-    char text[160];
-    std::snprintf(text, sizeof text, "calibration: G0 = (%.2f, %.2f, %.2f) N; visiting %d vertices",
-                  state.initial_gravity_n.x(), state.initial_gravity_n.y(),
-                  state.initial_gravity_n.z(), grid.vertexCount());
-    return text;
-  }
-  if (ui_calibration_ == UiCalibration::kRunning && state.mode == ServoMode::kApplication &&
-      state.calibration == AutoCalibrator::Status::kDeviceFault) {
-    ui_calibration_ = UiCalibration::kNone;
-    decorator_->setCompensationEnabled(compensation_before_calibration_);
-    return "calibration stopped: the device stopped answering";
-  }
-  if (ui_calibration_ == UiCalibration::kRunning && state.mode == ServoMode::kCalibrated) {
-    // The servo thread holds the end-effector on its own and no longer touches the calibrator.
-    const AutoCalibrator& calibrator = *calibrators_.back();
-    calibration_metadata_.created_utc = utcNow();
-    auto map = std::make_shared<const GravityMap>(calibrator.makeMap(calibration_metadata_));
-    const int converged = map->convergedCount();
-    const int total = map->grid().vertexCount();
+  if (!wizard_ui_->finished()) return message;
+
+  // Done, aborted or failed, with every checkpoint written: the application takes the device
+  // back. After a saved map, compensation comes on under it while a hold fades out.
+  Command command;
+  command.kind = Command::Kind::kEndCalibration;
+  const std::shared_ptr<const GravityMap> map = wizard_ui_->savedMap();
+  if (wizard_status_.step == WizardStep::kDone && map) {
     decorator_->publishMap(map);
     decorator_->setCompensationEnabled(true);
-    Command command;
-    command.kind = Command::Kind::kEndCalibration;
-    sendCommand(command);
-    ui_calibration_ = UiCalibration::kPublished;
-    return "calibration finished: " + std::to_string(converged) + " of " + std::to_string(total) +
-           " vertices converged; map published, compensation on";
+    command.map = map.get();  // kept alive by the wizard, which the session keeps
+    message = "calibration finished: " + std::to_string(map->convergedCount()) + " of " +
+              std::to_string(map->grid().vertexCount()) + " vertices converged; map saved to " +
+              wizard_status_.map_path + ", compensation on";
+  } else if (wizard_status_.step == WizardStep::kAborted) {
+    decorator_->setCompensationEnabled(compensation_before_calibration_);
+    message = "calibration aborted: " + std::to_string(wizard_status_.checkpointed_converged) +
+              " finished vertices kept in " + wizard_status_.checkpoint_path +
+              "; press A to resume";
+  } else {
+    decorator_->setCompensationEnabled(compensation_before_calibration_);
+    message = "calibration stopped: " + wizard_status_.fault;
   }
-  return "";
+  sendCommand(command);
+  wizard_ui_ = nullptr;
+  return message;
 }
 
 void DemoSession::grabNow() noexcept {
@@ -233,23 +204,22 @@ void DemoSession::handleCommand(const Command& command) noexcept {
     case Command::Kind::kRelease:
       releaseNow();
       break;
-    case Command::Kind::kStartInitialization:
-      initializer_ = command.initializer;
-      initializer_->start(last_position_m_);
-      initialization_status_ = InitializationEstimator::Status::kRampingIn;
-      calibration_status_ = AutoCalibrator::Status::kIdle;
-      mode_ = ServoMode::kInitializing;
-      break;
-    case Command::Kind::kStartAutoCalibration:
-      if (mode_ != ServoMode::kInitialized || initializer_ == nullptr) break;
-      calibrator_ = command.calibrator;
-      calibrator_->start(last_position_m_, initializer_->gravityEstimate_n());
-      calibration_status_ = AutoCalibrator::Status::kMoving;
-      mode_ = ServoMode::kAutoCalibrating;
+    case Command::Kind::kStartCalibration:
+      wizard_ = command.wizard;
+      mode_ = ServoMode::kCalibrating;
       break;
     case Command::Kind::kEndCalibration:
-      // After a finished run the hold fades out under the new map; an aborted run just stops.
-      mode_ = mode_ == ServoMode::kCalibrated ? ServoMode::kHandover : ServoMode::kApplication;
+      if (mode_ != ServoMode::kCalibrating) break;
+      wizard_ = nullptr;
+      if (command.map != nullptr) {
+        // The wizard left the device floating under this map; hold it there while the
+        // decorator's compensation takes over.
+        hold_position_m_ = last_position_m_;
+        hold_gravity_n_ = command.map->gravityAt(last_position_m_);
+        mode_ = ServoMode::kHandover;
+      } else {
+        mode_ = ServoMode::kApplication;
+      }
       break;
   }
 }
@@ -298,34 +268,9 @@ void DemoSession::tick() noexcept {
       // The application renders free space: it asks for no force, and the decorator adds G_hat.
       decorator_->setForce(Eigen::Vector3d::Zero());
       break;
-    case ServoMode::kInitializing:
-    case ServoMode::kInitialized:
-      // Calibration talks to the raw device: the estimators supply their own gravity terms.
-      initialization_status_ = initializer_->step(sample, force_n);
-      simulation_->setForce(force_n);
-      if (initialization_status_ == InitializationEstimator::Status::kDone) {
-        mode_ = ServoMode::kInitialized;
-      } else if (initialization_status_ == InitializationEstimator::Status::kDeviceFault) {
-        mode_ = ServoMode::kApplication;
-      }
-      break;
-    case ServoMode::kAutoCalibrating:
-      calibration_status_ = calibrator_->step(sample, force_n);
-      simulation_->setForce(force_n);
-      if (calibration_status_ == AutoCalibrator::Status::kFinished) {
-        const int last = calibrator_->lastFinishedVertex();
-        hold_position_m_ = sample.valid ? sample.position_m : last_position_m_;
-        hold_gravity_n_ = last >= 0
-                              ? calibrator_->vertices()[static_cast<std::size_t>(last)].gravity_n
-                              : initializer_->gravityEstimate_n();
-        mode_ = ServoMode::kCalibrated;
-      } else if (calibration_status_ == AutoCalibrator::Status::kDeviceFault) {
-        mode_ = ServoMode::kApplication;
-      }
-      break;
-    case ServoMode::kCalibrated:
-      if (sample.valid) force_n = holdForce(sample);
-      simulation_->setForce(force_n);
+    case ServoMode::kCalibrating:
+      // The wizard reads and writes the device itself, through its own decorator.
+      wizard_->servoTick();
       break;
     case ServoMode::kHandover: {
       // The decorator ramps its compensation in from wherever its level stood; the hold (with
@@ -367,13 +312,7 @@ void DemoSession::publishSnapshot(const ServoSample& sample) noexcept {
   s.since_release_s =
       released_ ? static_cast<double>(ticks_ - release_tick_) * options_.servo_period_s : 0.0;
   s.mode = mode_;
-  s.initialization = initialization_status_;
-  s.calibration = calibration_status_;
-  if (calibrator_ != nullptr) {
-    s.calibration_done = calibrator_->visitedCount();
-    s.calibration_total = calibrator_->toVisitCount();
-  }
-  if (initializer_ != nullptr) s.initial_gravity_n = initializer_->gravityEstimate_n();
+  if (wizard_ != nullptr) s.wizard_step = wizard_->step();
   s.realtime = timing_valid_;
   if (timing_valid_) s.timing = timing_.report();
   snapshots_.publish();
@@ -402,6 +341,12 @@ void DemoSession::servoThreadMain() {
     sched_param parameter{};
     parameter.sched_priority = std::min(80, sched_get_priority_max(SCHED_FIFO));
     realtime_priority_.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &parameter) == 0);
+    // A page fault in the servo loop waits for the memory map, which the renderer's threads
+    // hold while they map and unmap their buffers: keep every page resident (where permitted)
+    // and touch the stack the loop will use before the first deadline.
+    memory_locked_.store(mlockall(MCL_CURRENT | MCL_FUTURE) == 0);
+    volatile unsigned char stack[256 * 1024];
+    for (std::size_t i = 0; i < sizeof stack; i += 4096) stack[i] = 0;
   }
   const auto period = std::chrono::nanoseconds(std::llround(options_.servo_period_s * 1e9));
   timing_ = ServoTiming(period.count());

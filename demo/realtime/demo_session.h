@@ -9,11 +9,10 @@
 
 #include <Eigen/Core>
 
-#include "autograv/auto_calibrator.h"
+#include "autograv/calibration_wizard.h"
 #include "autograv/estimation_parameters.h"
 #include "autograv/gravity_compensated_device.h"
 #include "autograv/gravity_map.h"
-#include "autograv/initialization_estimator.h"
 #include "autograv/sim/simulated_device.h"
 #include "hand_script.h"
 #include "lock_free.h"
@@ -23,12 +22,9 @@ namespace autograv::demo {
 
 /// What the servo loop is doing.
 enum class ServoMode : std::uint8_t {
-  kApplication,   ///< The application's loop: its force (none: free space) through the decorator.
-  kInitializing,  ///< Calibration, manual step: the k0 field holds the end-effector (eq. 7).
-  kInitialized,   ///< G_hat_0 found; the field keeps holding until the grid run starts.
-  kAutoCalibrating,  ///< Calibration, outer loop over the grid (the lead's AutoCalibrator).
-  kCalibrated,       ///< Every vertex done; holding the last vertex until the map is published.
-  kHandover,         ///< The hold fades out as the decorator's compensation ramps in.
+  kApplication,  ///< The application's loop: its force (none: free space) through the decorator.
+  kCalibrating,  ///< The calibration wizard drives the device (paper Sec. III, guided).
+  kHandover,     ///< The new map is published: a hold fades out as compensation ramps in.
 };
 const char* toString(ServoMode mode) noexcept;
 
@@ -53,11 +49,7 @@ struct ServoSnapshot {
   double drift_m = 0.0;          ///< Distance from the release point. Unit: [m]
   double since_release_s = 0.0;  ///< Unit: [s]
   ServoMode mode = ServoMode::kApplication;
-  InitializationEstimator::Status initialization = InitializationEstimator::Status::kRampingIn;
-  AutoCalibrator::Status calibration = AutoCalibrator::Status::kIdle;
-  int calibration_done = 0;                                     ///< Vertices finished by this run.
-  int calibration_total = 0;                                    ///< Vertices this run visits.
-  Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
+  WizardStep wizard_step = WizardStep::kCheck;  ///< Meaningful while mode is kCalibrating.
   bool realtime = false;  ///< Paced on the wall clock (timing below is meaningful).
   ServoTiming::Report timing;
 };
@@ -68,9 +60,14 @@ struct SessionOptions {
   double servo_period_s = 1.0e-3;  ///< Unit: [s]
   CompensationOptions compensation;
   EstimationParameters estimation;
-  /// Grid of an auto-calibration started without a map: 5 vertices per axis over the cube
-  /// inscribed in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
+  /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed
+  /// in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
   int calibration_resolution = 5;
+  /// Where a calibration saves its map; finished vertices are checkpointed to this path +
+  /// ".partial" as they come, and a calibration started while that file exists resumes it.
+  std::string calibration_map_path = "autograv-map.json";
+  /// Release tests the calibration runs on the new map before handing over (0 skips them).
+  int calibration_verify_points = 3;
   /// Raise the servo thread to SCHED_FIFO when the system allows it.
   bool realtime_priority = true;
 };
@@ -115,21 +112,35 @@ class DemoSession {
   /// A script whose events fire on servo time; must outlive the session. Call before running.
   void setScript(const HandScript* script);
 
-  // --- Auto-calibration (UI thread) -------------------------------------------------------------
-  /// Starts the manual initialization where the end-effector is now (the user holds it near the
-  /// centre, then lets go). Returns a message for the user. Not real-time safe.
+  // --- Calibration (UI thread) -----------------------------------------------------------------
+  // The calibration wizard (autograv::CalibrationWizard) takes the device over: Check, Centre
+  // (the user brings the end-effector to the centre and confirms), Release (the user lets go),
+  // the grid run, Review (the user confirms), Save, Verify. Its servo half runs in tick(), its
+  // service half in updateCalibration().
+
+  /// Starts a calibration on the grid of calibrationGrid(). Returns a message for the user.
+  /// Throws autograv::Error for an unusable configuration. Not real-time safe.
   std::string startCalibration();
-  /// Ends a calibration in progress; the application loop takes over. Not real-time safe.
+  /// Tells the running calibration what the user did (confirm, pause, redo...). Ignored when
+  /// none runs. Any thread.
+  void postCalibrationEvent(WizardEvent event) noexcept;
+  /// Stops the calibration: finished vertices stay in the checkpoint, the application loop takes
+  /// over once it is written (in updateCalibration). Not real-time safe.
   void abortCalibration();
-  /// Moves a calibration along from the UI side: checks the plan once G_hat_0 is known and starts
-  /// the grid run, builds and publishes the map once every vertex is done. Returns a message when
-  /// something happened (empty otherwise). Call once per frame. Not real-time safe.
+  /// Moves a calibration along from the UI side: the wizard's service half (checks, checkpoint
+  /// and map files), then, once it is done, publishes the saved map and hands the device back to
+  /// the application. Returns a message when something happened (empty otherwise). Call once per
+  /// frame. Not real-time safe.
   std::string updateCalibration();
-  /// True from startCalibration until the map is published or the run ends. UI thread.
-  bool calibrationRunning() const noexcept {
-    return ui_calibration_ == UiCalibration::kInitializing ||
-           ui_calibration_ == UiCalibration::kRunning;
+  /// True from startCalibration until the application loop has the device back. UI thread.
+  bool calibrationRunning() const noexcept { return wizard_ui_ != nullptr; }
+  /// The wizard's status as of the last updateCalibration, or null when no calibration runs.
+  /// UI thread.
+  const WizardStatus* calibrationStatus() const noexcept {
+    return wizard_ui_ != nullptr ? &wizard_status_ : nullptr;
   }
+  /// The status of the running calibration, or how the last one ended. UI thread.
+  const WizardStatus& lastCalibrationStatus() const noexcept { return wizard_status_; }
 
   // --- Running ----------------------------------------------------------------------------------
   /// One servo tick: commands, script, read, control, write, physics, snapshot. Servo thread
@@ -144,6 +155,8 @@ class DemoSession {
   bool running() const noexcept { return thread_.joinable(); }
   /// True when the servo thread got SCHED_FIFO.
   bool realtimePriority() const noexcept { return realtime_priority_.load(); }
+  /// True when the process's memory is locked resident for the servo thread (mlockall).
+  bool memoryLocked() const noexcept { return memory_locked_.load(); }
 
   /// The grid a calibration would use now: the published map's, else the default grid.
   /// Not real-time safe.
@@ -158,14 +171,13 @@ class DemoSession {
       kGrab,
       kSetTarget,
       kRelease,
-      kStartInitialization,
-      kStartAutoCalibration,
+      kStartCalibration,
       kEndCalibration,
     };
     Kind kind = Kind::kGrab;
     Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
-    InitializationEstimator* initializer = nullptr;  // kStartInitialization
-    AutoCalibrator* calibrator = nullptr;            // kStartAutoCalibration
+    CalibrationWizard* wizard = nullptr;  // kStartCalibration
+    const GravityMap* map = nullptr;      // kEndCalibration: hand over under this map, or none
   };
 
   void sendCommand(const Command& command);
@@ -189,30 +201,26 @@ class DemoSession {
   Eigen::Vector3d release_position_m_ = Eigen::Vector3d::Zero();
   std::int64_t release_tick_ = 0;
   Eigen::Vector3d last_position_m_ = Eigen::Vector3d::Zero();
-  InitializationEstimator::Status initialization_status_ =
-      InitializationEstimator::Status::kRampingIn;
-  AutoCalibrator::Status calibration_status_ = AutoCalibrator::Status::kIdle;
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
   ServoTiming timing_;
   bool timing_valid_ = false;
 
-  // Calibration objects: made on the UI thread while the servo thread does not use them, then
-  // handed over by a command; kept until the session ends so a late tick never sees them freed.
-  std::vector<std::unique_ptr<InitializationEstimator>> initializers_;
-  std::vector<std::unique_ptr<AutoCalibrator>> calibrators_;
-  InitializationEstimator* initializer_ = nullptr;  // servo thread's
-  AutoCalibrator* calibrator_ = nullptr;            // servo thread's
-  // UI side of the calibration hand-over.
-  UiCalibration ui_calibration_ = UiCalibration::kNone;
+  // Calibration wizards: made on the UI thread, handed to the servo thread by a command, kept
+  // until the session ends so that a late tick never sees one freed.
+  std::vector<std::unique_ptr<CalibrationWizard>> wizards_;
+  CalibrationWizard* wizard_ = nullptr;     // servo thread's
+  CalibrationWizard* wizard_ui_ = nullptr;  // UI thread's: the one running, null when none
+  WizardStatus wizard_status_;
+  WizardStep last_wizard_step_ = WizardStep::kCheck;
   bool compensation_before_calibration_ = true;
-  MapMetadata calibration_metadata_;
 
   SpscQueue<Command, 256> commands_;
   TripleBuffer<ServoSnapshot> snapshots_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> realtime_priority_{false};
+  std::atomic<bool> memory_locked_{false};
 };
 
 }  // namespace autograv::demo

@@ -1,5 +1,6 @@
 #include "demo_view.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -18,23 +19,46 @@ std::string format(const char* pattern, ...) {
   return text;
 }
 
-const char* initializationText(InitializationEstimator::Status status) {
-  switch (status) {
-    case InitializationEstimator::Status::kRampingIn:
-      return "FIELD RAMPING IN";
-    case InitializationEstimator::Status::kWaiting:
-      return "LET GO, WAITING TO SETTLE";
-    case InitializationEstimator::Status::kStillHeld:
-      return "STILL HELD: LET GO";
-    case InitializationEstimator::Status::kDone:
-      return "G0 FOUND";
-    case InitializationEstimator::Status::kDeviceFault:
-      return "DEVICE FAULT";
+std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+/// The calibration's lines of the readout: the step, its live numbers, what to do.
+void calibrationLines(const WizardStatus& c, std::vector<std::string>& lines) {
+  lines.push_back(format("CALIBRATION STEP %d OF %d: %s", c.step_number, WizardStatus::kStepCount,
+                         upperCase(c.title).c_str()));
+  switch (c.step) {
+    case WizardStep::kCentre:
+      lines.push_back(format("TO THE CENTRE %.1f MM (WITHIN %.0f MM%s)", c.centre_distance_m * 1e3,
+                             c.centre_tolerance_m * 1e3, c.within_tolerance ? ": ENTER" : ""));
+      break;
+    case WizardStep::kRelease:
+      lines.push_back(format("SAG %.1f MM  SPEED %.1f MM/S%s", c.sag_m * 1e3, c.speed_m_per_s * 1e3,
+                             c.still_held ? "  STILL HELD: LET GO" : ""));
+      break;
+    case WizardStep::kAutoCalibration:
+      lines.push_back(format("VERTEX %d OF %d  ITERATION %d  CONVERGED %d%s", c.vertex_ordinal,
+                             c.vertices_to_visit, c.iteration, c.converged,
+                             c.paused ? "  PAUSED (P)" : ""));
+      break;
+    case WizardStep::kReview:
+      if (c.review_valid) {
+        lines.push_back(format("CONVERGED %d OF %d  ITERATIONS %d-%d", c.review.converged,
+                               c.review.vertex_count, c.review.iterations_min,
+                               c.review.iterations_max));
+      }
+      break;
+    default:
+      break;
   }
-  return "?";
+  const std::string prompt = firstLine(c.prompt.empty() ? c.message : c.prompt);
+  if (!prompt.empty()) lines.push_back(upperCase(prompt));
 }
 
 }  // namespace
+
+std::string upperCase(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return text;
+}
 
 DemoView::DemoView(std::string device_name, double trail_s)
     : device_name_(std::move(device_name)), trail_s_(trail_s) {}
@@ -46,7 +70,8 @@ void DemoView::record(const ServoSnapshot& snapshot) {
 }
 
 std::vector<std::string> DemoView::readout(const ServoSnapshot& s, const GravityMap* map,
-                                           bool simulated_time) const {
+                                           bool simulated_time,
+                                           const WizardStatus* calibration) const {
   std::vector<std::string> lines;
   std::string first = device_name_;
   if (map != nullptr) {
@@ -83,32 +108,19 @@ std::vector<std::string> DemoView::readout(const ServoSnapshot& s, const Gravity
   } else {
     lines.push_back("NOT TOUCHED YET");
   }
-  switch (s.mode) {
-    case ServoMode::kApplication:
-      break;
-    case ServoMode::kInitializing:
-    case ServoMode::kInitialized:
-      lines.push_back(std::string("CALIBRATION: ") + initializationText(s.initialization));
-      break;
-    case ServoMode::kAutoCalibrating:
-      lines.push_back(format("CALIBRATION: %s VERTEX %d OF %d", toString(s.calibration),
-                             s.calibration_done, s.calibration_total));
-      break;
-    case ServoMode::kCalibrated:
-      lines.push_back("CALIBRATION: DONE, PUBLISHING THE MAP");
-      break;
-    case ServoMode::kHandover:
-      lines.push_back("CALIBRATION: DONE, COMPENSATION TAKING OVER");
-      break;
+  if (calibration != nullptr) {
+    calibrationLines(*calibration, lines);
+  } else if (s.mode == ServoMode::kHandover) {
+    lines.push_back("CALIBRATION: DONE, COMPENSATION TAKING OVER");
   }
   return lines;
 }
 
 gl::Scene DemoView::build(const ServoSnapshot& s, std::shared_ptr<const GravityMap> map,
                           const gl::OrbitCamera& camera, bool simulated_time,
-                          const std::string& status_line) const {
+                          const std::string& status_line, const WizardStatus* calibration) const {
   gl::Scene scene;
-  scene.readout = readout(s, map.get(), simulated_time);
+  scene.readout = readout(s, map.get(), simulated_time, calibration);
   scene.map = std::move(map);
   scene.camera = camera;
   scene.show_cursor = s.sample_valid || s.ticks == 0;

@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <thread>
 
 #include "autograv/error.h"
+#include "autograv/map_io.h"
 
 #include "allocation_counter.h"
 #include "autograv/sim/simulated_device.h"
@@ -142,28 +147,91 @@ TEST(DemoSessionTest, ServoTicksAllocateNothing) {
   EXPECT_TRUE(session.snapshot().released);
 }
 
-TEST(DemoSessionTest, AutoCalibrationPublishesAMapThatHoldsTheEndEffector) {
+/// A scratch directory of its own for each test, removed at the end.
+class ScratchDirectory {
+ public:
+  ScratchDirectory() {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            ("autograv_demo_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// A 3x3x3 calibration saving into `map_path`, with one release test.
+SessionOptions calibrationOptions(const std::string& map_path) {
   SessionOptions options;
   options.calibration_resolution = 3;  // 27 vertices: the whole procedure, quickly
-  DemoSession session(options);
+  options.calibration_map_path = map_path;
+  options.calibration_verify_points = 1;
+  return options;
+}
+
+/// The user at the demo: the mouse hand carries the end-effector to the centre and Enter
+/// confirms there; the mouse lets go once the field is on; Enter saves at the review.
+/// `stop_when` ends the run early (true: stop). Returns the last status.
+template <typename StopWhen>
+WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when) {
+  for (int frame = 0; frame < 20000 && session.calibrationRunning(); ++frame) {
+    run(session, 0.01);
+    const WizardStatus& last = session.lastCalibrationStatus();
+    if (!session.calibrationRunning() || stop_when(last)) break;
+    if (last.step == WizardStep::kCentre) {
+      if (!session.snapshot().hand_holding) session.grab();
+      session.setHandTarget(last.centre_m);
+      if (last.within_tolerance) session.postCalibrationEvent(WizardEvent::kConfirm);
+    } else if (last.step == WizardStep::kRelease && session.snapshot().hand_holding &&
+               last.release_status != InitializationEstimator::Status::kRampingIn) {
+      session.release();
+    } else if (last.step == WizardStep::kReview && last.review_valid) {
+      session.postCalibrationEvent(WizardEvent::kConfirm);
+    }
+  }
+  return session.lastCalibrationStatus();
+}
+
+TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplication) {
+  const ScratchDirectory scratch;
+  const std::string map_path = scratch.file("map.json");
+  DemoSession session(calibrationOptions(map_path));
   EXPECT_FALSE(session.map());
   run(session, 0.2);
-  EXPECT_FALSE(session.startCalibration().empty());
+  EXPECT_NE(session.startCalibration().find("checkpoints go to " + map_path + ".partial"),
+            std::string::npos);
   EXPECT_TRUE(session.calibrationRunning());
-  run(session, 0.5);  // the field ramps in while the hand still holds it
-  EXPECT_EQ(session.snapshot().mode, ServoMode::kInitializing);
-  session.release();  // let go: the field alone holds it, eq. (7)
-  for (int i = 0; i < 120 && session.calibrationRunning(); ++i) run(session, 0.5);
-  ASSERT_FALSE(session.calibrationRunning()) << toString(session.snapshot().mode);
+  run(session, 0.01);
+  EXPECT_EQ(session.snapshot().mode, ServoMode::kCalibrating);
+  bool checkpointed = false;
+  const WizardStatus last = calibrateAsTheUser(session, [&](const WizardStatus& status) {
+    checkpointed = checkpointed || status.checkpoint_written;
+    return false;
+  });
+  ASSERT_FALSE(session.calibrationRunning()) << toString(last.step) << ": " << last.message;
+  EXPECT_EQ(last.step, WizardStep::kDone);
+  EXPECT_TRUE(checkpointed);  // finished vertices went to disk as the run went
+  EXPECT_FALSE(std::filesystem::exists(map_path + ".partial"));  // superseded by the map
+
+  // The saved file is the published map.
   const auto map = session.map();
   ASSERT_TRUE(map);
   EXPECT_EQ(map->grid().vertexCount(), 27);
   EXPECT_EQ(map->convergedCount(), 27);
   EXPECT_EQ(map->metadata().device_model, "sim:omega");
+  const GravityMap saved = loadMap(map_path);
   for (int i = 0; i < map->grid().vertexCount(); ++i) {
+    const auto index = static_cast<std::size_t>(i);
+    EXPECT_EQ(saved.vertices()[index].gravity_n, map->vertices()[index].gravity_n);
     const Eigen::Vector3d truth = session.simulation().trueGravity(map->grid().vertexPosition(i));
-    EXPECT_LT((map->vertices()[static_cast<std::size_t>(i)].gravity_n - truth).norm(),
-              0.02 * truth.norm());
+    EXPECT_LT((map->vertices()[index].gravity_n - truth).norm(), 0.02 * truth.norm());
   }
   // Back in the application loop with the new map: the end-effector stays where it was left.
   run(session, 1.0);
@@ -171,23 +239,52 @@ TEST(DemoSessionTest, AutoCalibrationPublishesAMapThatHoldsTheEndEffector) {
   EXPECT_EQ(s.mode, ServoMode::kApplication);
   EXPECT_TRUE(s.compensation_enabled);
   EXPECT_DOUBLE_EQ(s.compensation_level, 1.0);
+  EXPECT_FALSE(s.hand_holding);
   const Eigen::Vector3d before = s.position_m;
   run(session, 1.0);
   EXPECT_LT((session.snapshot().position_m - before).norm(), 0.002);
 }
 
-TEST(DemoSessionTest, AbortedCalibrationRestoresTheApplicationLoop) {
-  DemoSession session(SessionOptions{});
+TEST(DemoSessionTest, AbortedCalibrationKeepsItsVerticesAndTheNextOneResumes) {
+  const ScratchDirectory scratch;
+  const std::string map_path = scratch.file("map.json");
+  DemoSession session(calibrationOptions(map_path));
   session.publishMap(groundTruthMap(session));
   run(session, 0.6);
   session.startCalibration();
-  run(session, 0.3);
-  EXPECT_EQ(session.snapshot().mode, ServoMode::kInitializing);
+  const WizardStatus aborted_at = calibrateAsTheUser(session, [](const WizardStatus& status) {
+    return status.step == WizardStep::kAutoCalibration && status.converged >= 4;
+  });
+  ASSERT_EQ(aborted_at.step, WizardStep::kAutoCalibration);
   session.abortCalibration();
+  for (int i = 0; i < 100 && session.calibrationRunning(); ++i) run(session, 0.01);
+  ASSERT_FALSE(session.calibrationRunning());
   run(session, 0.6);
-  EXPECT_FALSE(session.calibrationRunning());
   EXPECT_EQ(session.snapshot().mode, ServoMode::kApplication);
-  EXPECT_TRUE(session.snapshot().compensation_enabled);
+  EXPECT_TRUE(session.snapshot().compensation_enabled);  // as before the calibration
+  ASSERT_TRUE(std::filesystem::exists(map_path + ".partial"));
+  const std::vector<VertexEstimate> checkpoint =
+      loadCheckpoint(map_path + ".partial", session.calibrationGrid(), "sim:omega");
+  const auto finished = std::count_if(checkpoint.begin(), checkpoint.end(), [](const auto& v) {
+    return v.outcome == VertexOutcome::kConverged;
+  });
+  EXPECT_GE(finished, 4);
+
+  // The next press of A resumes: the finished vertices are kept bit for bit.
+  EXPECT_NE(session.startCalibration().find("resuming"), std::string::npos);
+  const WizardStatus last = calibrateAsTheUser(session, [](const WizardStatus&) { return false; });
+  ASSERT_FALSE(session.calibrationRunning()) << toString(last.step) << ": " << last.message;
+  EXPECT_EQ(last.step, WizardStep::kDone);
+  EXPECT_GE(last.review.restored, 4);
+  const auto map = session.map();
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->convergedCount(), 27);
+  for (int i = 0; i < map->grid().vertexCount(); ++i) {
+    const auto index = static_cast<std::size_t>(i);
+    if (checkpoint[index].outcome == VertexOutcome::kConverged) {
+      EXPECT_EQ(map->vertices()[index].gravity_n, checkpoint[index].gravity_n);
+    }
+  }
 }
 
 TEST(DemoSessionTest, MapOfAnotherDeviceIsRefused) {

@@ -56,14 +56,33 @@ TEST(DemoViewTest, RealTimeReadoutShowsTheServoRateAndWorstBurst) {
 TEST(DemoViewTest, ReadoutFollowsHandAndCalibration) {
   ServoSnapshot s = floatingSnapshot();
   s.hand_holding = true;
-  s.mode = ServoMode::kAutoCalibrating;
-  s.calibration = AutoCalibrator::Status::kEstimating;
-  s.calibration_done = 4;
-  s.calibration_total = 27;
-  const auto lines = DemoView("X").readout(s, nullptr, true);
+  s.mode = ServoMode::kCalibrating;
+  WizardStatus calibration;
+  calibration.step = WizardStep::kAutoCalibration;
+  calibration.step_number = 4;
+  calibration.title = "Auto-calibration";
+  calibration.vertex_ordinal = 4;
+  calibration.vertices_to_visit = 27;
+  calibration.iteration = 2;
+  calibration.converged = 3;
+  calibration.paused = true;
+  calibration.prompt = "p resumes, q aborts\nsecond line";
+  const auto lines = DemoView("X").readout(s, nullptr, true, &calibration);
   EXPECT_TRUE(contains(lines, "HELD BY THE HAND"));
   EXPECT_FALSE(contains(lines, "DRIFT"));
-  EXPECT_TRUE(contains(lines, "CALIBRATION: estimating VERTEX 4 OF 27"));
+  EXPECT_TRUE(contains(lines, "CALIBRATION STEP 4 OF 7: AUTO-CALIBRATION"));
+  EXPECT_TRUE(contains(lines, "VERTEX 4 OF 27  ITERATION 2  CONVERGED 3  PAUSED (P)"));
+  EXPECT_TRUE(contains(lines, "P RESUMES, Q ABORTS"));
+  EXPECT_FALSE(contains(lines, "SECOND LINE"));  // one line of the prompt: the readout is short
+
+  calibration.step = WizardStep::kCentre;
+  calibration.step_number = 2;
+  calibration.title = "Centre";
+  calibration.centre_distance_m = 0.0042;
+  calibration.centre_tolerance_m = 0.01;
+  calibration.within_tolerance = true;
+  EXPECT_TRUE(contains(DemoView("X").readout(s, nullptr, true, &calibration),
+                       "TO THE CENTRE 4.2 MM (WITHIN 10 MM: ENTER)"));
 }
 
 TEST(DemoViewTest, TrailKeepsOnlyTheLastSecondsAndSceneCarriesTheState) {
