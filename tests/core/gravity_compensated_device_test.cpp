@@ -16,7 +16,6 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map_io.h"
-#include "core/map_interpolator.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -439,39 +438,6 @@ TEST(GravityCompensatedDeviceTest, FaultNamesAreStable) {
   EXPECT_STREQ(toString(ServoFault::kStalePosition), "stale_position");
   EXPECT_STREQ(toString(ServoFault::kWriteFailed), "write_failed");
   EXPECT_STREQ(toString(static_cast<ServoFault>(200)), "unknown");
-}
-
-TEST(GravityCompensatedDeviceTest, ServoLookupEqualsTheMapsOwnInterpolation) {
-  // The servo path uses a packed copy of the map (detail::MapInterpolator); it must give what
-  // GravityMap::gravityAt gives, inside the grid and clamped outside, on any grid.
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> value(-3.0, 3.0);
-  for (int resolution = 2; resolution <= 7; ++resolution) {
-    const WorkspaceGrid grid(Eigen::Vector3d(0.01, -0.02, 0.005), 0.07 + 0.01 * resolution,
-                             resolution);
-    std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
-    for (auto& vertex : vertices) {
-      vertex.gravity_n = Eigen::Vector3d(value(random), value(random), value(random));
-    }
-    MapMetadata metadata;
-    metadata.device_model = "fake:recording";
-    const auto map = std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
-    const detail::MapInterpolator lookup(map, 0.01);
-    std::uniform_real_distribution<double> coordinate(-0.1, 0.1);
-    for (int k = 0; k < 2000; ++k) {
-      const Eigen::Vector3d p(coordinate(random), coordinate(random), coordinate(random));
-      EXPECT_LT((lookup.gravityAt(p) - map->gravityAt(p)).cwiseAbs().maxCoeff(), 1e-12)
-          << "resolution " << resolution << " at " << p.transpose();
-      EXPECT_EQ(lookup.contains(p), grid.contains(p, 0.01));
-    }
-    for (int i = 0; i < grid.vertexCount(); ++i) {  // exact at the vertices
-      EXPECT_LT((lookup.gravityAt(grid.vertexPosition(i)) -
-                 map->vertices()[static_cast<std::size_t>(i)].gravity_n)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
-    }
-  }
 }
 
 // --- Map lifetime and real-time safety --------------------------------------------------------

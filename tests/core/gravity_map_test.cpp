@@ -1,5 +1,7 @@
 #include "autograv/gravity_map.h"
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -41,6 +43,64 @@ TEST(GravityMapTest, PointsOutsideAreClampedToTheBoundary) {
   const Eigen::Vector3d boundary(0.04, 0.0, -0.01);
   EXPECT_TRUE(map.gravityAt(outside).isApprox(map.gravityAt(boundary)));
   EXPECT_TRUE(map.gravityAt(Eigen::Vector3d::Constant(NAN)).allFinite());
+}
+
+// The textbook form of trilinear interpolation, eight weighted corners, for comparison.
+Eigen::Vector3d referenceTrilinear(const GravityMap& map, const Eigen::Vector3d& position_m) {
+  const WorkspaceGrid& grid = map.grid();
+  const int last = grid.resolution() - 1;
+  const Eigen::Vector3d cells = (position_m - grid.minCorner_m()) / grid.spacing_m();
+  int cell[3];
+  double t[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    const double clamped = std::clamp(cells[axis], 0.0, static_cast<double>(last));
+    cell[axis] = std::min(static_cast<int>(std::floor(clamped)), last - 1);
+    t[axis] = clamped - cell[axis];
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int corner = 0; corner < 8; ++corner) {
+    const int d[3] = {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1};
+    double weight = 1.0;
+    for (int axis = 0; axis < 3; ++axis) weight *= d[axis] ? t[axis] : 1.0 - t[axis];
+    const int index = grid.vertexIndex(cell[0] + d[0], cell[1] + d[1], cell[2] + d[2]);
+    sum += weight * map.vertices()[static_cast<std::size_t>(index)].gravity_n;
+  }
+  return sum;
+}
+
+TEST(GravityMapTest, LookupMatchesTheTextbookInterpolationAndTellsInsideFromOutside) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> value(-3.0, 3.0);
+  std::uniform_real_distribution<double> coordinate(-0.1, 0.1);
+  constexpr double kMargin_m = 0.01;
+  for (int resolution = 2; resolution <= 7; ++resolution) {
+    const WorkspaceGrid grid(Eigen::Vector3d(0.01, -0.02, 0.005), 0.07 + 0.01 * resolution,
+                             resolution);
+    std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+    for (auto& vertex : vertices) {
+      vertex.gravity_n = Eigen::Vector3d(value(random), value(random), value(random));
+    }
+    const GravityMap map(grid, std::move(vertices), MapMetadata{});
+    for (int k = 0; k < 2000; ++k) {
+      const Eigen::Vector3d p(coordinate(random), coordinate(random), coordinate(random));
+      bool inside = false;
+      const Eigen::Vector3d gravity_n = map.gravityAt(p, kMargin_m, inside);
+      EXPECT_LT((gravity_n - referenceTrilinear(map, p)).cwiseAbs().maxCoeff(), 1e-12)
+          << "resolution " << resolution << " at " << p.transpose();
+      EXPECT_EQ(gravity_n, map.gravityAt(p));
+      EXPECT_EQ(inside, grid.contains(p, kMargin_m)) << p.transpose();
+    }
+    for (int i = 0; i < grid.vertexCount(); ++i) {  // exact at the vertices
+      EXPECT_LT((map.gravityAt(grid.vertexPosition(i)) -
+                 map.vertices()[static_cast<std::size_t>(i)].gravity_n)
+                    .cwiseAbs()
+                    .maxCoeff(),
+                1e-12);
+    }
+    bool inside = true;
+    map.gravityAt(Eigen::Vector3d(NAN, 0.0, 0.0), kMargin_m, inside);
+    EXPECT_FALSE(inside);
+  }
 }
 
 TEST(GravityMapTest, QueriesAllocateNothing) {

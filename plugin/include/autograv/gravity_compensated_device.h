@@ -15,10 +15,6 @@
 
 namespace autograv {
 
-namespace detail {
-class MapInterpolator;
-}
-
 /// Why the decorator did not send the application's force plus compensation on a servo tick.
 enum class ServoFault : std::uint8_t {
   kNone,               ///< The tick was normal.
@@ -171,7 +167,7 @@ class GravityCompensatedDevice final : public HapticDevice {
  private:
   struct RetainedMap {
     std::uint64_t sequence;
-    std::shared_ptr<const detail::MapInterpolator> view;  // null when null was published
+    std::shared_ptr<const GravityMap> map;  // null when null was published
   };
 
   void takeNewMap() noexcept;
@@ -192,13 +188,13 @@ class GravityCompensatedDevice final : public HapticDevice {
   mutable std::mutex publish_mutex_;  // never taken by the servo thread
   std::vector<RetainedMap> retained_;
   std::uint64_t next_sequence_ = 1;
-  std::atomic<const detail::MapInterpolator*> published_{nullptr};
+  std::atomic<const GravityMap*> published_{nullptr};
   std::atomic<std::uint64_t> published_sequence_{0};
   std::atomic<std::uint64_t> acknowledged_sequence_{0};
 
   // Servo-thread state.
-  const detail::MapInterpolator* current_ = nullptr;
-  const detail::MapInterpolator* previous_ = nullptr;
+  const GravityMap* current_ = nullptr;
+  const GravityMap* previous_ = nullptr;
   std::uint64_t taken_sequence_ = 0;
   std::uint64_t acknowledged_local_ = 0;
   int blend_ticks_ = 0;

@@ -72,6 +72,12 @@ class GravityMap {
   /// Real-time safe: no allocation, no lock, no throw.
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
 
+  /// The same, and whether `position_m` lies within the grid grown by `margin_m` on every side
+  /// (false for a NaN coordinate): how the compensation tells a position it may trust the map
+  /// at from one it should not. Units: [m], [N]. Real-time safe.
+  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m,
+                            bool& inside) const noexcept;
+
   /// Vertices whose outcome is kConverged.
   int convergedCount() const noexcept;
   /// True when every vertex has converged.
@@ -81,6 +87,13 @@ class GravityMap {
   WorkspaceGrid grid_;
   std::vector<VertexEstimate> vertices_;
   MapMetadata metadata_;
+  // The lookup's view of the grid, computed once: no division per query.
+  Eigen::Vector3d min_corner_m_;
+  double inverse_spacing_per_m_;  ///< Unit: [1/m]
+  double last_cell_;              ///< resolution - 1. Unit: [cells]
+  /// The estimates again, zero-padded to four components in one aligned array: the lookup reads
+  /// eight neighbours from it on whole SIMD packets. Unit: [N]
+  std::vector<Eigen::Vector4d> packed_gravity_n_;
 };
 
 }  // namespace autograv

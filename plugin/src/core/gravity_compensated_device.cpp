@@ -7,7 +7,6 @@
 #include <utility>
 
 #include "autograv/error.h"
-#include "map_interpolator.h"
 
 namespace autograv {
 
@@ -149,9 +148,10 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   if (level > 0) {  // always the case while enabled
     bool inside = true;
     // The usual case inline: one map and no fade in progress.
-    const Eigen::Vector3d gravity_n = previous_ == nullptr && current_ != nullptr
-                                          ? current_->gravityAt(position_m, inside)
-                                          : compensation(position_m, inside);
+    const Eigen::Vector3d gravity_n =
+        previous_ == nullptr && current_ != nullptr
+            ? current_->gravityAt(position_m, options_.outside_margin_m, inside)
+            : compensation(position_m, inside);
     // Beyond the map, the clamped boundary value is a guess: refuse it, except while fading out.
     if (enabled && !inside) return fault(ServoFault::kOutsideMap);
     commanded_n += (static_cast<double>(level) / ramp_ticks_) * gravity_n;
@@ -181,7 +181,7 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
     const std::uint64_t sequence = published_sequence_.load(std::memory_order_acquire);
     if (sequence != taken_sequence_) {
       // Read after the sequence number: this is the map of that publication or a newer one.
-      const detail::MapInterpolator* map = published_.load(std::memory_order_acquire);
+      const GravityMap* map = published_.load(std::memory_order_acquire);
       taken_sequence_ = sequence;
       if (map != current_) {
         previous_ = current_;
@@ -205,13 +205,16 @@ Eigen::Vector3d GravityCompensatedDevice::compensation(const Eigen::Vector3d& po
                                                        bool& inside) const noexcept {
   inside = true;
   if (previous_ == nullptr) {
-    return current_ != nullptr ? current_->gravityAt(position_m, inside) : Eigen::Vector3d::Zero();
+    return current_ != nullptr ? current_->gravityAt(position_m, options_.outside_margin_m, inside)
+                               : Eigen::Vector3d::Zero();
   }
   const double weight = static_cast<double>(blend_ticks_) / ramp_ticks_;
-  Eigen::Vector3d gravity_n = (1.0 - weight) * previous_->gravityAt(position_m, inside);
+  Eigen::Vector3d gravity_n =
+      (1.0 - weight) * previous_->gravityAt(position_m, options_.outside_margin_m, inside);
   if (current_ != nullptr) {
     bool inside_current = true;
-    gravity_n += weight * current_->gravityAt(position_m, inside_current);
+    gravity_n +=
+        weight * current_->gravityAt(position_m, options_.outside_margin_m, inside_current);
     inside = inside && inside_current;
   }
   return gravity_n;
@@ -276,16 +279,11 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
                   "'; calibrate this device, or allow the mismatch explicitly");
     }
   }
-  // Built here, on the publishing thread, because it allocates.
-  std::shared_ptr<const detail::MapInterpolator> view;
-  if (map)
-    view =
-        std::make_shared<const detail::MapInterpolator>(std::move(map), options_.outside_margin_m);
   {
     const std::lock_guard<std::mutex> lock(publish_mutex_);
     const std::uint64_t sequence = next_sequence_++;
-    const detail::MapInterpolator* raw = view.get();
-    retained_.push_back(RetainedMap{sequence, std::move(view)});
+    const GravityMap* raw = map.get();
+    retained_.push_back(RetainedMap{sequence, std::move(map)});
     published_.store(raw, std::memory_order_release);
     published_sequence_.store(sequence, std::memory_order_release);
   }
@@ -294,8 +292,8 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
 
 std::shared_ptr<const GravityMap> GravityCompensatedDevice::publishedMap() const {
   const std::lock_guard<std::mutex> lock(publish_mutex_);
-  if (retained_.empty() || !retained_.back().view) return nullptr;
-  return retained_.back().view->map();
+  if (retained_.empty()) return nullptr;
+  return retained_.back().map;
 }
 
 std::size_t GravityCompensatedDevice::reclaimRetiredMaps() {

@@ -49,28 +49,42 @@ bool parseVertexOutcome(const std::string& name, VertexOutcome& outcome) noexcep
 
 GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
                        MapMetadata metadata)
-    : grid_(std::move(grid)), vertices_(std::move(vertices)), metadata_(std::move(metadata)) {
+    : grid_(std::move(grid)),
+      vertices_(std::move(vertices)),
+      metadata_(std::move(metadata)),
+      min_corner_m_(grid_.minCorner_m()),
+      inverse_spacing_per_m_(1.0 / grid_.spacing_m()),
+      last_cell_(grid_.resolution() - 1) {
   if (static_cast<int>(vertices_.size()) != grid_.vertexCount()) {
     std::ostringstream message;
     message << "gravity map: " << vertices_.size() << " vertex estimates for a grid of "
             << grid_.vertexCount() << " vertices (" << grid_.resolution() << "^3)";
     throw Error(message.str());
   }
+  packed_gravity_n_.reserve(vertices_.size());
   for (std::size_t i = 0; i < vertices_.size(); ++i) {
-    if (!vertices_[i].gravity_n.allFinite()) {
+    const Eigen::Vector3d& gravity_n = vertices_[i].gravity_n;
+    if (!gravity_n.allFinite()) {
       std::ostringstream message;
       message << "gravity map: vertex " << i << " has a non-finite gravity estimate";
       throw Error(message.str());
     }
+    packed_gravity_n_.emplace_back(gravity_n.x(), gravity_n.y(), gravity_n.z(), 0.0);
   }
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m) const noexcept {
-  const detail::TrilinearGrid grid(grid_);
-  return detail::interpolateTrilinear(grid, grid.toCells(position_m),
-                                      [this](int index) -> const Eigen::Vector3d& {
-                                        return vertices_[static_cast<std::size_t>(index)].gravity_n;
-                                      });
+  const Eigen::Vector3d cells = (position_m - min_corner_m_) * inverse_spacing_per_m_;
+  return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
+}
+
+Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m, double margin_m,
+                                      bool& inside) const noexcept {
+  const Eigen::Vector3d cells = (position_m - min_corner_m_) * inverse_spacing_per_m_;
+  const double margin_cells = margin_m * inverse_spacing_per_m_;
+  inside =
+      (cells.array() >= -margin_cells).all() && (cells.array() <= last_cell_ + margin_cells).all();
+  return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
 }
 
 int GravityMap::convergedCount() const noexcept {
