@@ -229,10 +229,10 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
       {"verify", verify},
       {"max_drift_m", status.max_drift_m},
       {"simulated_seconds", status.time_s},
-      {"parameters", parametersJson(options.parameters)}};
+      {"parameters", parametersJson(wizard.config().parameters)}};
 }
 
-void runWizardCommand(const WizardOptions& options) {
+void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   const bool interactive = interactiveTerminal();
   if (!interactive && !options.auto_hand) {
     throw Error(
@@ -249,11 +249,12 @@ void runWizardCommand(const WizardOptions& options) {
   config.grid_center_m = device->workspaceCenter_m();
   // The default grid of `autograv calibrate`, so that either command resumes the other's run.
   const double radius_m = device->specifications().workspace_radius_m;
-  config.grid_side_m = options.side_mm > 0.0
-                           ? options.side_mm * 1e-3
-                           : defaultGridSide_m(radius_m);
+  config.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : defaultGridSide_m(radius_m);
   config.grid_resolution = options.grid > 0 ? options.grid : 5;
   config.parameters = options.parameters;
+  // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
+  // buzz in the field instead of settling.
+  applyDeviceDefaults(command, config.parameters, device->specifications());
   config.map_path = options.out_path;
   config.resume = options.resume;
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
@@ -398,7 +399,7 @@ void addWizardCommand(CLI::App& app) {
                     "Start the simulated device un-homed (to see the Check step stop)");
   command->add_option("--report", options->report_path, "Write a JSON report here");
   addEstimationOptions(*command, options->parameters);
-  command->callback([options] { runWizardCommand(*options); });
+  command->callback([options, command] { runWizardCommand(*options, *command); });
 }
 
 }  // namespace

@@ -23,11 +23,8 @@ namespace {
 const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 const std::string kPtyRunner = AUTOGRAV_SOURCE_DIR "/tests/integration/wizard_pty_run.sh";
 
-// A small grid on the Omni-like arm. Its joint encoders make the estimated speed of an
-// end-effector at rest jitter by a few mm/s, so the steady-state threshold is raised to 10 mm/s
-// (the paper's 0.1 mm/s is for the Omega). --speed 0: simulated time as fast as possible.
-const std::string kRunOptions =
-    " --device sim:omni --auto-hand --grid 2 --side-mm 40 --eps-s 10 --seed 3";
+// A small grid on the Omni-like arm, with the paper's thresholds and the device-aware k0.
+const std::string kRunOptions = " --device sim:omni --auto-hand --grid 2 --side-mm 40 --seed 3";
 // The same on the Omega-like point mass, for the run `autograv calibrate` resumes.
 const std::string kOmegaOptions = " --device sim:omega --auto-hand --grid 2 --side-mm 40 --seed 3";
 
