@@ -118,7 +118,7 @@ HeadlessResult runHeadlessFrames(const DemoOptions& options) {
   return result;
 }
 
-ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds) {
+RealTimeCheck runRealTimeCheck(const DemoOptions& options, double seconds) {
   const HandScript script = loadScript(options);
   auto session = makeSession(options, script);
   gl::OffscreenContext context(options.width > 0 ? options.width : 800,
@@ -128,6 +128,8 @@ ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds) {
   gl::Renderer renderer(context, renderer_options);
   DemoView view(upperCase(options.device));
   const gl::OrbitCamera camera = initialCamera(*session);
+  // The reference loop first, so that both run through the whole measurement.
+  ReferenceLoop reference(std::llround(options.session.servo_period_s * 1e9));
   session->startRealTime();
   // Render at a window's pace meanwhile: the servo thread must hold its rate under that load.
   const auto frame_period = std::chrono::microseconds(1000000 / kHeadlessFramesPerSecond);
@@ -143,10 +145,15 @@ ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds) {
     std::this_thread::sleep_until(std::min(next_frame, end));
   }
   session->stopRealTime();
-  ServoSnapshot last = session->snapshot();
-  std::printf("real-time check: servo thread %s SCHED_FIFO\n",
-              session->realtimePriority() ? "at" : "without (not permitted here, normal priority)");
-  return last;
+  RealTimeCheck check;
+  check.reference = reference.stop();
+  check.last_snapshot = session->snapshot();
+  check.realtime_priority = session->realtimePriority();
+  check.memory_locked = session->memoryLocked();
+  std::printf("real-time check: servo thread %s SCHED_FIFO, memory %s\n",
+              check.realtime_priority ? "at" : "without (not permitted here, normal priority)",
+              check.memory_locked ? "locked" : "not locked (not permitted here)");
+  return check;
 }
 
 int runWindowed(const DemoOptions& options) {

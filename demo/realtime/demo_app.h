@@ -47,10 +47,18 @@ struct HeadlessResult {
 /// autograv::Error. Not real-time safe.
 HeadlessResult runHeadlessFrames(const DemoOptions& options);
 
+/// What runRealTimeCheck measured.
+struct RealTimeCheck {
+  ServoSnapshot last_snapshot;  ///< The servo loop's state and timing at the end.
+  /// An empty loop paced beside it at the same priority: what the machine alone imposes.
+  ServoTiming::Report reference;
+  bool realtime_priority = false;  ///< The servo thread got SCHED_FIFO.
+  bool memory_locked = false;      ///< mlockall succeeded.
+};
 /// The servo thread at 1 kHz on the wall clock for `seconds`, with the same device, map and
-/// script, while this thread renders offscreen frames as a window would. Returns the last
-/// snapshot (its timing field holds the statistics). Throws autograv::Error. Not real-time safe.
-ServoSnapshot runRealTimeCheck(const DemoOptions& options, double seconds);
+/// script, while this thread renders offscreen frames as a window would, and a ReferenceLoop
+/// beside it. Throws autograv::Error. Not real-time safe.
+RealTimeCheck runRealTimeCheck(const DemoOptions& options, double seconds);
 
 /// The interactive program: a GLFW window, the servo thread at 1 kHz, the mouse as the hand.
 /// Returns the process exit code. Throws autograv::Error. Not real-time safe.

@@ -1,11 +1,6 @@
 #include "demo_session.h"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/mman.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -14,14 +9,6 @@
 #include "autograv/servo_sample.h"
 
 namespace autograv::demo {
-
-namespace {
-
-std::int64_t steadyNanoseconds(std::chrono::steady_clock::time_point time) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
-}
-
-}  // namespace
 
 const char* toString(ServoMode mode) noexcept {
   switch (mode) {
@@ -338,29 +325,14 @@ void DemoSession::stopRealTime() {
 
 void DemoSession::servoThreadMain() {
   if (options_.realtime_priority) {
-    sched_param parameter{};
-    parameter.sched_priority = std::min(80, sched_get_priority_max(SCHED_FIFO));
-    realtime_priority_.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &parameter) == 0);
-    // A page fault in the servo loop waits for the memory map, which the renderer's threads
-    // hold while they map and unmap their buffers: keep every page resident (where permitted)
-    // and touch the stack the loop will use before the first deadline.
-    memory_locked_.store(mlockall(MCL_CURRENT | MCL_FUTURE) == 0);
-    volatile unsigned char stack[256 * 1024];
-    for (std::size_t i = 0; i < sizeof stack; i += 4096) stack[i] = 0;
+    bool memory_locked = false;
+    realtime_priority_.store(enterRealTime(memory_locked));
+    memory_locked_.store(memory_locked);
   }
-  const auto period = std::chrono::nanoseconds(std::llround(options_.servo_period_s * 1e9));
-  timing_ = ServoTiming(period.count());
+  const auto period_ns = std::llround(options_.servo_period_s * 1e9);
+  timing_ = ServoTiming(period_ns);
   timing_valid_ = true;
-  const auto start = std::chrono::steady_clock::now() + period;
-  for (std::int64_t k = 0; !stop_.load(std::memory_order_relaxed); ++k) {
-    // Absolute deadlines: a late tick does not push the ones after it.
-    const auto deadline = start + k * period;
-    std::this_thread::sleep_until(deadline);
-    const std::int64_t start_ns = steadyNanoseconds(std::chrono::steady_clock::now());
-    timing_.record(steadyNanoseconds(deadline), start_ns);
-    tick();
-    timing_.recordWork(steadyNanoseconds(std::chrono::steady_clock::now()) - start_ns);
-  }
+  runPaced(period_ns, stop_, timing_, [this] { tick(); });
 }
 
 }  // namespace autograv::demo

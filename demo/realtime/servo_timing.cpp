@@ -1,6 +1,11 @@
 #include "servo_timing.h"
 
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
 #include <algorithm>
+#include <cstddef>
 
 namespace autograv::demo {
 
@@ -44,6 +49,34 @@ ServoTiming::Report ServoTiming::report() const noexcept {
   report.max_tick_ms = static_cast<double>(max_work_ns_) * 1e-6;
   report.mean_lateness_ms = sum_lateness_ns_ / static_cast<double>(ticks_) * 1e-6;
   return report;
+}
+
+bool enterRealTime(bool& memory_locked) noexcept {
+  sched_param parameter{};
+  parameter.sched_priority = std::min(80, sched_get_priority_max(SCHED_FIFO));
+  const bool realtime = pthread_setschedparam(pthread_self(), SCHED_FIFO, &parameter) == 0;
+  memory_locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+  volatile unsigned char stack[256 * 1024];
+  for (std::size_t i = 0; i < sizeof stack; i += 4096) stack[i] = 0;
+  return realtime;
+}
+
+ReferenceLoop::ReferenceLoop(std::int64_t period_ns) : timing_(period_ns) {
+  thread_ = std::thread([this, period_ns] {
+    bool memory_locked = false;
+    realtime_ = enterRealTime(memory_locked);
+    runPaced(period_ns, stop_, timing_, [] {});
+  });
+}
+
+ReferenceLoop::~ReferenceLoop() { stop(); }
+
+ServoTiming::Report ReferenceLoop::stop() {
+  if (thread_.joinable()) {
+    stop_.store(true);
+    thread_.join();
+  }
+  return timing_.report();
 }
 
 }  // namespace autograv::demo

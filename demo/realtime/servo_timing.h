@@ -1,6 +1,9 @@
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <thread>
 
 namespace autograv::demo {
 
@@ -48,6 +51,58 @@ class ServoTiming {
   double sum_lateness_ns_ = 0.0;
   bool in_burst_ = false;
   std::int64_t burst_start_ns_ = 0;
+};
+
+/// Raises the calling thread to SCHED_FIFO (priority 80, or the system's highest below it) and
+/// keeps the process's memory resident, where the system permits either, then touches the stack
+/// the loop will use: a page fault in a servo loop waits on the memory map, which other threads
+/// hold while they map buffers. Returns true when SCHED_FIFO was granted; `memory_locked` tells
+/// whether mlockall succeeded. Not real-time safe (call once, before the loop).
+bool enterRealTime(bool& memory_locked) noexcept;
+
+/// Runs `tick()` on absolute deadlines (start + k period, steady clock) until `stop` is set,
+/// recording each tick's start and work in `timing`: a late tick does not push the ones after
+/// it. Runs on the calling thread.
+template <typename Tick>
+void runPaced(std::int64_t period_ns, const std::atomic<bool>& stop, ServoTiming& timing,
+              Tick&& tick) {
+  using Clock = std::chrono::steady_clock;
+  const auto nanoseconds = [](Clock::time_point time) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
+  };
+  const auto period = std::chrono::nanoseconds(period_ns);
+  const auto start = Clock::now() + period;
+  for (std::int64_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
+    const auto deadline = start + k * period;
+    std::this_thread::sleep_until(deadline);
+    const std::int64_t start_ns = nanoseconds(Clock::now());
+    timing.record(nanoseconds(deadline), start_ns);
+    tick();
+    timing.recordWork(nanoseconds(Clock::now()) - start_ns);
+  }
+}
+
+/// A thread paced like the servo loop and at its priority, with nothing to do: its misses are
+/// what this machine imposes on any real-time thread (other load, a virtual machine's CPU
+/// scheduling), the baseline against which the servo loop's figures are read. Started by the
+/// constructor. Not real-time safe.
+class ReferenceLoop {
+ public:
+  explicit ReferenceLoop(std::int64_t period_ns);
+  ~ReferenceLoop();
+  ReferenceLoop(const ReferenceLoop&) = delete;
+  ReferenceLoop& operator=(const ReferenceLoop&) = delete;
+
+  /// Stops the thread and returns its statistics.
+  ServoTiming::Report stop();
+  /// True when the thread got SCHED_FIFO (valid after stop()).
+  bool realtimePriority() const noexcept { return realtime_; }
+
+ private:
+  ServoTiming timing_;
+  std::atomic<bool> stop_{false};
+  bool realtime_ = false;
+  std::thread thread_;
 };
 
 }  // namespace autograv::demo

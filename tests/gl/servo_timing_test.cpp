@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <thread>
+
 #include "lock_free.h"
 
 namespace autograv::demo {
@@ -83,6 +87,29 @@ TEST(LockFreeTest, TripleBufferGivesTheLatestValue) {
   buffer.writeSlot() = 3;
   buffer.publish();
   EXPECT_EQ(buffer.read(), 3);
+}
+
+TEST(ServoTimingTest, RunPacedTicksOnItsDeadlinesUntilStopped) {
+  // Behaviour, not speed: every tick is recorded with its work, and setting the flag ends the loop.
+  std::atomic<bool> stop{false};
+  ServoTiming timing(1'000'000);
+  int ticks = 0;
+  runPaced(1'000'000, stop, timing, [&] {
+    if (++ticks == 5) stop.store(true);
+  });
+  EXPECT_EQ(ticks, 5);
+  const ServoTiming::Report report = timing.report();
+  EXPECT_EQ(report.ticks, 5);
+  EXPECT_GE(report.elapsed_s, 0.0035);  // four periods between the first and the last start
+}
+
+TEST(ServoTimingTest, ReferenceLoopRunsUntilStoppedAndReportsItsTicks) {
+  ReferenceLoop reference(1'000'000);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const ServoTiming::Report report = reference.stop();
+  EXPECT_GT(report.ticks, 0);
+  EXPECT_EQ(reference.stop().ticks, report.ticks);  // stopped for good
+  EXPECT_LT(report.max_tick_ms, 1.0);               // an empty tick
 }
 
 }  // namespace
