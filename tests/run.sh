@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds autograv and runs every test: the full suite (VTK scene tests under xvfb-run, the OSMesa
-# renderer with no display at all), then the suite again under AddressSanitizer +
-# UndefinedBehaviorSanitizer, then the concurrency test under ThreadSanitizer.
+# renderer with no display at all), the CHAI3D bridge against its stand-in headers, then the
+# suite again under AddressSanitizer + UndefinedBehaviorSanitizer, then the concurrency tests
+# under ThreadSanitizer.
 # Installs missing Debian packages first. Usage: bash tests/run.sh   (from anywhere)
 set -euo pipefail
 
@@ -23,6 +24,13 @@ step "tests that need no display (core, sim, wizard, OSMesa renderer)"
 
 step "VTK scene tests under xvfb-run"
 (cd build/release && xvfb-run -a -s "-screen 0 1600x1200x24" ctest --output-on-failure -j "$jobs" -L xvfb)
+
+step "CHAI3D bridge against the stand-in of CHAI3D 3.3's API (CHAI3D is not packaged in Debian)"
+cmake -S . -B build/chai3d-mock -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_WARNINGS_AS_ERRORS=ON \
+  -DAUTOGRAV_CHAI3D_DIR="$root/plugin/chai3d/test_mock" \
+  -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
+cmake --build build/chai3d-mock -j "$jobs" --target chai3d_bridge_test
+build/chai3d-mock/plugin/chai3d/chai3d_bridge_test
 
 step "AddressSanitizer + UndefinedBehaviorSanitizer build of core, sim and their tests"
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \

@@ -49,7 +49,13 @@ bool Chai3dDeviceAdapter::open() {
 
 bool Chai3dDeviceAdapter::close() { return device_->close(); }
 
-bool Chai3dDeviceAdapter::calibrate(bool force) { return device_->calibrate(force); }
+bool Chai3dDeviceAdapter::calibrate(bool force) {
+  last_error_.clear();
+  if (!device_->calibrate(force)) return false;
+  // A Force Dimension calibration re-initialises the device through the SDK; apply the policy
+  // again so that the vendor's compensation cannot come back on behind ours.
+  return applyVendorGravityCompensation(device_->getSpecifications(), vendor_, last_error_);
+}
 
 bool Chai3dDeviceAdapter::getPosition(Eigen::Vector3d& position_m) {
   ::chai3d::cVector3d position;

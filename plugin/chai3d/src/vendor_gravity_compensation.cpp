@@ -30,7 +30,7 @@ bool applyVendorGravityCompensation(const ::chai3d::cHapticDeviceInfo& info,
   error = "the " + info.m_modelName +
           " runs Force Dimension's own gravity compensation, which would add to autograv's, and "
           "this build of the bridge cannot call the Force Dimension SDK (dhdc.h was not found in "
-          "CHAI3D's external/DHD/include); call dhdSetGravityCompensation(DHD_OFF) after open() "
+          "CHAI3D's externals/DHD/include); call dhdSetGravityCompensation(DHD_OFF) after open() "
           "and use VendorGravityCompensation::kLeaveAsIs";
   return false;
 #endif

@@ -72,7 +72,7 @@ class ScriptedDevice : public chai3d::cGenericHapticDevice {
     return true;
   }
   bool getTransform(chai3d::cTransform& a_transform) override {
-    a_transform.m_position = cVector3d(7.0, 8.0, 9.0);
+    a_transform.set(cVector3d(7.0, 8.0, 9.0), chai3d::cMatrix3d());
     return true;
   }
   bool getGripperAngleRad(double& a_angle) override {
@@ -259,7 +259,7 @@ TEST(Chai3dBridgeTest, EveryOtherVirtualMethodIsForwarded) {
   EXPECT_EQ(v.y(), 2.0);
   chai3d::cTransform transform;
   ASSERT_TRUE(device->getTransform(transform));
-  EXPECT_EQ(transform.m_position.x(), 7.0);
+  EXPECT_EQ(transform.getLocalPos().x(), 7.0);
   double value = 0.0;
   ASSERT_TRUE(device->getGripperAngleRad(value));
   EXPECT_EQ(value, 0.4);
@@ -312,6 +312,20 @@ TEST(Chai3dBridgeTest, ForceDimensionCompensationIsSwitchedOffOnOpen) {
   EXPECT_EQ(mockDhdState().calls, 1);
   EXPECT_EQ(mockDhdState().last_value, DHD_OFF);
   EXPECT_EQ(mockDhdState().last_id, -1);
+}
+
+TEST(Chai3dBridgeTest, ACalibrationSwitchesItOffAgain) {
+  // The SDK re-initialises a Force Dimension device when it calibrates.
+  mockDhdState() = MockDhdState{};
+  auto device = cGravityCompensatedDevice::create(
+      std::make_shared<ScriptedDevice>("Force Dimension"), noRamp());
+  ASSERT_TRUE(device->open());
+  ASSERT_TRUE(device->calibrate(true));
+  EXPECT_EQ(mockDhdState().calls, 2);
+  EXPECT_EQ(mockDhdState().last_value, DHD_OFF);
+  mockDhdState().result = -1;  // and a failure there fails the calibration, with the reason
+  EXPECT_FALSE(device->calibrate(true));
+  EXPECT_NE(device->lastError().find("dhdSetGravityCompensation"), std::string::npos);
 }
 
 TEST(Chai3dBridgeTest, OtherDevicesAndLeaveAsIsTouchNothing) {

@@ -50,30 +50,39 @@ struct cMatrix3d {
   double m_data[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
 };
 
-struct cTransform {
+// CHAI3D's cTransform keeps a 4x4 matrix; the bridge only needs set() and the two getters.
+class cTransform {
+ public:
   void set(const cVector3d& a_position, const cMatrix3d& a_rotation) {
     m_position = a_position;
     m_rotation = a_rotation;
   }
+  cVector3d getLocalPos() const { return m_position; }
+  cMatrix3d getLocalRot() const { return m_rotation; }
+
+ private:
   cVector3d m_position;
   cMatrix3d m_rotation;
 };
 
+// The device list of CHAI3D 3.3 (3.2 had OMEGA_6, OMEGA_7, SIGMA_6P, SIGMA_7, XTH_1, ...).
 enum cHapticDeviceModel {
   C_HAPTIC_DEVICE_VIRTUAL,
   C_HAPTIC_DEVICE_DELTA_3,
   C_HAPTIC_DEVICE_DELTA_6,
   C_HAPTIC_DEVICE_OMEGA_3,
-  C_HAPTIC_DEVICE_OMEGA_6,
-  C_HAPTIC_DEVICE_OMEGA_7,
-  C_HAPTIC_DEVICE_SIGMA_6P,
-  C_HAPTIC_DEVICE_SIGMA_7,
+  C_HAPTIC_DEVICE_OMEGA_6L,
+  C_HAPTIC_DEVICE_OMEGA_6R,
+  C_HAPTIC_DEVICE_OMEGA_7L,
+  C_HAPTIC_DEVICE_OMEGA_7R,
+  C_HAPTIC_DEVICE_SIGMA_6L,
+  C_HAPTIC_DEVICE_SIGMA_6R,
+  C_HAPTIC_DEVICE_SIGMA_7L,
+  C_HAPTIC_DEVICE_SIGMA_7R,
+  C_HAPTIC_DEVICE_LAMBDA_7L,
+  C_HAPTIC_DEVICE_LAMBDA_7R,
   C_HAPTIC_DEVICE_FALCON,
-  C_HAPTIC_DEVICE_XTH_1,
-  C_HAPTIC_DEVICE_XTH_2,
   C_HAPTIC_DEVICE_MPR,
-  C_HAPTIC_DEVICE_KSD_1,
-  C_HAPTIC_DEVICE_VIC_1,
   C_HAPTIC_DEVICE_PHANTOM_TOUCH,
   C_HAPTIC_DEVICE_PHANTOM_OMNI,
   C_HAPTIC_DEVICE_PHANTOM_DESKTOP,
@@ -138,7 +147,15 @@ class cGenericHapticDevice : public cGenericDevice {
       : cGenericDevice(a_deviceNumber),
         m_prevGripperForce(0.0),
         m_gripperAngularVelocity(0.0),
-        m_gripperUserSwitchEnabled(false) {}
+        m_gripperUserSwitchEnabled(false) {
+    // CHAI3D's constructor fills in a placeholder device: a subclass that forgets to set its
+    // specifications reports these.
+    m_specifications.m_manufacturerName = "CHAI3D";
+    m_specifications.m_modelName = "no device";
+    m_specifications.m_maxLinearForce = 0.1;
+    m_specifications.m_maxLinearStiffness = 0.1;
+    m_specifications.m_workspaceRadius = 0.1;
+  }
   virtual ~cGenericHapticDevice() {}
 
   virtual bool open() { return C_ERROR; }
@@ -170,9 +187,10 @@ class cGenericHapticDevice : public cGenericDevice {
   virtual bool getTransform(cTransform& a_transform) {
     cVector3d position;
     cMatrix3d rotation;
-    const bool ok = getPosition(position) && getRotation(rotation);
+    const bool position_ok = getPosition(position);
+    const bool rotation_ok = getRotation(rotation);
     a_transform.set(position, rotation);
-    return ok;
+    return position_ok || rotation_ok;  // CHAI3D: either reading counts as success
   }
   virtual bool getGripperAngleRad(double& a_angle) {
     a_angle = 0.0;
@@ -195,9 +213,13 @@ class cGenericHapticDevice : public cGenericDevice {
     return m_deviceReady;
   }
   virtual bool getUserSwitch(int a_switchIndex, bool& a_status) {
-    (void)a_switchIndex;
-    a_status = false;
-    return m_deviceReady;
+    unsigned int switches = 0;
+    if (!getUserSwitches(switches)) {
+      a_status = false;
+      return C_ERROR;
+    }
+    a_status = (switches >> a_switchIndex) & 1u;
+    return C_SUCCESS;
   }
   virtual bool getUserSwitches(unsigned int& a_userSwitches) {
     a_userSwitches = 0;

@@ -1,6 +1,6 @@
 // A minimal stand-in for the one Force Dimension SDK call the autograv bridge makes
 // (dhdSetGravityCompensation, declared in the SDK's dhdc.h, which CHAI3D ships in
-// external/DHD/include). The mock records the calls so that the bridge test can check them.
+// externals/DHD/include). The mock records the calls so that the bridge test can check them.
 #pragma once
 
 #define DHD_ON 1
