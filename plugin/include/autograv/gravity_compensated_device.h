@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 #include <Eigen/Core>
@@ -206,9 +205,9 @@ class GravityCompensatedDevice final : public HapticDevice {
   Eigen::Vector3d cached_position_m_ = Eigen::Vector3d::Zero();
   bool cached_ok_ = false;
   bool cached_fresh_ = false;
-  std::atomic<std::thread::id> servo_thread_{};
-  static_assert(std::atomic<std::thread::id>::is_always_lock_free,
-                "the servo path needs a lock-free thread id");
+  std::atomic<const void*> servo_thread_{nullptr};  // the servo thread's token, see the .cpp
+  static_assert(std::atomic<const void*>::is_always_lock_free,
+                "the servo path needs a lock-free thread token");
 
   // Shared status (servo thread writes, anyone reads).
   std::atomic<bool> enabled_;

@@ -20,6 +20,13 @@ bool bitwiseEqual(const Eigen::Vector3d& a, const Eigen::Vector3d& b) noexcept {
   return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
 }
 
+// A cheap identity of the calling thread: the address of a thread-local object, distinct for
+// every live thread. std::this_thread::get_id() costs a call into the C library on every tick.
+const void* currentThreadToken() noexcept {
+  static thread_local char token = 0;
+  return &token;
+}
+
 // Counters have a single writer (the servo thread): a relaxed load and store is enough and avoids
 // the locked read-modify-write of fetch_add.
 void increment(std::atomic<std::uint64_t>& counter) noexcept {
@@ -84,7 +91,7 @@ bool GravityCompensatedDevice::getPosition(Eigen::Vector3d& position_m) {
   const bool ok = inner_->getPosition(position_m);
   // Only the servo thread's reading may stand for "the latest position" in setForce: a graphics
   // thread reading the device must neither race with it nor feed it an older sample.
-  if (servo_thread_.load(std::memory_order_relaxed) == std::this_thread::get_id()) {
+  if (servo_thread_.load(std::memory_order_relaxed) == currentThreadToken()) {
     cached_position_m_ = position_m;
     cached_ok_ = ok;
     cached_fresh_ = true;
@@ -107,7 +114,7 @@ const DeviceSpecifications& GravityCompensatedDevice::specifications() const {
 // --- Servo path -------------------------------------------------------------------------------
 
 bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
-  const std::thread::id self = std::this_thread::get_id();
+  const void* const self = currentThreadToken();
   if (servo_thread_.load(std::memory_order_relaxed) != self) {
     servo_thread_.store(self, std::memory_order_relaxed);
     cached_fresh_ = false;  // a reading from before this thread became the servo thread
