@@ -34,6 +34,7 @@ struct CalibrateOptions {
   std::string report_path;
   bool resume = false;
   bool copy_initial_estimate = false;
+  int redo_failed = 1;
   EstimationParameters parameters;
 };
 
@@ -58,6 +59,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   run.grid_resolution = options.grid > 0 ? options.grid : 5;
   run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
+  run.redo_passes = options.redo_failed;
   const WorkspaceGrid grid(run.grid_center_m, run.grid_side_m, run.grid_resolution);
 
   MapMetadata metadata;
@@ -157,6 +159,10 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       parameters.beta_per_s2 * result.initialization.gravity_n.norm() / (2.0 * kStandardGravity));
   std::printf("%-34s %.2f N of %.2f N, %llu clamps\n", "peak force", result.peak_force_n,
               specs.max_linear_force_n, static_cast<unsigned long long>(result.saturation_count));
+  if (result.redo_passes > 0) {
+    std::printf("%-34s %d pass(es), %d vertex visit(s)\n", "failed vertices visited again",
+                result.redo_passes, result.redone_vertices);
+  }
   for (int index : failed) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(index)];
     std::printf("  vertex %d: %s after %d iterations\n", index, toString(v.outcome), v.iterations);
@@ -192,6 +198,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       {"peak_force_n", result.peak_force_n},
       {"max_force_n", specs.max_linear_force_n},
       {"saturation_count", result.saturation_count},
+      {"redo_passes", result.redo_passes},
+      {"redone_vertices", result.redone_vertices},
       {"initial_gravity_n",
        {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
         result.initialization.gravity_n.z()}},
@@ -220,6 +228,11 @@ void addCalibrateCommand(CLI::App& app) {
   command->add_flag("--copy-initial-estimate", options->copy_initial_estimate,
                     "Start each vertex from the previous estimate exactly as eq. (9) says, "
                     "instead of extrapolating from the two previous vertices");
+  command
+      ->add_option("--redo-failed", options->redo_failed,
+                   "Visit the vertices that did not converge again, up to this many passes")
+      ->check(CLI::Range(0, 10))
+      ->capture_default_str();
   addEstimationOptions(*command, options->parameters);
   command->callback([options, command] { runCalibrateCommand(*options, *command); });
 }

@@ -1,10 +1,13 @@
 // Whole-grid calibrations on the simulated devices, judged against their ground truth.
+#include <algorithm>
 #include <atomic>
 
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
+#include "autograv/pd_design.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/workspace_grid.h"
 
 namespace autograv {
 namespace {
@@ -102,6 +105,47 @@ TEST(CalibrationTest, VerticesThatHitTheCapAreMarkedAndTheGridGoesOn) {
     EXPECT_EQ(vertex.iterations, 6);
     EXPECT_GT(vertex.gravity_n.norm(), 1.0);  // the last estimate is kept, not zeroed
   }
+}
+
+TEST(CalibrationTest, FailedVerticesAreVisitedAgainOnlyAsOftenAsAsked) {
+  EstimationParameters parameters;
+  parameters.eps_g_n = 1e-7;  // unreachable: every vertex hits the cap, every pass
+  parameters.max_iterations = 6;
+  auto device = sim::makeSimulatedDevice("sim:omega", 1);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options = optionsFor(*device, 0.04, 2);
+  options.parameters = parameters;
+  options.redo_passes = 2;
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+  EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(run.redo_passes, 2);
+  EXPECT_EQ(run.redone_vertices, 16);  // 8 vertices, twice
+  for (const auto& vertex : run.vertices) EXPECT_EQ(vertex.outcome, VertexOutcome::kIterationCap);
+
+  options.redo_passes = 0;
+  auto again = sim::makeSimulatedDevice("sim:omega", 1);
+  ASSERT_TRUE(again->open());
+  const sim::CalibrationRunResult once = sim::runSimulatedCalibration(*again, options);
+  EXPECT_EQ(once.redo_passes, 0);
+  EXPECT_LT(once.simulated_seconds, run.simulated_seconds);
+}
+
+TEST(CalibrationTest, OmniVerticesThatMissedTheirSteadyStateConvergeOnASecondVisit) {
+  // Seed 2: two vertices on the stretched-out +x face end no_steady_state on the first pass
+  // (one-count encoder dither against eps_S = 0.1 mm/s); one more visit settles them.
+  auto device = sim::makeSimulatedDevice("sim:omni", 2);
+  ASSERT_TRUE(device->open());
+  sim::CalibrationRunOptions options =
+      optionsFor(*device, defaultGridSide_m(device->specifications().workspace_radius_m), 5);
+  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+  EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(run.redo_passes, 1);
+  EXPECT_GE(run.redone_vertices, 1);
+  const auto converged = std::count_if(run.vertices.begin(), run.vertices.end(), [](const auto& v) {
+    return v.outcome == VertexOutcome::kConverged;
+  });
+  EXPECT_EQ(converged, 125);
 }
 
 TEST(CalibrationTest, AStoppedRunResumesKeepingFinishedVerticesBitForBit) {

@@ -164,6 +164,30 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       options.on_progress(calibrator);
       next_progress_s = device.time_s() + options.progress_period_s;
     }
+    if (status == AutoCalibrator::Status::kFinished && result.redo_passes < options.redo_passes) {
+      std::vector<int> failed;
+      const std::vector<VertexEstimate>& vertices = calibrator.vertices();
+      for (int i = 0; i < grid.vertexCount(); ++i) {
+        if (vertices[static_cast<std::size_t>(i)].outcome != VertexOutcome::kConverged) {
+          failed.push_back(i);
+        }
+      }
+      if (!failed.empty()) {
+        // Between ticks, as the wizard's redo: from where the end-effector is, with the last
+        // vertex's estimate to start from.
+        ++result.redo_passes;
+        result.redone_vertices += static_cast<int>(failed.size());
+        const int last = calibrator.lastFinishedVertex();
+        const Eigen::Vector3d estimate_n = last >= 0
+                                               ? vertices[static_cast<std::size_t>(last)].gravity_n
+                                               : result.initialization.gravity_n;
+        calibrator.visitOnly(failed);
+        const ServoSample here = readServoSample(device);
+        calibrator.start(here.valid ? here.position_m : grid.center_m(), estimate_n);
+        status = AutoCalibrator::Status::kMoving;
+        continue;
+      }
+    }
     if (status == AutoCalibrator::Status::kFinished ||
         status == AutoCalibrator::Status::kDeviceFault) {
       break;

@@ -66,6 +66,10 @@ struct CalibrationRunOptions {
   const std::atomic<bool>* stop_requested = nullptr;
   /// Gives up when the whole run exceeds this much simulated time. Unit: [s]
   double timeout_s = 3600.0;
+  /// After the grid, visit again the vertices that did not converge, up to this many times (what
+  /// the wizard's Review offers a user): a vertex that missed its steady state once, because of
+  /// an encoder's one-count dither, usually settles on a second visit.
+  int redo_passes = 1;
 };
 
 struct CalibrationRunResult {
@@ -77,6 +81,8 @@ struct CalibrationRunResult {
   double peak_force_n = 0.0;           ///< Largest force commanded. Unit: [N]
   std::uint64_t saturation_count = 0;  ///< setForce calls the device clamped.
   bool stopped = false;                ///< stop_requested was honoured.
+  int redo_passes = 0;                 ///< Passes over failed vertices actually run.
+  int redone_vertices = 0;             ///< Vertex visits made by those passes.
 };
 
 /// Whole off-line autocalibration on a simulated device: feasibility checks (refused with a
