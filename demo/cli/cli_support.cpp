@@ -5,11 +5,10 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "autograv/error.h"
+#include "autograv/map_io.h"
 
 namespace autograv::cli {
 
@@ -23,20 +22,7 @@ std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& nam
 
 void writeJsonReport(const std::string& path, const nlohmann::json& report) {
   if (path.empty()) return;
-  const std::filesystem::path target(path);
-  std::filesystem::path temporary = target;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    if (!out)
-      throw Error("report " + path + ": cannot open " + temporary.string() + " for writing");
-    out << report.dump(2) << '\n';
-    out.flush();
-    if (!out) throw Error("report " + path + ": write failed (disk full?)");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, target, error);
-  if (error) throw Error("report " + path + ": cannot rename into place: " + error.message());
+  writeFileAtomically(path, report.dump(2) + "\n", "report");
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }

@@ -50,6 +50,31 @@ gl::OrbitCamera initialCamera(const DemoSession& session) {
   return gl::OrbitCamera::framing(map ? map->grid() : session.calibrationGrid());
 }
 
+gl::RendererOptions rendererOptions(const DemoOptions& options) {
+  gl::RendererOptions renderer_options;
+  renderer_options.shader_directory = options.shader_dir;
+  return renderer_options;
+}
+
+/// What both headless runs draw with: the options' session (device, map, script) and an OSMesa
+/// renderer with its view and camera. Members in construction order.
+struct OffscreenRun {
+  explicit OffscreenRun(const DemoOptions& options)
+      : script(loadScript(options)),
+        session(makeSession(options, script)),
+        context(options.width > 0 ? options.width : 800, options.height > 0 ? options.height : 600),
+        renderer(context, rendererOptions(options)),
+        view(upperCase(options.device)),
+        camera(initialCamera(*session)) {}
+
+  HandScript script;  // outlives the session, which plays it
+  std::unique_ptr<DemoSession> session;
+  gl::OffscreenContext context;
+  gl::Renderer renderer;
+  DemoView view;
+  gl::OrbitCamera camera;
+};
+
 /// One frame's scene; without a map the lattice of the grid a calibration would visit is shown.
 gl::Scene frameScene(const DemoView& view, const ServoSnapshot& snapshot,
                      const DemoSession& session, const gl::OrbitCamera& camera, bool simulated_time,
@@ -91,46 +116,32 @@ HeadlessResult runHeadlessFrames(const DemoOptions& options) {
   result.ticks_per_frame =
       std::max<std::int64_t>(1, std::llround(seconds / result.frames / period_s));
 
-  const HandScript script = loadScript(options);
-  auto session = makeSession(options, script);
-  gl::OffscreenContext context(options.width > 0 ? options.width : 800,
-                               options.height > 0 ? options.height : 600);
-  gl::RendererOptions renderer_options;
-  renderer_options.shader_directory = options.shader_dir;
-  gl::Renderer renderer(context, renderer_options);
-  DemoView view(upperCase(options.device));
-  const gl::OrbitCamera camera = initialCamera(*session);
+  OffscreenRun run(options);
+  DemoSession& session = *run.session;
   std::string message;
   for (int frame = 1; frame <= result.frames; ++frame) {
-    session->runTicks(result.ticks_per_frame);
-    const std::string update = session->updateCalibration();
+    session.runTicks(result.ticks_per_frame);
+    const std::string update = session.updateCalibration();
     if (!update.empty()) message = update;
-    const ServoSnapshot& snapshot = session->snapshot();
-    view.record(snapshot);
+    const ServoSnapshot& snapshot = session.snapshot();
+    run.view.record(snapshot);
     char status[128];
     std::snprintf(status, sizeof status, "HEADLESS  FRAME %d OF %d  %lld TICKS PER FRAME", frame,
                   result.frames, static_cast<long long>(result.ticks_per_frame));
-    renderer.render(frameScene(view, snapshot, *session, camera, true,
-                               message.empty() ? status : upperCase(message)));
+    run.renderer.render(frameScene(run.view, snapshot, session, run.camera, true,
+                                   message.empty() ? status : upperCase(message)));
   }
-  result.last_frame = context.readImage();
-  result.last_snapshot = session->snapshot();
+  result.last_frame = run.context.readImage();
+  result.last_snapshot = session.snapshot();
   return result;
 }
 
 RealTimeCheck runRealTimeCheck(const DemoOptions& options, double seconds) {
-  const HandScript script = loadScript(options);
-  auto session = makeSession(options, script);
-  gl::OffscreenContext context(options.width > 0 ? options.width : 800,
-                               options.height > 0 ? options.height : 600);
-  gl::RendererOptions renderer_options;
-  renderer_options.shader_directory = options.shader_dir;
-  gl::Renderer renderer(context, renderer_options);
-  DemoView view(upperCase(options.device));
-  const gl::OrbitCamera camera = initialCamera(*session);
+  OffscreenRun run(options);
+  DemoSession& session = *run.session;
   // The reference loop first, so that both run through the whole measurement.
   ReferenceLoop reference(std::llround(options.session.servo_period_s * 1e9));
-  session->startRealTime();
+  session.startRealTime();
   // Render at a window's pace meanwhile: the servo thread must hold its rate under that load.
   const auto frame_period = std::chrono::microseconds(1000000 / kHeadlessFramesPerSecond);
   const auto start = std::chrono::steady_clock::now();
@@ -138,18 +149,19 @@ RealTimeCheck runRealTimeCheck(const DemoOptions& options, double seconds) {
                                std::chrono::duration<double>(seconds));
   auto next_frame = start;
   while (std::chrono::steady_clock::now() < end) {
-    const ServoSnapshot& snapshot = session->snapshot();
-    view.record(snapshot);
-    renderer.render(frameScene(view, snapshot, *session, camera, false, "REAL-TIME CHECK"));
+    const ServoSnapshot& snapshot = session.snapshot();
+    run.view.record(snapshot);
+    run.renderer.render(
+        frameScene(run.view, snapshot, session, run.camera, false, "REAL-TIME CHECK"));
     next_frame += frame_period;
     std::this_thread::sleep_until(std::min(next_frame, end));
   }
-  session->stopRealTime();
+  session.stopRealTime();
   RealTimeCheck check;
   check.reference = reference.stop();
-  check.last_snapshot = session->snapshot();
-  check.realtime_priority = session->realtimePriority();
-  check.memory_locked = session->memoryLocked();
+  check.last_snapshot = session.snapshot();
+  check.realtime_priority = session.realtimePriority();
+  check.memory_locked = session.memoryLocked();
   std::printf("real-time check: servo thread %s SCHED_FIFO, memory %s\n",
               check.realtime_priority ? "at" : "without (not permitted here, normal priority)",
               check.memory_locked ? "locked" : "not locked (not permitted here)");
@@ -175,9 +187,7 @@ int runWindowed(const DemoOptions& options) {
 
   gl::Window window(options.width > 0 ? options.width : 1024,
                     options.height > 0 ? options.height : 768, "autograv-demo - " + options.device);
-  gl::RendererOptions renderer_options;
-  renderer_options.shader_directory = options.shader_dir;
-  gl::Renderer renderer(window, renderer_options);
+  gl::Renderer renderer(window, rendererOptions(options));
   std::printf("autograv-demo: OpenGL %s, shaders %s\n", renderer.glVersion().c_str(),
               renderer.shaderOrigin().c_str());
   DemoView view(upperCase(options.device));

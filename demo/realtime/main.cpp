@@ -8,6 +8,7 @@
 
 #include "autograv/error.h"
 #include "autograv/gl/image.h"
+#include "autograv/map_io.h"
 #include "demo_app.h"
 
 namespace {
@@ -37,14 +38,7 @@ void writeStats(const std::string& path, const DemoOptions& options,
   report["sched_fifo"] = check.realtime_priority;
   report["memory_locked"] = check.memory_locked;
   report["reference"] = timingJson(check.reference);
-  const std::string temporary = path + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "w");
-  if (file == nullptr) throw autograv::Error("cannot write the statistics file " + path);
-  const std::string text = report.dump(2) + "\n";
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  if (std::fclose(file) != 0 || !written || std::rename(temporary.c_str(), path.c_str()) != 0) {
-    throw autograv::Error("cannot write the statistics file " + path);
-  }
+  autograv::writeFileAtomically(path, report.dump(2) + "\n", "statistics");
 }
 
 int runHeadless(const DemoOptions& options) {

@@ -15,6 +15,7 @@ namespace autograv::viz {
 namespace {
 
 using testing::analyticGravity;
+using testing::countPixels;
 using testing::FixtureSpec;
 using testing::makeFixtureMap;
 
@@ -23,18 +24,6 @@ PlotOptions smallPlot() {
   options.width_px = 480;
   options.height_px = 360;
   return options;
-}
-
-template <typename Match>
-int countPixels(const RgbImage& image, Match match) {
-  int count = 0;
-  for (int y = 0; y < image.height_px; ++y) {
-    for (int x = 0; x < image.width_px; ++x) {
-      const std::uint8_t* p = image.pixel(x, y);
-      if (match(p[0], p[1], p[2])) ++count;
-    }
-  }
-  return count;
 }
 
 // The plot colours (plots.cpp): blue Delta_j, orange M_hat_j, red failures, green errors.

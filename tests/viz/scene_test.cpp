@@ -15,6 +15,7 @@ namespace autograv::viz {
 namespace {
 
 using testing::analyticGravity;
+using testing::countPixels;
 using testing::FixtureSpec;
 using testing::makeFixtureMap;
 
@@ -26,19 +27,6 @@ SceneOptions smallScene() {
   options.width_px = kWidth;
   options.height_px = kHeight;
   return options;
-}
-
-// Pixels for which `match(r, g, b)` holds.
-template <typename Match>
-int countPixels(const RgbImage& image, Match match) {
-  int count = 0;
-  for (int y = 0; y < image.height_px; ++y) {
-    for (int x = 0; x < image.width_px; ++x) {
-      const std::uint8_t* p = image.pixel(x, y);
-      if (match(p[0], p[1], p[2])) ++count;
-    }
-  }
-  return count;
 }
 
 bool isMarkerRed(int r, int g, int b) { return r > 150 && g < 60 && b < 60; }

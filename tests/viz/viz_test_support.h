@@ -4,6 +4,7 @@
 // check every rendering test makes first (no X display = a clear failure, never a hang).
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "autograv/estimation_parameters.h"
 #include "autograv/gravity_map.h"
 #include "autograv/viz/common.h"
+#include "autograv/viz/image.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <dlfcn.h>
@@ -29,6 +31,19 @@ inline const bool kMesaDriverPinned =
 #endif
 
 namespace autograv::viz::testing {
+
+/// Pixels of `image` for which `match(r, g, b)` holds.
+template <typename Match>
+int countPixels(const RgbImage& image, Match match) {
+  int count = 0;
+  for (int y = 0; y < image.height_px; ++y) {
+    for (int x = 0; x < image.width_px; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      if (match(p[0], p[1], p[2])) ++count;
+    }
+  }
+  return count;
+}
 
 /// A smooth apparent-gravity field shaped like a 3-DoF device's: about 0.2 kg hanging along -z,
 /// with position-dependent terms of a few percent. Argument unit: [m]; result unit: [N].

@@ -27,6 +27,14 @@ GravityMap loadMap(const std::string& path, const MapLoadOptions& options = {});
 /// Not real-time safe.
 void saveMap(const GravityMap& map, const std::string& path);
 
+/// Writes `text` to `path` so that `path` holds either its previous content or all of `text`,
+/// whatever happens: a unique temporary file in the same folder (rename is atomic only within
+/// one file system), written, fsync'ed, renamed over the target, then the folder fsync'ed so
+/// that the rename itself survives a power cut. What saveMap does; reports use it too. Throws
+/// autograv::Error saying "saving <what> '<path>': ..." and why. Not real-time safe.
+void writeFileAtomically(const std::string& path, const std::string& text,
+                         const std::string& what = "file");
+
 // --- In-memory form and checksum (additions for tools and tests) ---------------------------
 //
 // File format (schema version 1), one JSON object:

@@ -35,14 +35,13 @@ class TemporaryFileGuard {
   std::string path_;
 };
 
-/// Writes `text` to `path` so that `path` holds either its previous content or all of `text`,
-/// whatever happens: a unique temporary file in the same folder (rename is atomic only within one
-/// file system), written, fsync'ed, renamed over the target, then the folder fsync'ed so that the
-/// rename itself survives a power cut.
-void writeFileAtomically(const std::string& path, const std::string& text) {
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::string& text,
+                         const std::string& what) {
   const std::filesystem::path target(path);
   if (target.filename().empty()) {
-    throw Error("saving map '" + path + "': the path names a folder, not a file");
+    throw Error("saving " + what + " '" + path + "': the path names a folder, not a file");
   }
   const std::filesystem::path folder =
       target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
@@ -52,11 +51,12 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
   temporary.push_back('\0');
   const int fd = ::mkstemp(temporary.data());
   if (fd < 0) {
-    throw Error("saving map '" + path + "': cannot create a temporary file in '" + folder.string() +
-                "': " + systemError(errno) + " (does the folder exist and is it writable?)");
+    throw Error("saving " + what + " '" + path + "': cannot create a temporary file in '" +
+                folder.string() + "': " + systemError(errno) +
+                " (does the folder exist and is it writable?)");
   }
   TemporaryFileGuard guard(temporary.data());
-  // mkstemp creates 0600; a map is not secret, make it readable like any other file.
+  // mkstemp creates 0600; these files are not secret: readable like any other file.
   ::fchmod(fd, 0644);
   const char* data = text.data();
   std::size_t left = text.size();
@@ -66,7 +66,7 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
       if (errno == EINTR) continue;
       const int error_number = errno;
       ::close(fd);
-      throw Error("saving map '" + path + "': write failed: " + systemError(error_number) +
+      throw Error("saving " + what + " '" + path + "': write failed: " + systemError(error_number) +
                   " (disk full?); the previous file is untouched");
     }
     data += written;
@@ -75,16 +75,17 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
   if (::fsync(fd) != 0) {
     const int error_number = errno;
     ::close(fd);
-    throw Error("saving map '" + path + "': fsync failed: " + systemError(error_number) +
+    throw Error("saving " + what + " '" + path + "': fsync failed: " + systemError(error_number) +
                 "; the previous file is untouched");
   }
   if (::close(fd) != 0) {
-    throw Error("saving map '" + path + "': close failed: " + systemError(errno) +
+    throw Error("saving " + what + " '" + path + "': close failed: " + systemError(errno) +
                 "; the previous file is untouched");
   }
   if (::rename(temporary.data(), path.c_str()) != 0) {
-    throw Error("saving map '" + path + "': cannot rename the temporary file into place: " +
-                systemError(errno) + "; the previous file is untouched");
+    throw Error("saving " + what + " '" + path +
+                "': cannot rename the temporary file into place: " + systemError(errno) +
+                "; the previous file is untouched");
   }
   guard.release();
   // Best effort: some file systems refuse fsync on a folder; the data itself is already safe.
@@ -94,8 +95,6 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
     ::close(folder_fd);
   }
 }
-
-}  // namespace
 
 std::uint64_t fnv1a64(const std::string& bytes) noexcept {
   std::uint64_t hash = 0xcbf29ce484222325ULL;
@@ -133,7 +132,7 @@ GravityMap loadMap(const std::string& path, const MapLoadOptions& options) {
 }
 
 void saveMap(const GravityMap& map, const std::string& path) {
-  writeFileAtomically(path, mapToJson(map));
+  writeFileAtomically(path, mapToJson(map), "map");
 }
 
 }  // namespace autograv

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "autograv/error.h"
+#include "autograv/map_io.h"
 
 namespace autograv::gl {
 
@@ -49,18 +50,19 @@ void writePng(const Image& image, const std::string& path) {
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  // Write to a temporary file and rename, so that a reader never sees half a picture.
-  const std::string temporary = path + ".tmp";
-  if (png_image_write_to_file(&png, temporary.c_str(), 0, image.rgb.data(), 0, nullptr) == 0) {
-    const std::string reason = png.message;
-    std::remove(temporary.c_str());
-    throw Error("cannot write PNG " + path + ": " + reason +
-                " (does the folder exist and is it writable?)");
+  // Encode in memory, then write atomically like maps and reports: a reader (or a crash) never
+  // sees half a picture.
+  png_alloc_size_t size = 0;
+  if (png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr) == 0) {
+    throw Error("cannot write PNG " + path + ": " + png.message);
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw Error("cannot write PNG " + path + ": renaming the temporary file failed");
+  std::string encoded(size, '\0');
+  if (png_image_write_to_memory(&png, encoded.data(), &size, 0, image.rgb.data(), 0, nullptr) ==
+      0) {
+    throw Error("cannot write PNG " + path + ": " + png.message);
   }
+  encoded.resize(size);
+  writeFileAtomically(path, encoded, "PNG");
 }
 
 Image readPng(const std::string& path) {

@@ -14,6 +14,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "autograv/error.h"
+#include "autograv/map_io.h"
 #include "vtk_support.h"
 
 namespace autograv::viz {
@@ -96,13 +97,11 @@ void writePng(const RgbImage& image, const std::string& path) {
     throw Error("image " + path + ": PNG encoding failed" +
                 (errors->hasErrors() ? " (" + errors->text() + ")" : std::string()));
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw Error("image " + path + ": cannot open the file for writing (does the folder exist?)");
-  out.write(reinterpret_cast<const char*>(encoded->GetPointer(0)),
-            static_cast<std::streamsize>(encoded->GetNumberOfValues()));
-  out.flush();
-  if (!out) throw Error("image " + path + ": write failed (disk full?)");
+  // Atomically, like maps and reports: a reader (or a crash) never sees half a picture.
+  writeFileAtomically(path,
+                      std::string(reinterpret_cast<const char*>(encoded->GetPointer(0)),
+                                  static_cast<std::size_t>(encoded->GetNumberOfValues())),
+                      "image");
 }
 
 }  // namespace autograv::viz
