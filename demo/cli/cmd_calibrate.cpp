@@ -214,12 +214,7 @@ void addCalibrateCommand(CLI::App& app) {
   command->add_option("--device", options->device, "Simulated device")
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
       ->capture_default_str();
-  command->add_option("--grid", options->grid, "Vertices per axis (default 5)")
-      ->check(CLI::Range(2, 16));
-  command
-      ->add_option("--side-mm", options->side_mm,
-                   "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
-      ->check(CLI::PositiveNumber);
+  addGridOptions(*command, options->grid, options->side_mm);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   command->add_option("--report", options->report_path, "Write a JSON report here");

@@ -371,12 +371,7 @@ void addWizardCommand(CLI::App& app) {
                     "Answer the prompts automatically on a terminal too (redo failed vertices "
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
-  command->add_option("--grid", options->grid, "Vertices per axis (default 5)")
-      ->check(CLI::Range(2, 16));
-  command
-      ->add_option("--side-mm", options->side_mm,
-                   "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
-      ->check(CLI::PositiveNumber);
+  addGridOptions(*command, options->grid, options->side_mm);
   command
       ->add_option("--speed", options->speed,
                    "Simulated seconds per wall second; 0 runs as fast as possible (default: 1 "

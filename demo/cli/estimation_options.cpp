@@ -39,6 +39,14 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
       ->capture_default_str();
 }
 
+void addGridOptions(CLI::App& command, int& grid, double& side_mm) {
+  command.add_option("--grid", grid, "Vertices per axis (default 5)")->check(CLI::Range(2, 16));
+  command
+      .add_option("--side-mm", side_mm,
+                  "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
+      ->check(CLI::PositiveNumber);
+}
+
 void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,
                          const DeviceSpecifications& specifications) {
   if (command.count("--k0") == 0) {

@@ -12,6 +12,10 @@ namespace autograv::cli {
 /// in the paper's units (N/mm, mm/s, grams-force) and writing SI values into `parameters`.
 void addEstimationOptions(CLI::App& command, EstimationParameters& parameters);
 
+/// Adds --grid (vertices per axis, 2-16) and --side-mm (grid edge) to `command`; 0 in either
+/// stands for the default: 5 per axis, and defaultGridSide_m of the device's workspace.
+void addGridOptions(CLI::App& command, int& grid, double& side_mm);
+
 /// Fills in what depends on the device and was not given on the command line: k0 (see
 /// defaultInitializationStiffness). Call after parsing, once the device is open.
 void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,
