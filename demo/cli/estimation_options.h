@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/device_specifications.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv::cli {
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "autograv/error.h"
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
 #include "autograv/servo_sample.h"
 
 namespace autograv::demo {

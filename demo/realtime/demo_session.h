@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "autograv/calibration_wizard.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 #include "autograv/gravity_compensated_device.h"
 #include "autograv/gravity_map.h"
 #include "autograv/sim/simulated_device.h"

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/workspace_grid.h"
 

@@ -8,13 +8,13 @@
 
 #include <Eigen/Core>
 
-#include "autograv/auto_calibrator.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/initialization_estimator.h"
+#include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/gravity_compensated_device.h"
 #include "autograv/gravity_map.h"
 #include "autograv/haptic_device.h"
-#include "autograv/initialization_estimator.h"
-#include "autograv/minimum_jerk_move.h"
 #include "autograv/servo_sample.h"
 #include "autograv/workspace_grid.h"
 

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 #include "autograv/workspace_grid.h"
 
 namespace autograv {

@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "autograv/error.h"
+#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/servo_sample.h"
-#include "autograv/vertex_estimator.h"
 #include "wizard_internal.h"
 
 namespace autograv {

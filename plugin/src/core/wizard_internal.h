@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include "autograv/auto_calibrator.h"
 #include "autograv/calibration_wizard.h"
-#include "autograv/initialization_estimator.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/estimation/initialization_estimator.h"
 
 namespace autograv::wizard {
 

@@ -11,8 +11,8 @@
 #include "autograv/calibration_wizard.h"
 #include "autograv/device_specifications.h"
 #include "autograv/error.h"
+#include "autograv/estimation/pd_design.h"
 #include "autograv/map_io.h"
-#include "autograv/pd_design.h"
 #include "wizard_internal.h"
 
 namespace autograv {

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "autograv/error.h"
-#include "autograv/initialization_estimator.h"
-#include "autograv/pd_design.h"
+#include "autograv/estimation/initialization_estimator.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/servo_sample.h"
 #include "autograv/sim/paper_frame.h"
-#include "autograv/vertex_estimator.h"
 
 namespace autograv::sim {
 

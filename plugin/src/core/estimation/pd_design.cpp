@@ -1,11 +1,11 @@
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "autograv/error.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv {
 

@@ -5,11 +5,11 @@
 
 #include <Eigen/Core>
 
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/gravity_map.h"
-#include "autograv/minimum_jerk_move.h"
 #include "autograv/servo_sample.h"
-#include "autograv/vertex_estimator.h"
 #include "autograv/workspace_grid.h"
 
 namespace autograv {

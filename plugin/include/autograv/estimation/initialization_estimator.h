@@ -4,9 +4,9 @@
 
 #include <Eigen/Core>
 
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/steady_state_detector.h"
 #include "autograv/servo_sample.h"
-#include "autograv/steady_state_detector.h"
 
 namespace autograv {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "autograv/device_specifications.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv {
 
