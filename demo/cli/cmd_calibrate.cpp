@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"

@@ -10,9 +10,9 @@
 #include <Eigen/Core>
 
 #include "autograv/calibration_wizard.h"
+#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/estimation/estimation_parameters.h"
-#include "autograv/gravity_compensated_device.h"
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 #include "hand_script.h"
 #include "lock_free.h"

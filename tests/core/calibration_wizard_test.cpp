@@ -19,7 +19,7 @@
 #include "../../demo/cli/wizard_auto_hand.h"
 #include "allocation_counter.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv {

@@ -6,8 +6,8 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/map/workspace_grid.h"
 #include "autograv/sim/procedures.h"
-#include "autograv/workspace_grid.h"
 
 namespace autograv {
 namespace {

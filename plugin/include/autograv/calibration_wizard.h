@@ -8,15 +8,15 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/device/haptic_device.h"
+#include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/minimum_jerk_move.h"
-#include "autograv/gravity_compensated_device.h"
-#include "autograv/gravity_map.h"
-#include "autograv/haptic_device.h"
-#include "autograv/servo_sample.h"
-#include "autograv/workspace_grid.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/workspace_grid.h"
 
 namespace autograv {
 

@@ -9,9 +9,9 @@
 #include <sstream>
 #include <utility>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "autograv/servo_sample.h"
 #include "wizard_internal.h"
 
 namespace autograv {

@@ -9,10 +9,10 @@
 #include <system_error>
 
 #include "autograv/calibration_wizard.h"
-#include "autograv/device_specifications.h"
+#include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "wizard_internal.h"
 
 namespace autograv {

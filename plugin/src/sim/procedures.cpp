@@ -5,11 +5,11 @@
 #include <random>
 #include <sstream>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "autograv/servo_sample.h"
 #include "autograv/sim/paper_frame.h"
 
 namespace autograv::sim {

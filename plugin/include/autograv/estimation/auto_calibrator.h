@@ -5,12 +5,12 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "autograv/gravity_map.h"
-#include "autograv/servo_sample.h"
-#include "autograv/workspace_grid.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/workspace_grid.h"
 
 namespace autograv {
 

@@ -4,9 +4,9 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/steady_state_detector.h"
-#include "autograv/servo_sample.h"
 
 namespace autograv {
 

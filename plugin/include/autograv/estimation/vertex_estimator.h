@@ -4,10 +4,10 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/steady_state_detector.h"
-#include "autograv/gravity_map.h"
-#include "autograv/servo_sample.h"
+#include "autograv/map/gravity_map.h"
 
 namespace autograv {
 

@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "autograv/gravity_map.h"
-#include "autograv/haptic_device.h"
+#include "autograv/device/haptic_device.h"
+#include "autograv/map/gravity_map.h"
 
 namespace autograv {
 

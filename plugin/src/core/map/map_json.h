@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/gravity_map.h"
-#include "autograv/map_io.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/map_io.h"
 
 namespace autograv::detail {
 

@@ -1,4 +1,4 @@
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "autograv/error.h"
-#include "trilinear.h"
+#include "map/trilinear.h"
 
 namespace autograv {
 

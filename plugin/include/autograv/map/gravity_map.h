@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 
 #include "autograv/estimation/estimation_parameters.h"
-#include "autograv/workspace_grid.h"
+#include "autograv/map/workspace_grid.h"
 
 namespace autograv {
 

@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device_specifications.h"
+#include "autograv/device/device_specifications.h"
 
 namespace autograv {
 

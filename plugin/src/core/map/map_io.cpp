@@ -1,4 +1,4 @@
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "autograv/error.h"
-#include "map_json.h"
+#include "map/map_json.h"
 
 namespace autograv {
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string>
 
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 
 namespace autograv {
 

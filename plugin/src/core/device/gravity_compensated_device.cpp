@@ -1,4 +1,4 @@
-#include "autograv/gravity_compensated_device.h"
+#include "autograv/device/gravity_compensated_device.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "map_json.h"
+#include "map/map_json.h"
 
 #include <algorithm>
 #include <cinttypes>

@@ -1,4 +1,4 @@
-#include "autograv/device_specifications.h"
+#include "autograv/device/device_specifications.h"
 
 #include <cmath>
 #include <sstream>
