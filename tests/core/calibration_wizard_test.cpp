@@ -1,6 +1,6 @@
 // The calibration wizard's state machine driven through every step on simulated devices, with the
 // simulated hand scripted as a user (the same script `autograv wizard --auto-hand` uses).
-#include "autograv/calibration_wizard.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 #include <atomic>
 #include <chrono>

@@ -1,7 +1,7 @@
 // CalibrationWizard, servo side: everything servoTick() runs. Real-time safe throughout: the
 // objects it steps were built by the Check step (service side); it only fills preallocated state
 // and raises request flags that service() (wizard_service.cpp) answers.
-#include "autograv/calibration_wizard.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "wizard_internal.h"
+#include "wizard/wizard_internal.h"
 
 namespace autograv {
 

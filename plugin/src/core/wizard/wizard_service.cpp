@@ -8,12 +8,12 @@
 #include <sstream>
 #include <system_error>
 
-#include "autograv/calibration_wizard.h"
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_io.h"
-#include "wizard_internal.h"
+#include "autograv/wizard/calibration_wizard.h"
+#include "wizard/wizard_internal.h"
 
 namespace autograv {
 

@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include "autograv/calibration_wizard.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/initialization_estimator.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 namespace autograv::wizard {
 

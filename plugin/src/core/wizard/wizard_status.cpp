@@ -6,8 +6,8 @@
 #include <sstream>
 #include <string>
 
-#include "autograv/calibration_wizard.h"
-#include "wizard_internal.h"
+#include "autograv/wizard/calibration_wizard.h"
+#include "wizard/wizard_internal.h"
 
 namespace autograv {
 
