@@ -127,26 +127,47 @@ LuGreFriction::LuGreFriction(const LuGreParameters& parameters) : parameters_(pa
 
 double LuGreFriction::stribeckLevel(int joint, double velocity) const noexcept {
   const double ratio = velocity / parameters_.stribeck_velocity[joint];
+  const double ratio2 = ratio * ratio;
+  // Beyond 6 vs the Stribeck term is below 3e-16 of (Fs - Fc): skip the exponential.
+  if (ratio2 > 36.0) return parameters_.coulomb[joint];
   return parameters_.coulomb[joint] +
-         (parameters_.stiction[joint] - parameters_.coulomb[joint]) * std::exp(-ratio * ratio);
+         (parameters_.stiction[joint] - parameters_.coulomb[joint]) * std::exp(-ratio2);
 }
 
 Eigen::Vector3d LuGreFriction::step(const Eigen::Vector3d& velocity, double dt_s) noexcept {
   Eigen::Vector3d force = parameters_.viscous.cwiseProduct(velocity);
   for (int j = 0; j < 3; ++j) {
     const double sigma0 = parameters_.bristle_stiffness[j];
-    const double level = stribeckLevel(j, velocity[j]);
-    if (level <= 0.0 || sigma0 <= 0.0) continue;  // no dry friction on this joint
     const double v = velocity[j];
+    if (!(std::abs(v - level_velocity_[j]) <= 1e-4 * parameters_.stribeck_velocity[j])) {
+      level_[j] = stribeckLevel(j, v);  // NaN after reset(): always recomputed first
+      level_velocity_[j] = v;
+    }
+    const double level = level_[j];
+    if (level <= 0.0 || sigma0 <= 0.0) continue;  // no dry friction on this joint
     const double z = deflection_[j];
-    // Exact solution of dz/dt = v - a z over the step; expm1 keeps it accurate as a dt -> 0.
-    const double a = sigma0 * std::abs(v) / level;
+    // Exact solution of dz/dt = v - a z over the step, z + (z_ss - z) (1 - exp(-a dt)); for small
+    // a dt a short series (error below (a dt)^4 / 24 < 5e-14) spares the exponential.
+    const double decay = sigma0 * std::abs(v) / level * dt_s;  // a dt
     const double steady = v > 0.0 ? level / sigma0 : (v < 0.0 ? -level / sigma0 : 0.0);
-    const double next = z - (steady - z) * std::expm1(-a * dt_s);
+    const double relaxed =
+        decay < 1e-3 ? decay * (1.0 - 0.5 * decay * (1.0 - decay / 3.0)) : -std::expm1(-decay);
+    const double next = z + (steady - z) * relaxed;
     deflection_[j] = next;
     force[j] += sigma0 * next + parameters_.bristle_damping[j] * (next - z) / dt_s;
   }
   return force;
+}
+
+Eigen::Vector3d CoggingRipple::at(const Eigen::Vector3d& angle_rad) noexcept {
+  for (int j = 0; j < 3; ++j) {
+    if (amplitude_[j] == 0.0) continue;
+    if (!(std::abs(angle_rad[j] - angle_[j]) <= 1e-3)) {  // NaN after reset(): recomputed
+      ripple_[j] = amplitude_[j] * std::sin(angle_rad[j]);
+      angle_[j] = angle_rad[j];
+    }
+  }
+  return ripple_;
 }
 
 }  // namespace autograv::sim

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "autograv/error.h"
 #include "autograv/estimation_parameters.h"
@@ -124,6 +124,7 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
   }
   parameters.friction.validate("sim point-mass device");
   friction_ = LuGreFriction(parameters.friction);
+  cogging_ = CoggingRipple(parameters.cogging_amplitude_n);
   requirePositive(parameters.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
   requireNonNegative(parameters.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
   requirePositive(parameters.encoder_resolution_m, "encoder_resolution_m");
@@ -214,12 +215,8 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
     net_n -= (parameters_.rotor_mass_kg * lever / parameters_.inertia_length_m * along * along) * u;
   }
   constexpr double kTwoPi = 6.283185307179586476925286766559;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (parameters_.cogging_amplitude_n[axis] == 0.0) continue;
-    net_n[axis] += parameters_.cogging_amplitude_n[axis] *
-                   std::sin(kTwoPi * from_center[axis] / parameters_.cogging_period_m[axis] +
-                            parameters_.cogging_phase_rad[axis]);
-  }
+  net_n += cogging_.at(kTwoPi * from_center.cwiseQuotient(parameters_.cogging_period_m) +
+                       parameters_.cogging_phase_rad);
 
   const double radius_m = parameters_.specifications.workspace_radius_m;
   const double distance2 = from_center.squaredNorm();
@@ -233,7 +230,7 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
              parameters_.end_stop_damping_n_s_per_m * v;
     end_stop_hit_ = true;
   }
-  velocity_m_per_s_ += dt_s * mass.ldlt().solve(net_n);
+  velocity_m_per_s_ += dt_s * (mass.inverse() * net_n);  // closed-form 3x3 inverse
   position_m_ += dt_s * velocity_m_per_s_;
 }
 
@@ -258,6 +255,7 @@ void PointMassDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   position_m_ = position_m;
   velocity_m_per_s_.setZero();
   friction_.reset();
+  cogging_.reset();
 }
 
 }  // namespace autograv::sim

@@ -101,6 +101,7 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
     throw Error("sim serial-arm device: cogging_phase_rad must be finite");
   }
   friction_ = LuGreFriction(p.friction);  // validates
+  cogging_ = CoggingRipple(p.cogging_amplitude_n_m);
   if (!p.home_joint_angles_rad.allFinite()) {
     throw Error("sim serial-arm device: home_joint_angles_rad must be finite");
   }
@@ -350,11 +351,7 @@ void SerialArmDevice::integrateStep(const Eigen::Vector3d& motor_torque_n_m,
                          k.l2 * (t.s3 * cartesian_n.z() + t.c3 * radial_n) - k.gravity3 * t.s3 -
                              (-k_cos * qd[1] * qd[1] - 0.5 * dm11_dq3 * qd[0] * qd[0]));
   torque += motor_torque_n_m - friction_n_m;
-  for (int j = 0; j < 3; ++j) {
-    if (p.cogging_amplitude_n_m[j] == 0.0) continue;
-    torque[j] += p.cogging_amplitude_n_m[j] *
-                 std::sin(p.cogging_cycles_per_rev[j] * q_rad_[j] + p.cogging_phase_rad[j]);
-  }
+  torque += cogging_.at(p.cogging_cycles_per_rev.cwiseProduct(q_rad_) + p.cogging_phase_rad);
   const double offset = q_rad_[2] - q_rad_[1];
   const double excess =
       offset - std::clamp(offset, -p.max_elbow_offset_rad, p.max_elbow_offset_rad);
@@ -437,6 +434,7 @@ void SerialArmDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   q_rad_ = q;
   qd_rad_per_s_.setZero();
   friction_.reset();
+  cogging_.reset();
   trig_ = trig(q_rad_);
   steps_since_exact_trig_ = 0;
   updateTip();

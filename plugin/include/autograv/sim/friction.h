@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -82,7 +83,10 @@ class LuGreFriction {
   explicit LuGreFriction(const LuGreParameters& parameters);
 
   /// Relaxes the bristles (z = 0). Real-time safe.
-  void reset() noexcept { deflection_.setZero(); }
+  void reset() noexcept {
+    deflection_.setZero();
+    level_velocity_.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
   /// Advances the bristles over `dt_s` at joint velocity `velocity` and returns the friction
   /// force f (opposing the motion). Real-time safe.
   Eigen::Vector3d step(const Eigen::Vector3d& velocity, double dt_s) noexcept;
@@ -96,6 +100,30 @@ class LuGreFriction {
  private:
   LuGreParameters parameters_;
   Eigen::Vector3d deflection_ = Eigen::Vector3d::Zero();
+  // g(v) is reused while v stays within 1e-4 vs of the velocity it was computed at (an error
+  // below 1e-4 (Fs - Fc)): at rest and in pre-sliding the step then needs no exponential.
+  Eigen::Vector3d level_velocity_ =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d level_ = Eigen::Vector3d::Zero();
+};
+
+/// Cogging and torque ripple of three motors: A_j sin(angle_j), the angle set by the mechanism
+/// (e.g. N q + phase). The sine is reused while an angle moves less than 1e-3 rad from where it
+/// was taken (an error below 1e-3 A), so that a mechanism at rest needs no sine per step.
+class CoggingRipple {
+ public:
+  /// Unit: [N] or [N m]
+  explicit CoggingRipple(const Eigen::Vector3d& amplitude = Eigen::Vector3d::Zero()) noexcept
+      : amplitude_(amplitude) {}
+  /// Forgets the cached sines. Real-time safe.
+  void reset() noexcept { angle_.setConstant(std::numeric_limits<double>::quiet_NaN()); }
+  /// The three ripple forces or torques at `angle_rad`. Real-time safe.
+  Eigen::Vector3d at(const Eigen::Vector3d& angle_rad) noexcept;
+
+ private:
+  Eigen::Vector3d amplitude_;
+  Eigen::Vector3d angle_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d ripple_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace autograv::sim

@@ -114,6 +114,7 @@ class PointMassDevice final : public SimulatedDriver {
   Eigen::Vector3d position_m_;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
   LuGreFriction friction_;
+  CoggingRipple cogging_;
 };
 
 }  // namespace autograv::sim

@@ -181,6 +181,7 @@ class SerialArmDevice final : public SimulatedDriver {
   Eigen::Vector3d counts_per_rad_;
   Inertia inertia_;
   LuGreFriction friction_;
+  CoggingRipple cogging_;
 };
 
 }  // namespace autograv::sim
