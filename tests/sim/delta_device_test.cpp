@@ -203,7 +203,7 @@ TEST(DeltaDeviceTest, OneEncoderCountIsBelowThePublishedResolutionAtTheCentre) {
 // swinging at the given internal rate.
 double relativeEnergyError(double internal_rate_hz) {
   DeltaParameters parameters = falconParameters();
-  parameters.viscous_friction_n_m_s_per_rad.setZero();
+  parameters.friction = LuGreParameters{};
   parameters.driver.internal_rate_hz = internal_rate_hz;
   DeltaDevice device(parameters, 1);
   EXPECT_TRUE(device.open());
@@ -323,6 +323,62 @@ TEST(DeltaDeviceTest, ReleasedWithZeroForceFallsOntoTheArmStops) {
   EXPECT_TRUE(
       ((theta.array() < p.joint_min_rad.array()) || (theta.array() > p.joint_max_rad.array()))
           .any());
+}
+
+// The force, added to the exact gravity compensation and ramped up at 50 mN/s from rest at the
+// centre, at which the grip has moved 0.05 mm along `direction` (several times the pre-sliding).
+// The ramp's lag adds about 5 mN: without any dry friction it reads about that.
+double breakawayForce_n(FrictionLevel level, const Eigen::Vector3d& direction) {
+  DeltaDevice device(falconParameters(level), 3);
+  EXPECT_TRUE(device.open());
+  const Eigen::Vector3d gravity = device.trueGravity(Eigen::Vector3d::Zero());
+  constexpr double kRate_n_per_s = 0.05;
+  for (int ms = 1; ms <= 3000; ++ms) {
+    const double push_n = kRate_n_per_s * ms * kServo_s;
+    device.setForce(gravity + push_n * direction);
+    device.advance(kServo_s);
+    if (device.truePosition_m().dot(direction) > 5e-5) return push_n;
+  }
+  return 1e9;  // never moved
+}
+
+std::vector<Eigen::Vector3d> unitDirections() {
+  std::vector<Eigen::Vector3d> directions;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      for (int k = -1; k <= 1; ++k) {
+        if (i != 0 || j != 0 || k != 0) directions.push_back(Eigen::Vector3d(i, j, k).normalized());
+      }
+    }
+  }
+  return directions;
+}
+
+TEST(DeltaDeviceTest, TypicalFrictionBreaksAwayAtTensOfMillinewtons) {
+  double smallest = 1e9, largest = 0.0;
+  for (const auto& direction : unitDirections()) {
+    const double breakaway_n = breakawayForce_n(FrictionLevel::kTypical, direction);
+    smallest = std::min(smallest, breakaway_n);
+    largest = std::max(largest, breakaway_n);
+  }
+  // Along the axis all three arms turn together and their friction adds up.
+  EXPECT_GT(smallest, 0.030);
+  EXPECT_LT(largest, 0.085);
+  RecordProperty("breakaway_min_mn", std::to_string(smallest * 1e3));
+  RecordProperty("breakaway_max_mn", std::to_string(largest * 1e3));
+}
+
+TEST(DeltaDeviceTest, FrictionLevelsAreOrdered) {
+  const Eigen::Vector3d direction = Eigen::Vector3d(1.0, 1.0, -1.0).normalized();
+  const double none = breakawayForce_n(FrictionLevel::kNone, direction);
+  const double low = breakawayForce_n(FrictionLevel::kLow, direction);
+  const double typical = breakawayForce_n(FrictionLevel::kTypical, direction);
+  const double high = breakawayForce_n(FrictionLevel::kHigh, direction);
+  EXPECT_LT(none, 0.008);  // only the ramp's lag (inertia, viscous term)
+  EXPECT_LT(none, low);
+  EXPECT_LT(low, typical);
+  EXPECT_LT(typical, high);
+  EXPECT_GT(high - none, 2.0 * (typical - none));  // the dry part scales by 2.5
 }
 
 std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
@@ -54,9 +55,10 @@ struct DeltaParameters {
   /// Motor rotor inertia reflected through each capstan (J_rotor * ratio^2). Unit: [kg m^2]
   Eigen::Vector3d rotor_inertia_kg_m2 = Eigen::Vector3d::Constant(1.2e-4);
 
-  /// Viscous joint friction, which also stands for the motors' back-EMF and amplifier damping
-  /// (about 1 N s/m at the grip). Unit: [N m s/rad]
-  Eigen::Vector3d viscous_friction_n_m_s_per_rad = Eigen::Vector3d::Constant(5.0e-3);
+  /// Joint friction of each arm (motor brushes and bearings, capstan, pivots), LuGre in the
+  /// joint's units: [N m], [rad/s], [rad]. Its viscous term also stands for the motors' back-EMF
+  /// and the amplifier's damping. Default: none at all (falconParameters() sets the levels).
+  LuGreParameters friction;
 
   /// Encoder counts per turn of an arm (motor encoder counts times the capstan ratio).
   Eigen::Vector3d joint_counts_per_rev = Eigen::Vector3d::Constant(1280.0 * 0.110 / 0.01425);
@@ -73,8 +75,9 @@ struct DeltaParameters {
   double joint_stop_damping_n_m_s_per_rad = 0.02;
 };
 
-/// The "sim:falcon" preset: a Novint-Falcon-like delta (8.9 N, 4-inch cube, > 400 dpi).
-DeltaParameters falconParameters();
+/// The "sim:falcon" preset: a Novint-Falcon-like delta (8.9 N, 4-inch cube, > 400 dpi) with
+/// joint friction at `friction` (see falconParameters in the .cpp for the levels).
+DeltaParameters falconParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// A delta parallel mechanism (three actuated upper arms at 120 degrees, parallelogram forearms)
 /// with joint-space dynamics in the actuated angles theta, the standard reduced model
@@ -176,6 +179,7 @@ class DeltaDevice final : public SimulatedDriver {
   Eigen::Vector3d tip_m_ = Eigen::Vector3d::Zero();  // relative to the workspace centre
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
   std::uint64_t joint_saturation_steps_ = 0;
+  LuGreFriction friction_;
 };
 
 }  // namespace autograv::sim
