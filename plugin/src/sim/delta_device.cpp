@@ -149,9 +149,9 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
         const Eigen::Vector3d point = radius_m * direction.normalized();
         Eigen::Vector3d theta;
         Pose at{};
-        bool usable =
-            inverseKinematics(point, theta) && (theta.array() > p.joint_min_rad.array()).all() &&
-            (theta.array() < p.joint_max_rad.array()).all() && pose(theta, point + home_tip_m_, at);
+        bool usable = inverseKinematics(point, theta) &&
+                      (theta.array() > p.joint_min_rad.array()).all() &&
+                      (theta.array() < p.joint_max_rad.array()).all() && solvePose(theta, at);
         if (usable) {
           const Eigen::Vector3d singular =
               Eigen::JacobiSVD<Eigen::Matrix3d>(at.jacobian).singularValues();
@@ -169,42 +169,74 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   resetMechanism(Eigen::Vector3d::Zero());
 }
 
-Eigen::Vector3d DeltaDevice::kneeCentre(int leg, double theta_rad) const noexcept {
+Eigen::Vector3d DeltaDevice::kneeCentre(int leg, double sin_theta,
+                                        double cos_theta) const noexcept {
   // The knee moved inward by the platform joint's radius: the centre of the leg's sphere of
   // platform positions.
   const auto& p = parameters_;
-  return (p.base_radius_m - p.effector_radius_m + p.upper_arm_length_m * std::cos(theta_rad)) *
+  return (p.base_radius_m - p.effector_radius_m + p.upper_arm_length_m * cos_theta) *
              radial_[static_cast<std::size_t>(leg)] +
-         p.upper_arm_length_m * std::sin(theta_rad) * kAxis;
+         p.upper_arm_length_m * sin_theta * kAxis;
 }
 
-bool DeltaDevice::solveForward(const Eigen::Vector3d& theta_rad,
-                               Eigen::Vector3d& tip_m) const noexcept {
+bool DeltaDevice::intersectLegs(const std::array<Eigen::Vector3d, 3>& knee,
+                                Eigen::Vector3d& tip_m) const noexcept {
   // The three spheres have the same radius b: the platform lies on the line through the
   // circumcentre of their centres, normal to their plane, on the operator's side.
-  const Eigen::Vector3d c1 = kneeCentre(0, theta_rad[0]);
-  const Eigen::Vector3d c2 = kneeCentre(1, theta_rad[1]);
-  const Eigen::Vector3d c3 = kneeCentre(2, theta_rad[2]);
-  const Eigen::Vector3d u = c1 - c3;
-  const Eigen::Vector3d v = c2 - c3;
+  const Eigen::Vector3d u = knee[0] - knee[2];
+  const Eigen::Vector3d v = knee[1] - knee[2];
   const Eigen::Vector3d normal = u.cross(v);
   const double normal2 = normal.squaredNorm();
   const double b = parameters_.forearm_length_m;
   if (!(normal2 > 1e-12 * b * b * b * b)) return false;  // knees in a line
   const Eigen::Vector3d circumcentre =
-      c3 + (u.squaredNorm() * v - v.squaredNorm() * u).cross(normal) / (2.0 * normal2);
-  const double height2 = b * b - (c1 - circumcentre).squaredNorm();
+      knee[2] + (u.squaredNorm() * v - v.squaredNorm() * u).cross(normal) / (2.0 * normal2);
+  const double height2 = b * b - (knee[0] - circumcentre).squaredNorm();
   if (!(height2 >= 0.0)) return false;
-  const Eigen::Vector3d unit_normal = normal / std::sqrt(normal2);
-  const double side = unit_normal.dot(kAxis) >= 0.0 ? 1.0 : -1.0;
-  tip_m = circumcentre + side * std::sqrt(height2) * unit_normal;
+  const double side = normal.x() >= 0.0 ? 1.0 : -1.0;  // normal.x() = normal . kAxis
+  tip_m = circumcentre + (side * std::sqrt(height2 / normal2)) * normal;
+  return true;
+}
+
+bool DeltaDevice::solvePose(const Eigen::Vector3d& theta_rad, Pose& out) const noexcept {
+  if (!theta_rad.allFinite()) return false;
+  std::array<Eigen::Vector3d, 3> knee;
+  for (int leg = 0; leg < 3; ++leg) {
+    out.sin_theta[leg] = std::sin(theta_rad[leg]);
+    out.cos_theta[leg] = std::cos(theta_rad[leg]);
+    knee[static_cast<std::size_t>(leg)] = kneeCentre(leg, out.sin_theta[leg], out.cos_theta[leg]);
+  }
+  if (!intersectLegs(knee, out.tip_m)) return false;
+  const double a = parameters_.upper_arm_length_m;
+  Eigen::Matrix3d constraint;  // A: rows d_i^T
+  Eigen::Vector3d drive;       // diagonal of B: d_i . dc_i/dtheta_i
+  for (int leg = 0; leg < 3; ++leg) {
+    const auto i = static_cast<std::size_t>(leg);
+    out.forearm[i] = out.tip_m - knee[i];
+    out.knee_rate[i] = a * (out.cos_theta[leg] * kAxis - out.sin_theta[leg] * radial_[i]);
+    constraint.row(leg) = out.forearm[i].transpose();
+    drive[leg] = out.forearm[i].dot(out.knee_rate[i]);
+  }
+  const double b = parameters_.forearm_length_m;
+  double determinant = 0.0;
+  bool invertible = false;
+  constraint.computeInverseAndDetWithCheck(out.constraint_inverse, determinant, invertible);
+  if (!invertible || !(std::abs(determinant) > kSingularDeterminant * b * b * b)) return false;
+  // d_i . pd = (d_i . dc_i/dtheta_i) thetad_i for every leg: A pd = B thetad.
+  out.jacobian = out.constraint_inverse * drive.asDiagonal();
   return true;
 }
 
 bool DeltaDevice::forwardKinematics(const Eigen::Vector3d& theta_rad,
                                     Eigen::Vector3d& position_m) const noexcept {
+  if (!theta_rad.allFinite()) return false;
+  std::array<Eigen::Vector3d, 3> knee;
+  for (int leg = 0; leg < 3; ++leg) {
+    knee[static_cast<std::size_t>(leg)] =
+        kneeCentre(leg, std::sin(theta_rad[leg]), std::cos(theta_rad[leg]));
+  }
   Eigen::Vector3d tip;
-  if (!theta_rad.allFinite() || !solveForward(theta_rad, tip)) return false;
+  if (!intersectLegs(knee, tip)) return false;
   position_m = tip - home_tip_m_;
   return true;
 }
@@ -234,38 +266,18 @@ bool DeltaDevice::inverseKinematics(const Eigen::Vector3d& position_m,
   return true;
 }
 
-bool DeltaDevice::pose(const Eigen::Vector3d& theta_rad, const Eigen::Vector3d& tip_m,
-                       Pose& out) const noexcept {
-  const double a = parameters_.upper_arm_length_m;
-  for (int leg = 0; leg < 3; ++leg) {
-    const auto i = static_cast<std::size_t>(leg);
-    const double s = std::sin(theta_rad[leg]), c = std::cos(theta_rad[leg]);
-    out.forearm[i] = tip_m - kneeCentre(leg, theta_rad[leg]);
-    out.knee_rate[i] = a * (c * kAxis - s * radial_[i]);
-    out.constraint.row(leg) = out.forearm[i].transpose();
-    out.drive[leg] = out.forearm[i].dot(out.knee_rate[i]);
-  }
-  const double b = parameters_.forearm_length_m;
-  const double determinant = out.constraint.determinant();
-  if (!(std::abs(determinant) > kSingularDeterminant * b * b * b)) return false;
-  // d_i . pd = (d_i . dc_i/dtheta_i) thetad_i for every leg: A pd = B thetad.
-  out.jacobian = out.constraint.inverse() * out.drive.asDiagonal();
-  return true;
-}
-
-void DeltaDevice::requirePose(const Eigen::Vector3d& position_m, Eigen::Vector3d& theta_rad,
-                              Pose& out, const char* what) const {
-  if (!inverseKinematics(position_m, theta_rad) ||
-      !pose(theta_rad, position_m + home_tip_m_, out)) {
+void DeltaDevice::requirePose(const Eigen::Vector3d& position_m, Pose& out,
+                              const char* what) const {
+  Eigen::Vector3d theta;
+  if (!inverseKinematics(position_m, theta) || !solvePose(theta, out)) {
     throw Error(parameters_.specifications.model_name + " " + what +
                 ": position is outside the mechanism's reach");
   }
 }
 
 Eigen::Matrix3d DeltaDevice::jacobian(const Eigen::Vector3d& theta_rad) const noexcept {
-  Eigen::Vector3d tip;
   Pose at{};
-  if (!solveForward(theta_rad, tip) || !pose(theta_rad, tip, at)) {
+  if (!solvePose(theta_rad, at)) {
     return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   }
   return at.jacobian;
@@ -278,35 +290,31 @@ Eigen::Matrix3d DeltaDevice::massMatrix(const Pose& at) const noexcept {
 }
 
 Eigen::Matrix3d DeltaDevice::massMatrix(const Eigen::Vector3d& theta_rad) const noexcept {
-  Eigen::Vector3d tip;
   Pose at{};
-  if (!solveForward(theta_rad, tip) || !pose(theta_rad, tip, at)) {
+  if (!solvePose(theta_rad, at)) {
     return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   }
   return massMatrix(at);
 }
 
-Eigen::Vector3d DeltaDevice::gravityTorque(const Eigen::Vector3d& theta_rad,
-                                           const Pose& at) const noexcept {
+Eigen::Vector3d DeltaDevice::gravityTorque(const Pose& at) const noexcept {
   // U = sum_i k_i cos(theta_i) + m_p g z_p: the arms' part per joint, the platform's through J.
-  const Eigen::Vector3d arms = -arm_gravity_n_m_.cwiseProduct(theta_rad.array().sin().matrix());
-  return arms + moving_mass_kg_ * kStandardGravity * at.jacobian.row(2).transpose();
+  return moving_mass_kg_ * kStandardGravity * at.jacobian.row(2).transpose() -
+         arm_gravity_n_m_.cwiseProduct(at.sin_theta);
 }
 
 Eigen::Vector3d DeltaDevice::gravityTorque(const Eigen::Vector3d& theta_rad) const noexcept {
-  Eigen::Vector3d tip;
   Pose at{};
-  if (!solveForward(theta_rad, tip) || !pose(theta_rad, tip, at)) {
+  if (!solvePose(theta_rad, at)) {
     return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   }
-  return gravityTorque(theta_rad, at);
+  return gravityTorque(at);
 }
 
 double DeltaDevice::potentialEnergy_j(const Eigen::Vector3d& theta_rad) const noexcept {
-  Eigen::Vector3d tip;
-  if (!solveForward(theta_rad, tip)) return std::numeric_limits<double>::quiet_NaN();
-  return arm_gravity_n_m_.dot(theta_rad.array().cos().matrix()) +
-         moving_mass_kg_ * kStandardGravity * tip.z();
+  Pose at{};
+  if (!solvePose(theta_rad, at)) return std::numeric_limits<double>::quiet_NaN();
+  return arm_gravity_n_m_.dot(at.cos_theta) + moving_mass_kg_ * kStandardGravity * at.tip_m.z();
 }
 
 double DeltaDevice::kineticEnergy_j(const Eigen::Vector3d& theta_rad,
@@ -315,16 +323,14 @@ double DeltaDevice::kineticEnergy_j(const Eigen::Vector3d& theta_rad,
 }
 
 Eigen::Vector3d DeltaDevice::trueGravity(const Eigen::Vector3d& position_m) const {
-  Eigen::Vector3d theta;
   Pose at{};
-  requirePose(position_m, theta, at, "trueGravity");
-  return at.jacobian.transpose().inverse() * gravityTorque(theta, at);
+  requirePose(position_m, at, "trueGravity");
+  return at.jacobian.transpose().inverse() * gravityTorque(at);
 }
 
 Eigen::Matrix3d DeltaDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {
-  Eigen::Vector3d theta;
   Pose at{};
-  requirePose(position_m, theta, at, "trueApparentMass");
+  requirePose(position_m, at, "trueApparentMass");
   const Eigen::Matrix3d inverse = at.jacobian.inverse();
   const Eigen::Matrix3d lambda = inverse.transpose() * massMatrix(at) * inverse;
   return 0.5 * (lambda + lambda.transpose());
@@ -332,13 +338,7 @@ Eigen::Matrix3d DeltaDevice::trueApparentMass(const Eigen::Vector3d& position_m)
 
 void DeltaDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
   const auto& p = parameters_;
-  const Eigen::Vector3d tip = tip_m_ + home_tip_m_;
-  Pose at{};
-  if (!pose(theta_rad_, tip, at)) {  // cannot happen inside the arm stops; stay put if it does
-    thetad_rad_per_s_.setZero();
-    velocity_m_per_s_.setZero();
-    return;
-  }
+  const Pose& at = pose_;  // of the current state, kept from the previous step
   const Eigen::Vector3d& theta = theta_rad_;
   const Eigen::Vector3d& thetad = thetad_rad_per_s_;
   const Eigen::Matrix3d jacobian_t = at.jacobian.transpose();
@@ -355,8 +355,8 @@ void DeltaDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noe
     motor_n_m[j] = clamped;
   }
   if (saturated) ++joint_saturation_steps_;
-  Eigen::Vector3d torque = motor_n_m + jacobian_t * (force_n - actuator_n) -
-                           gravityTorque(theta, at) - friction_.step(thetad, dt_s);
+  Eigen::Vector3d torque = motor_n_m + jacobian_t * (force_n - actuator_n) - gravityTorque(at) -
+                           friction_.step(thetad, dt_s);
 
   // Arm stops: a rubber spring and damper while an arm presses beyond its range.
   for (int j = 0; j < 3; ++j) {
@@ -376,27 +376,26 @@ void DeltaDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noe
   for (int leg = 0; leg < 3; ++leg) {
     const auto i = static_cast<std::size_t>(leg);
     const Eigen::Vector3d knee_curvature =
-        -a * (std::cos(theta[leg]) * radial_[i] + std::sin(theta[leg]) * kAxis);
+        -a * (at.cos_theta[leg] * radial_[i] + at.sin_theta[leg] * kAxis);
     h[leg] = thetad[leg] * thetad[leg] * at.forearm[i].dot(knee_curvature) -
              (velocity_m_per_s_ - at.knee_rate[i] * thetad[leg]).squaredNorm();
   }
-  const Eigen::Vector3d bias_m_per_s2 = at.constraint.inverse() * h;
-  torque -= moving_mass_kg_ * (jacobian_t * bias_m_per_s2);
+  torque -= moving_mass_kg_ * (jacobian_t * (at.constraint_inverse * h));
   const Eigen::Vector3d thetadd = massMatrix(at).inverse() * torque;
 
   // Semi-implicit Euler: new velocity, then the position with it.
   const Eigen::Vector3d next_thetad = thetad + dt_s * thetadd;
   const Eigen::Vector3d next_theta = theta + dt_s * next_thetad;
-  Eigen::Vector3d next_tip;
   Pose next{};
-  if (!solveForward(next_theta, next_tip) || !pose(next_theta, next_tip, next)) {
+  if (!solvePose(next_theta, next)) {
     thetad_rad_per_s_.setZero();  // a singular pose: the mechanism locks, as a real one would
     velocity_m_per_s_.setZero();
     return;
   }
+  pose_ = next;
   theta_rad_ = next_theta;
   thetad_rad_per_s_ = next_thetad;
-  tip_m_ = next_tip - home_tip_m_;
+  tip_m_ = next.tip_m - home_tip_m_;
   velocity_m_per_s_ = next.jacobian * next_thetad;
 }
 
@@ -415,7 +414,7 @@ void DeltaDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   const auto& p = parameters_;
   Eigen::Vector3d theta;
   Pose at{};
-  if (!inverseKinematics(position_m, theta) || !pose(theta, position_m + home_tip_m_, at) ||
+  if (!inverseKinematics(position_m, theta) || !solvePose(theta, at) ||
       (theta.array() < p.joint_min_rad.array()).any() ||
       (theta.array() > p.joint_max_rad.array()).any()) {
     throw Error(p.specifications.model_name +
@@ -424,9 +423,8 @@ void DeltaDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   theta_rad_ = theta;
   thetad_rad_per_s_.setZero();
   friction_.reset();
-  Eigen::Vector3d tip;
-  solveForward(theta, tip);
-  tip_m_ = tip - home_tip_m_;
+  pose_ = at;
+  tip_m_ = at.tip_m - home_tip_m_;
   velocity_m_per_s_.setZero();
 }
 

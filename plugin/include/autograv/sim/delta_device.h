@@ -152,20 +152,23 @@ class DeltaDevice final : public SimulatedDriver {
  private:
   /// Everything the dynamics need at one pose, in the mechanism frame.
   struct Pose {
-    std::array<Eigen::Vector3d, 3> forearm;    // d_i = p - c_i, each of length b
-    std::array<Eigen::Vector3d, 3> knee_rate;  // dc_i/dtheta_i
-    Eigen::Matrix3d constraint;                // A: rows d_i^T
-    Eigen::Vector3d drive;                     // diagonal of B: d_i . dc_i/dtheta_i
-    Eigen::Matrix3d jacobian;                  // A^-1 B
+    Eigen::Vector3d sin_theta = Eigen::Vector3d::Zero();
+    Eigen::Vector3d cos_theta = Eigen::Vector3d::Zero();
+    Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
+    std::array<Eigen::Vector3d, 3> forearm{};    // d_i = p - c_i, each of length b
+    std::array<Eigen::Vector3d, 3> knee_rate{};  // dc_i/dtheta_i
+    Eigen::Matrix3d constraint_inverse = Eigen::Matrix3d::Zero();  // A^-1, A's rows d_i^T
+    Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();            // A^-1 B
   };
-  bool solveForward(const Eigen::Vector3d& theta_rad, Eigen::Vector3d& tip_m) const noexcept;
-  Eigen::Vector3d kneeCentre(int leg, double theta_rad) const noexcept;
-  bool pose(const Eigen::Vector3d& theta_rad, const Eigen::Vector3d& tip_m,
-            Pose& out) const noexcept;
-  void requirePose(const Eigen::Vector3d& position_m, Eigen::Vector3d& theta_rad, Pose& out,
-                   const char* what) const;
+  Eigen::Vector3d kneeCentre(int leg, double sin_theta, double cos_theta) const noexcept;
+  bool intersectLegs(const std::array<Eigen::Vector3d, 3>& knee,
+                     Eigen::Vector3d& tip_m) const noexcept;
+  /// Forward kinematics and the pose's derivatives; false out of reach or at a singularity.
+  bool solvePose(const Eigen::Vector3d& theta_rad, Pose& out) const noexcept;
+  /// The pose at a position; throws autograv::Error out of reach (`what` names the caller).
+  void requirePose(const Eigen::Vector3d& position_m, Pose& out, const char* what) const;
   Eigen::Matrix3d massMatrix(const Pose& pose) const noexcept;
-  Eigen::Vector3d gravityTorque(const Eigen::Vector3d& theta_rad, const Pose& pose) const noexcept;
+  Eigen::Vector3d gravityTorque(const Pose& pose) const noexcept;
 
   DeltaParameters parameters_;
   std::array<Eigen::Vector3d, 3> radial_{};  // e_i
@@ -178,6 +181,7 @@ class DeltaDevice final : public SimulatedDriver {
   Eigen::Vector3d thetad_rad_per_s_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d tip_m_ = Eigen::Vector3d::Zero();  // relative to the workspace centre
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  Pose pose_;  // of theta_rad_
   std::uint64_t joint_saturation_steps_ = 0;
   LuGreFriction friction_;
 };
