@@ -57,6 +57,11 @@ DeltaParameters falconParameters(FrictionLevel friction) {
       Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(2.0e-4),
       Eigen::Vector3d::Constant(2.0e-4), 1.0, Eigen::Vector3d::Constant(5.0e-3));
   parameters.friction = typical.scaledDry(dryFrictionScale(friction));
+  // Each motor's amplifier: 0.6 N m at an arm, just enough for 8.9 N in every direction at the
+  // centre, so that away from it some directions saturate a motor before the Cartesian clamp;
+  // through a 12-bit DAC (0.3 mN m, about 5 mN at the grip, per count). ASSUMED figures.
+  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.6);
+  parameters.driver.dac_bits = 12;
   parameters.specifications.model_name = "sim:falcon";
   parameters.specifications.manufacturer = "autograv simulation (Novint Falcon-like)";
   parameters.specifications.serial_number = "SIM-FALCON-0001";
@@ -99,7 +104,6 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   for (int j = 0; j < 3; ++j) {
     requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
     requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
-    requirePositive(p.max_joint_torque_n_m[j], "max_joint_torque_n_m");
     if (!std::isfinite(p.joint_min_rad[j]) || !std::isfinite(p.joint_max_rad[j]) ||
         p.joint_min_rad[j] >= p.joint_max_rad[j]) {
       throw Error("sim delta device: joint_min_rad must be finite and below joint_max_rad");
@@ -209,13 +213,12 @@ bool DeltaDevice::solvePose(const Eigen::Vector3d& theta_rad, Pose& out) const n
   if (!intersectLegs(knee, out.tip_m)) return false;
   const double a = parameters_.upper_arm_length_m;
   Eigen::Matrix3d constraint;  // A: rows d_i^T
-  Eigen::Vector3d drive;       // diagonal of B: d_i . dc_i/dtheta_i
   for (int leg = 0; leg < 3; ++leg) {
     const auto i = static_cast<std::size_t>(leg);
     out.forearm[i] = out.tip_m - knee[i];
     out.knee_rate[i] = a * (out.cos_theta[leg] * kAxis - out.sin_theta[leg] * radial_[i]);
     constraint.row(leg) = out.forearm[i].transpose();
-    drive[leg] = out.forearm[i].dot(out.knee_rate[i]);
+    out.drive[leg] = out.forearm[i].dot(out.knee_rate[i]);
   }
   const double b = parameters_.forearm_length_m;
   double determinant = 0.0;
@@ -223,7 +226,7 @@ bool DeltaDevice::solvePose(const Eigen::Vector3d& theta_rad, Pose& out) const n
   constraint.computeInverseAndDetWithCheck(out.constraint_inverse, determinant, invertible);
   if (!invertible || !(std::abs(determinant) > kSingularDeterminant * b * b * b)) return false;
   // d_i . pd = (d_i . dc_i/dtheta_i) thetad_i for every leg: A pd = B thetad.
-  out.jacobian = out.constraint_inverse * drive.asDiagonal();
+  out.jacobian = out.constraint_inverse * out.drive.asDiagonal();
   return true;
 }
 
@@ -336,26 +339,30 @@ Eigen::Matrix3d DeltaDevice::trueApparentMass(const Eigen::Vector3d& position_m)
   return 0.5 * (lambda + lambda.transpose());
 }
 
-void DeltaDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
+Eigen::Vector3d DeltaDevice::cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept {
+  return pose_.jacobian.transpose() * force_n;
+}
+
+Eigen::Vector3d DeltaDevice::motorToCartesian(const Eigen::Vector3d& command) const noexcept {
+  // J^-T = (A^-1 B)^-T = A^T B^-1: each motor's torque pushes along its own forearm.
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  for (int leg = 0; leg < 3; ++leg) {
+    force_n += (command[leg] / pose_.drive[leg]) * pose_.forearm[static_cast<std::size_t>(leg)];
+  }
+  return force_n;
+}
+
+void DeltaDevice::integrateStep(const Eigen::Vector3d& motor_command,
+                                const Eigen::Vector3d& external_force_n, double dt_s) noexcept {
   const auto& p = parameters_;
   const Pose& at = pose_;  // of the current state, kept from the previous step
   const Eigen::Vector3d& theta = theta_rad_;
   const Eigen::Vector3d& thetad = thetad_rad_per_s_;
   const Eigen::Matrix3d jacobian_t = at.jacobian.transpose();
 
-  // The motors make J^T F_actuators, each clamped to its own torque limit; the hand pushes on the
-  // grip directly.
-  const Eigen::Vector3d actuator_n = appliedForce_n();
-  Eigen::Vector3d motor_n_m = jacobian_t * actuator_n;
-  bool saturated = false;
-  for (int j = 0; j < 3; ++j) {
-    const double clamped =
-        std::clamp(motor_n_m[j], -p.max_joint_torque_n_m[j], p.max_joint_torque_n_m[j]);
-    saturated = saturated || clamped != motor_n_m[j];
-    motor_n_m[j] = clamped;
-  }
-  if (saturated) ++joint_saturation_steps_;
-  Eigen::Vector3d torque = motor_n_m + jacobian_t * (force_n - actuator_n) - gravityTorque(at) -
+  // The motors' torques (saturated, quantized and delayed by the driver) and the hand's force on
+  // the grip.
+  Eigen::Vector3d torque = motor_command + jacobian_t * external_force_n - gravityTorque(at) -
                            friction_.step(thetad, dt_s);
 
   // Arm stops: a rubber spring and damper while an arm presses beyond its range.

@@ -62,10 +62,6 @@ struct DeltaParameters {
 
   /// Encoder counts per turn of an arm (motor encoder counts times the capstan ratio).
   Eigen::Vector3d joint_counts_per_rev = Eigen::Vector3d::Constant(1280.0 * 0.110 / 0.01425);
-  /// Largest torque each motor produces at an arm: just enough for 8.9 N in every direction at
-  /// the centre; applied on top of the driver's Cartesian clamp, so away from the centre some
-  /// directions saturate earlier. Unit: [N m]
-  Eigen::Vector3d max_joint_torque_n_m = Eigen::Vector3d::Constant(0.6);
 
   /// Arm end stops (the arms hitting the body): a stiff rubber spring and damper on each actuated
   /// joint beyond [min, max]. Units: [rad], [N m/rad], [N m s/rad]
@@ -140,12 +136,16 @@ class DeltaDevice final : public SimulatedDriver {
   /// Unit: [rad], [rad/s]
   const Eigen::Vector3d& jointAngles_rad() const noexcept { return theta_rad_; }
   const Eigen::Vector3d& jointVelocities_rad_per_s() const noexcept { return thetad_rad_per_s_; }
-  /// Internal steps in which a motor torque was clamped to max_joint_torque_n_m.
-  std::uint64_t jointSaturationSteps() const noexcept { return joint_saturation_steps_; }
   const DeltaParameters& parameters() const noexcept { return parameters_; }
 
  protected:
-  void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
+  /// `motor_command`: each arm's motor torque. Units: [N m], [N], [s]
+  void integrateStep(const Eigen::Vector3d& motor_command, const Eigen::Vector3d& external_force_n,
+                     double dt_s) noexcept override;
+  /// J^T F at the current pose. Unit: [N m]
+  Eigen::Vector3d cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept override;
+  /// J^-T tau at the current pose. Unit: [N]
+  Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& command) const noexcept override;
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
 
@@ -155,8 +155,9 @@ class DeltaDevice final : public SimulatedDriver {
     Eigen::Vector3d sin_theta = Eigen::Vector3d::Zero();
     Eigen::Vector3d cos_theta = Eigen::Vector3d::Zero();
     Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
-    std::array<Eigen::Vector3d, 3> forearm{};    // d_i = p - c_i, each of length b
-    std::array<Eigen::Vector3d, 3> knee_rate{};  // dc_i/dtheta_i
+    std::array<Eigen::Vector3d, 3> forearm{};         // d_i = p - c_i, each of length b
+    std::array<Eigen::Vector3d, 3> knee_rate{};       // dc_i/dtheta_i
+    Eigen::Vector3d drive = Eigen::Vector3d::Zero();  // diagonal of B: d_i . dc_i/dtheta_i
     Eigen::Matrix3d constraint_inverse = Eigen::Matrix3d::Zero();  // A^-1, A's rows d_i^T
     Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();            // A^-1 B
   };
@@ -182,7 +183,6 @@ class DeltaDevice final : public SimulatedDriver {
   Eigen::Vector3d tip_m_ = Eigen::Vector3d::Zero();  // relative to the workspace centre
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
   Pose pose_;  // of theta_rad_
-  std::uint64_t joint_saturation_steps_ = 0;
   LuGreFriction friction_;
 };
 
