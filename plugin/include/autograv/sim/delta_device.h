@@ -60,7 +60,8 @@ struct DeltaParameters {
   /// and the amplifier's damping. Default: none at all (falconParameters() sets the levels).
   LuGreParameters friction;
 
-  /// Encoder counts per turn of an arm (motor encoder counts times the capstan ratio).
+  /// Encoder counts per turn of an arm: 320 slots read in quadrature (4 counts each, assumed)
+  /// times the capstan ratio 110 mm / 14.25 mm.
   Eigen::Vector3d joint_counts_per_rev = Eigen::Vector3d::Constant(1280.0 * 0.110 / 0.01425);
 
   /// Arm end stops (the arms hitting the body): a stiff rubber spring and damper on each actuated
@@ -98,6 +99,9 @@ DeltaParameters falconParameters(FrictionLevel friction = FrictionLevel::kTypica
 /// cube (about 250 g of moving parts, the arms partly hanging from their hips), an apparent mass
 /// of about 140 g across the axis and 170 g along it at the centre, and 0.04 mm per encoder count
 /// at the grip at the centre (under 0.07 mm over the cube).
+/// Not modelled: the limits of the parallelograms' ball joints. With only the arm stops the grip
+/// can travel about 110 mm from the centre across the axis (60 mm back, 85 mm forward), more than
+/// a real Falcon allows; inside the 4-inch cube this changes nothing.
 class DeltaDevice final : public SimulatedDriver {
  public:
   /// Throws autograv::Error for parameters that are not usable (say which one). Not real-time safe.
@@ -122,7 +126,7 @@ class DeltaDevice final : public SimulatedDriver {
   /// Closed-form inverse on the device's branch (knees outside the forearms); false out of reach.
   bool inverseKinematics(const Eigen::Vector3d& position_m,
                          Eigen::Vector3d& theta_rad) const noexcept;
-  /// dp/dtheta at a pose (theta and the matching grip position). Unit: [m/rad]
+  /// dp/dtheta at the arm angles theta; NaN where the legs cannot close. Unit: [m/rad]
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& theta_rad) const noexcept;
   /// Joint-space inertia M(theta) = I + m_p J^T J. Unit: [kg m^2]
   Eigen::Matrix3d massMatrix(const Eigen::Vector3d& theta_rad) const noexcept;
