@@ -24,9 +24,13 @@ const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 const std::string kPtyRunner = AUTOGRAV_SOURCE_DIR "/tests/integration/wizard_pty_run.sh";
 
 // A small grid on the Omni-like arm, with the paper's thresholds and the device-aware k0.
-const std::string kRunOptions = " --device sim:omni --auto-hand --grid 2 --side-mm 40 --seed 3";
+// Low friction: these tests drive the terminal front end, not the estimator's accuracy through
+// friction, and count on every vertex converging.
+const std::string kRunOptions =
+    " --device sim:omni --auto-hand --grid 2 --side-mm 40 --seed 3 --friction low";
 // The same on the Omega-like point mass, for the run `autograv calibrate` resumes.
-const std::string kOmegaOptions = " --device sim:omega --auto-hand --grid 2 --side-mm 40 --seed 3";
+const std::string kOmegaOptions =
+    " --device sim:omega --auto-hand --grid 2 --side-mm 40 --seed 3 --friction low";
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 

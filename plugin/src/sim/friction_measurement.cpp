@@ -59,10 +59,10 @@ double breakawayAlong(SimulatedDevice& device, const Eigen::Vector3d& direction,
 }
 
 double slidingForceAlong(SimulatedDevice& device, const Eigen::Vector3d& direction,
-                         const FrictionMeasurementOptions& options) {
+                         double speed_m_per_s, const FrictionMeasurementOptions& options) {
   settleAtCentre(device);
   const Eigen::Vector3d start_m = readOrThrow(device).position_m;
-  const Eigen::Vector3d velocity_m_per_s = options.sliding_speed_m_per_s * direction;
+  const Eigen::Vector3d velocity_m_per_s = speed_m_per_s * direction;
   double sum_n = 0.0;
   int samples = 0;
   for (double t = 0.0; t < kSlideSettle_s + kSlideAverage_s; t += kServo_s) {
@@ -114,12 +114,17 @@ FrictionMeasurement measureFriction(SimulatedDevice& device,
     result.breakaway_force_n = std::max(result.breakaway_force_n, breakaway_n);
     result.min_breakaway_force_n = std::min(result.min_breakaway_force_n, breakaway_n);
   }
-  double sliding_sum_n = 0.0;
+  // The sliding force is Fc + b v: at v and 2 v, 2 F(v) - F(2 v) leaves Fc alone.
+  double coulomb_sum_n = 0.0;
   for (int i = 0; i < 6; ++i) {
-    sliding_sum_n +=
-        slidingForceAlong(device, result.directions[static_cast<std::size_t>(i)], options);
+    const Eigen::Vector3d& direction = result.directions[static_cast<std::size_t>(i)];
+    const double slow_n =
+        slidingForceAlong(device, direction, options.sliding_speed_m_per_s, options);
+    const double fast_n =
+        slidingForceAlong(device, direction, 2.0 * options.sliding_speed_m_per_s, options);
+    coulomb_sum_n += 2.0 * slow_n - fast_n;
   }
-  result.coulomb_force_n = sliding_sum_n / 6.0;
+  result.coulomb_force_n = coulomb_sum_n / 6.0;
   device.resetState(device.workspaceCenter_m());
   device.setForce(Eigen::Vector3d::Zero());
   result.simulated_seconds = device.time_s() - start_s;

@@ -35,10 +35,14 @@ LuGreParameters omegaAxisFriction(FrictionLevel level) {
   // < 0.26 N, SensAble), about 30 mN of stiction per axis, i.e. a breakaway of 30 mN along an
   // axis and 52 mN along a diagonal, sliding friction 70 % of that, a 2 mm/s Stribeck speed and
   // 5 um of pre-sliding (half an encoder count). kLow and kHigh scale it (dryFrictionScale).
+  // The viscous term is the motors' back-EMF and the amplifiers' damping, kept at every level:
+  // 1.5 N s/m, ASSUMED, what a spring of k = 500 N/m (the paper's k0) rendered at 1 kHz with one
+  // period of transport delay needs to stay passive (more than k (T/2 + T) = 0.75 N s/m); a real
+  // omega.3 renders 14.5 N/mm through its own faster loop.
   const Eigen::Vector3d stiction_n = Eigen::Vector3d::Constant(0.030);
   return makeLuGreParameters(0.7 * stiction_n, stiction_n, Eigen::Vector3d::Constant(0.002),
                              Eigen::Vector3d::Constant(5e-6), Eigen::Vector3d::Constant(0.2), 0.5,
-                             Eigen::Vector3d::Constant(0.02))
+                             Eigen::Vector3d::Constant(1.5))
       .scaledDry(dryFrictionScale(level));
 }
 

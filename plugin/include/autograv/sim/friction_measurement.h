@@ -19,8 +19,8 @@ struct FrictionMeasurementOptions {
   /// of the Omni's, ten of the omega's), well beyond the tens of micrometres of pre-sliding.
   /// Unit: [m]
   double motion_threshold_m = 1e-4;
-  /// Speed at which the Coulomb (sliding) level is measured: above the Stribeck speeds, low
-  /// enough for the viscous part to be small. Unit: [m/s]
+  /// Speed at which the Coulomb (sliding) level is measured, and twice that: above the Stribeck
+  /// speeds, low enough to stay well inside the workspace. Unit: [m/s]
   double sliding_speed_m_per_s = 0.005;
   /// Stiffness and damping of the tracking servo that drives the end-effector at that speed.
   /// Units: [N/m], [N s/m]
@@ -35,9 +35,9 @@ struct FrictionMeasurement {
   double breakaway_force_n = 0.0;
   /// Smallest breakaway over the directions. Unit: [N]
   double min_breakaway_force_n = 0.0;
-  /// Mean over +-x, +-y, +-z of the force along the motion it takes to keep the end-effector
-  /// sliding at `sliding_speed_m_per_s` (Coulomb friction plus that speed's small viscous part).
-  /// Unit: [N]
+  /// Coulomb (sliding) friction: mean over +-x, +-y, +-z of the force along the motion it takes
+  /// to keep the end-effector sliding, at v and 2 v extrapolated to zero speed (2 F(v) - F(2 v)),
+  /// so that the viscous part drops out. Unit: [N]
   double coulomb_force_n = 0.0;
   /// The probed unit directions and each one's breakaway force. Unit: [N]
   std::vector<Eigen::Vector3d> directions;
@@ -52,7 +52,7 @@ std::vector<Eigen::Vector3d> frictionProbeDirections();
 /// Measures a simulated device's friction as one would on a bench: from rest at the workspace
 /// centre with gravity cancelled by the device's true gravity, a force ramped slowly along each
 /// probe direction until the measured position moves by `motion_threshold_m`; then the force a
-/// tracking servo needs to drive it at a slow constant speed. Opens nothing: `device` must be
+/// tracking servo needs to drive it at two slow constant speeds. Opens nothing: `device` must be
 /// open and calibrated; it is left at rest at the centre with zero force. Throws autograv::Error
 /// when the device stops answering. Not real-time safe.
 FrictionMeasurement measureFriction(SimulatedDevice& device,
