@@ -21,6 +21,7 @@ constexpr double kServo_s = 0.001;
 constexpr double kCubeSide_m = 4.0 * 0.0254;
 constexpr double kMaxForce_n = 8.9;
 constexpr double kResolution_m = 0.0254 / 400.0;
+constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 DeltaDevice makeOpenFalcon(std::uint64_t seed = 7) {
   DeltaDevice device(falconParameters(), seed);
@@ -215,7 +216,7 @@ TEST(DeltaDeviceTest, OneEncoderCountIsBelowThePublishedResolutionAtTheCentre) {
   const DeltaDevice device(falconParameters(), 1);
   const Eigen::Matrix3d j = device.jacobian(device.jointAngles_rad());
   for (int joint = 0; joint < 3; ++joint) {
-    const double count_rad = 2.0 * M_PI / device.parameters().joint_counts_per_rev[joint];
+    const double count_rad = kTwoPi / device.parameters().joint_counts_per_rev[joint];
     const double at_grip_m = j.col(joint).norm() * count_rad;
     EXPECT_LT(at_grip_m, kResolution_m);
     EXPECT_GT(at_grip_m, 0.5 * kResolution_m);  // and not far finer than the real one
@@ -326,8 +327,7 @@ TEST(DeltaDeviceTest, ForceIsLimitedInMagnitudeAndPerMotor) {
   device.resetState(edge);
   ASSERT_TRUE(device.setForce(0.999 * kMaxForce_n * direction));
   EXPECT_EQ(device.saturationCount(), 2u);
-  device.advance(0.0001);  // the command is still in flight: the actuators keep the old one
-  device.advance(kServo_s);
+  device.advance(kServo_s);  // one servo period of transport delay
   EXPECT_LT(device.appliedForce_n().dot(direction), 0.95 * kMaxForce_n);
 }
 
