@@ -272,10 +272,13 @@ bool SimulatedDriver::setForce(const Eigen::Vector3d& force_n) {
     active_motor_command_ = motor;
     return true;
   }
-  const int last = (pending_first_ + pending_count_ - 1) % kPendingCapacity;
-  if (pending_count_ > 0 && pending_[static_cast<std::size_t>(last)].step == due) {
-    pending_[static_cast<std::size_t>(last)].motor = motor;  // the later command of the period wins
-    return true;
+  if (pending_count_ > 0) {
+    PendingCommand& last = pending_[static_cast<std::size_t>((pending_first_ + pending_count_ - 1) %
+                                                             kPendingCapacity)];
+    if (last.step == due) {  // the later command of the same step wins
+      last.motor = motor;
+      return true;
+    }
   }
   if (pending_count_ == kPendingCapacity) {  // never advanced: the oldest command is lost
     pending_first_ = (pending_first_ + 1) % kPendingCapacity;

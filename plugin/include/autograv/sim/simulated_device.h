@@ -42,10 +42,13 @@ class SimulatedDevice : public HapticDevice {
   /// True, unquantized end-effector position and velocity. Unit: [m], [m/s]
   virtual Eigen::Vector3d truePosition_m() const noexcept = 0;
   virtual Eigen::Vector3d trueVelocity_m_per_s() const noexcept = 0;
-  /// Puts the end-effector at rest at `position_m` (tests and scripted demos). Unit: [m]
+  /// Puts the end-effector at rest at `position_m` (tests and scripted demos). The actuators keep
+  /// their command: a force sent now reaches them one transport delay later, so send the force
+  /// that should hold it there and advance one servo period before the reset. Unit: [m]
   virtual void resetState(const Eigen::Vector3d& position_m) = 0;
 
-  /// Force the actuators actually produced after saturation, last step. Unit: [N]
+  /// Force the actuators produce now: the command of one transport delay ago, after saturation
+  /// and the force DAC's quantization. Unit: [N]
   virtual Eigen::Vector3d appliedForce_n() const noexcept = 0;
   /// Number of setForce calls whose force was clamped by actuator saturation.
   virtual std::uint64_t saturationCount() const noexcept = 0;
