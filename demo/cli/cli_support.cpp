@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 namespace autograv::cli {
 

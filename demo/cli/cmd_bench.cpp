@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/gravity_compensated_device.h"
-#include "autograv/pd_design.h"
+#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/estimation/pd_design.h"
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"

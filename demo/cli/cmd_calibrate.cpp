@@ -13,7 +13,7 @@
 
 #include "autograv/calibration_wizard.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "commands.h"
 
 namespace autograv::cli {

@@ -14,7 +14,7 @@
 #include "commands.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/viz/image_compare.h"
 #include "autograv/viz/plots.h"
 #include "autograv/viz/scene.h"

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/error.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 #include "cli_support.h"
 #include "commands.h"
 

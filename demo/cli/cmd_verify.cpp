@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/error.h"
-#include "autograv/gravity_compensated_device.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_driver.h"
 #include "cli_support.h"
 #include "commands.h"

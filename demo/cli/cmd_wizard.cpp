@@ -12,9 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/calibration_wizard.h"
 #include "autograv/error.h"
 #include "autograv/sim/simulated_device.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"

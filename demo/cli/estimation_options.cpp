@@ -1,7 +1,7 @@
 #include "estimation_options.h"
 
-#include "autograv/map_io.h"
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/map/map_io.h"
 
 namespace autograv::cli {
 

@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "autograv/device_specifications.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/device/device_specifications.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv::cli {
 

@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "autograv/calibration_wizard.h"
 #include "autograv/sim/simulated_device.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 namespace autograv::cli {
 

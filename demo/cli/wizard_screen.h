@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/calibration_wizard.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 
 namespace autograv::cli {

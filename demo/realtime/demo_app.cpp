@@ -12,7 +12,7 @@
 #include "autograv/gl/offscreen_context.h"
 #include "autograv/gl/renderer.h"
 #include "autograv/gl/window.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "demo_view.h"
 
 namespace autograv::demo {

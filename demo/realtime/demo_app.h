@@ -5,7 +5,7 @@
 #include <string>
 
 #include "autograv/gl/image.h"
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "demo_session.h"
 
 namespace autograv::demo {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <filesystem>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
-#include "autograv/pd_design.h"
-#include "autograv/servo_sample.h"
+#include "autograv/estimation/pd_design.h"
 
 namespace autograv::demo {
 

@@ -9,11 +9,11 @@
 
 #include <Eigen/Core>
 
-#include "autograv/calibration_wizard.h"
-#include "autograv/estimation_parameters.h"
-#include "autograv/gravity_compensated_device.h"
-#include "autograv/gravity_map.h"
+#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "hand_script.h"
 #include "lock_free.h"
 #include "servo_timing.h"

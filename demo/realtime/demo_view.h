@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "autograv/gl/scene.h"
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "demo_session.h"
 
 namespace autograv::demo {

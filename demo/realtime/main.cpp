@@ -8,7 +8,7 @@
 
 #include "autograv/error.h"
 #include "autograv/gl/image.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "demo_app.h"
 
 namespace {

@@ -1,4 +1,4 @@
-#include "autograv/auto_calibrator.h"
+#include "autograv/estimation/auto_calibrator.h"
 
 #include <gtest/gtest.h>
 

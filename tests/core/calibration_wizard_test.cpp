@@ -1,6 +1,6 @@
 // The calibration wizard's state machine driven through every step on simulated devices, with the
 // simulated hand scripted as a user (the same script `autograv wizard --auto-hand` uses).
-#include "autograv/calibration_wizard.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 #include <atomic>
 #include <chrono>
@@ -19,7 +19,7 @@
 #include "../../demo/cli/wizard_auto_hand.h"
 #include "allocation_counter.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv {

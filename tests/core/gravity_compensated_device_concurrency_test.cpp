@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/gravity_compensated_device.h"
+#include "autograv/device/gravity_compensated_device.h"
 #include "recording_device.h"
 
 namespace autograv {

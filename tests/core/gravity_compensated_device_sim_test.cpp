@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/gravity_compensated_device.h"
+#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_driver.h"
 

@@ -1,4 +1,4 @@
-#include "autograv/gravity_compensated_device.h"
+#include "autograv/device/gravity_compensated_device.h"
 
 #include <stdlib.h>
 
@@ -16,7 +16,7 @@
 
 #include "allocation_counter.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "recording_device.h"
 
 namespace autograv {

@@ -1,4 +1,4 @@
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/servo_sample.h"
+#include "autograv/device/servo_sample.h"
 
 namespace autograv::testing {
 

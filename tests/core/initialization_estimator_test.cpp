@@ -1,4 +1,4 @@
-#include "autograv/initialization_estimator.h"
+#include "autograv/estimation/initialization_estimator.h"
 
 #include <gtest/gtest.h>
 

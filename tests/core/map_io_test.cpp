@@ -1,4 +1,4 @@
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 #include <stdlib.h>
 
@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/error.h"
-#include "core/map_json.h"
+#include "core/map/map_json.h"
 
 namespace autograv {
 namespace {

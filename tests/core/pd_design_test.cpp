@@ -1,4 +1,4 @@
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
 
 #include <gtest/gtest.h>
 

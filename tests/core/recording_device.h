@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/haptic_device.h"
+#include "autograv/device/haptic_device.h"
 
 namespace autograv::testing {
 

@@ -1,4 +1,4 @@
-#include "autograv/steady_state_detector.h"
+#include "autograv/estimation/steady_state_detector.h"
 
 #include <gtest/gtest.h>
 

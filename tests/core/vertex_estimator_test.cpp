@@ -1,4 +1,4 @@
-#include "autograv/vertex_estimator.h"
+#include "autograv/estimation/vertex_estimator.h"
 
 #include <gtest/gtest.h>
 

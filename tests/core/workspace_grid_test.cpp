@@ -1,4 +1,4 @@
-#include "autograv/workspace_grid.h"
+#include "autograv/map/workspace_grid.h"
 
 #include <set>
 

@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "gl_test_support.h"
 

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 #include "allocation_counter.h"
 #include "autograv/sim/simulated_device.h"

@@ -14,7 +14,7 @@
 
 #include "autograv/gl/image.h"
 #include "autograv/gl/scene.h"
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 
 namespace autograv::gl::testing {
 

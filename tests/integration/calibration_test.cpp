@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
-#include "autograv/pd_design.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/map/workspace_grid.h"
 #include "autograv/sim/procedures.h"
-#include "autograv/workspace_grid.h"
 
 namespace autograv {
 namespace {

@@ -16,7 +16,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 namespace autograv {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "allocation_counter.h"
 #include "autograv/error.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 #include "autograv/sim/paper_frame.h"
 
 namespace autograv::sim {

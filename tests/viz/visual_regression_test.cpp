@@ -16,7 +16,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/viz/image.h"
 #include "autograv/viz/image_compare.h"

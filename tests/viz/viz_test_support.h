@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/estimation_parameters.h"
-#include "autograv/gravity_map.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/viz/common.h"
 #include "autograv/viz/image.h"
 

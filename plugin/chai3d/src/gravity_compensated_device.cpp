@@ -3,7 +3,7 @@
 #include <utility>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 namespace autograv::chai3d {
 

@@ -12,7 +12,7 @@
 #include "autograv/chai3d/device_adapter.h"
 #include "autograv/chai3d/gravity_compensated_device.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "dhdc.h"
 
 namespace {

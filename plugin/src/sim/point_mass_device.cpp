@@ -4,7 +4,7 @@
 #include <string>
 
 #include "autograv/error.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv::sim {
 

@@ -5,12 +5,12 @@
 #include <random>
 #include <sstream>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
-#include "autograv/initialization_estimator.h"
-#include "autograv/pd_design.h"
-#include "autograv/servo_sample.h"
+#include "autograv/estimation/initialization_estimator.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/sim/paper_frame.h"
-#include "autograv/vertex_estimator.h"
 
 namespace autograv::sim {
 

@@ -7,7 +7,7 @@
 #include <Eigen/LU>
 
 #include "autograv/error.h"
-#include "autograv/estimation_parameters.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv::sim {
 

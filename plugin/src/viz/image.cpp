@@ -14,7 +14,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 #include "vtk_support.h"
 
 namespace autograv::viz {

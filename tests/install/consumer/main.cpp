@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <vector>
 
-#include <autograv/gravity_map.h>
+#include <autograv/map/gravity_map.h>
 
 int main() {
   const autograv::WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 2);

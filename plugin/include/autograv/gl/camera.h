@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/workspace_grid.h"
+#include "autograv/map/workspace_grid.h"
 
 namespace autograv::gl {
 

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "autograv/gl/camera.h"
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 
 namespace autograv::gl {
 

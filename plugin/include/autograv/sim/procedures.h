@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 
-#include "autograv/auto_calibrator.h"
-#include "autograv/estimation_parameters.h"
-#include "autograv/gravity_map.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::sim {

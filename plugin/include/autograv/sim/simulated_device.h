@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "autograv/haptic_device.h"
+#include "autograv/device/haptic_device.h"
+#include "autograv/device/tick_source.h"
 #include "autograv/sim/simulated_hand.h"
-#include "autograv/tick_source.h"
 
 namespace autograv::sim {
 

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device_specifications.h"
+#include "autograv/device/device_specifications.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_hand.h"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/viz/common.h"
 #include "autograv/viz/image.h"
 

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/viz/common.h"
 #include "autograv/viz/image.h"
 

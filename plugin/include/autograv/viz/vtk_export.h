@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "autograv/gravity_map.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/viz/common.h"
 
 namespace autograv::viz {

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 
 #include "autograv/chai3d/vendor_gravity_compensation.h"
-#include "autograv/haptic_device.h"
+#include "autograv/device/haptic_device.h"
 #include "chai3d.h"
 
 namespace autograv::chai3d {

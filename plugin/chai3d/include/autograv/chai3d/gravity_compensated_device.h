@@ -5,7 +5,7 @@
 
 #include "autograv/chai3d/device_adapter.h"
 #include "autograv/chai3d/vendor_gravity_compensation.h"
-#include "autograv/gravity_compensated_device.h"
+#include "autograv/device/gravity_compensated_device.h"
 #include "chai3d.h"
 
 namespace autograv::chai3d {

@@ -1,0 +1,129 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/estimation/vertex_estimator.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/workspace_grid.h"
+
+namespace autograv {
+
+/// The outer loop of the off-line autocalibration (paper Sections I and III, eqs. 9 and 13): visit
+/// every grid vertex on a smooth path, run the VertexEstimator there, carry the estimate on to the
+/// next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and skipped.
+class AutoCalibrator {
+ public:
+  enum class Status : std::uint8_t {
+    kIdle,            ///< start() not called yet.
+    kMoving,          ///< Travelling to the next vertex.
+    kEstimating,      ///< Inner loop running at the current vertex.
+    kVertexFinished,  ///< This tick finished a vertex (read lastFinishedVertex()).
+    kPaused,          ///< Holding position until resume().
+    kFinished,        ///< Every vertex to visit is done; holding the last one.
+    kAborted,         ///< abort() was called; holding position.
+    kDeviceFault,     ///< The device stopped answering; sending zero force.
+  };
+
+  struct Options {
+    /// Peak acceleration of the moves between vertices. Unit: [m/s^2]
+    double max_move_acceleration_m_per_s2 = 0.5;
+    /// Shortest move. Unit: [s]
+    double min_move_duration_s = 0.25;
+    /// Start each vertex from a linear extrapolation of the two previous converged vertices on
+    /// the same line instead of eq. (9)'s plain copy; fewer iterations, same fixed point.
+    bool extrapolate_initial_estimate = true;
+  };
+
+  /// Allocates everything the run needs. Throws autograv::Error on bad parameters.
+  /// Not real-time safe.
+  AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
+                 double max_force_n, const Options& options);
+  AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
+                 double max_force_n)
+      : AutoCalibrator(grid, parameters, max_force_n, Options()) {}
+
+  /// Keeps the finished vertices of an earlier run (a checkpoint) and visits only the others.
+  /// Throws autograv::Error when the count does not match the grid. Not real-time safe.
+  void restore(const std::vector<VertexEstimate>& vertices);
+  /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order.
+  /// Throws autograv::Error on an index out of range. Not real-time safe.
+  void visitOnly(const std::vector<int>& indices);
+
+  /// Starts from the end-effector at `position_m` with the estimate `initial_gravity_n` (G_hat_0
+  /// from the manual initialization, eq. 7). Real-time safe.
+  void start(const Eigen::Vector3d& position_m, const Eigen::Vector3d& initial_gravity_n) noexcept;
+  /// One servo tick: writes the force to send. Real-time safe.
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+
+  /// Holds the end-effector where it is; resume() restarts the current move or vertex.
+  /// Real-time safe.
+  void pause() noexcept;
+  void resume() noexcept;
+  /// Stops the run; keeps holding the end-effector where it is. Real-time safe.
+  void abort() noexcept;
+
+  /// What the calibrator is doing now (never kVertexFinished, which step() reports once).
+  Status state() const noexcept { return state_; }
+  int vertexCount() const noexcept { return grid_.vertexCount(); }
+  /// Vertices this run has to visit, and how many of them are done.
+  int toVisitCount() const noexcept { return static_cast<int>(order_.size()); }
+  int visitedCount() const noexcept { return static_cast<int>(next_in_order_) - (active_ ? 1 : 0); }
+  /// Grid index of the vertex being approached or estimated; -1 when none.
+  int currentVertex() const noexcept { return current_vertex_; }
+  /// Grid index of the vertex finished most recently; -1 before the first.
+  int lastFinishedVertex() const noexcept { return last_finished_vertex_; }
+  const VertexEstimator& estimator() const noexcept { return estimator_; }
+  const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
+  const WorkspaceGrid& grid() const noexcept { return grid_; }
+  /// Servo time since start(). Unit: [s]
+  double elapsed_s() const noexcept { return ticks_ * parameters_.servo_period_s; }
+  /// Largest |G_hat(X_a) - G_hat(X_b)| / |X_a - X_b| over converged neighbours so far: the
+  /// paper's constant c measured on the data. Unit: [N/m]
+  double lipschitzEstimate_n_per_m() const noexcept { return lipschitz_n_per_m_; }
+  /// Largest commanded force so far, after clamping. Unit: [N]
+  double peakForce_n() const noexcept { return peak_force_n_; }
+
+  /// The map of everything estimated so far. Not real-time safe.
+  GravityMap makeMap(const MapMetadata& metadata) const;
+
+ private:
+  void beginMove(const Eigen::Vector3d& from_m) noexcept;
+  void beginNextVertex(const Eigen::Vector3d& from_m) noexcept;
+  Eigen::Vector3d initialEstimateFor(int vertex) const noexcept;
+  void recordFinished() noexcept;
+  Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
+
+  WorkspaceGrid grid_;
+  EstimationParameters parameters_;
+  double max_force_n_;
+  Options options_;
+  VertexEstimator estimator_;
+  MinimumJerkMove move_;
+  std::vector<VertexEstimate> vertices_;
+  std::vector<int> order_;
+  std::size_t next_in_order_ = 0;
+  Status state_ = Status::kIdle;
+  Status state_before_pause_ = Status::kIdle;
+  bool active_ = false;  // a vertex of order_ is being approached or estimated
+  int current_vertex_ = -1;
+  int previous_vertex_ = -1;
+  int last_finished_vertex_ = -1;
+  long ticks_ = 0;
+  long move_ticks_ = 0;
+  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // feedforward carried between vertices
+  Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  int invalid_samples_ = 0;
+  double lipschitz_n_per_m_ = 0.0;
+  double peak_force_n_ = 0.0;
+};
+
+const char* toString(AutoCalibrator::Status status) noexcept;
+
+}  // namespace autograv

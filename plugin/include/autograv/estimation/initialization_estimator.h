@@ -1,0 +1,61 @@
+#pragma once
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/steady_state_detector.h"
+
+namespace autograv {
+
+/// Paper Section III-A, the manual initialization: a spring field of stiffness k0 centred on the
+/// point X0 the user chose holds the released end-effector; at steady state
+/// G_hat_0 = k0 (X0 - X_inf) (eq. 7). The field is ramped in so the user feels no jolt.
+class InitializationEstimator {
+ public:
+  enum class Status : std::uint8_t {
+    kRampingIn,    ///< The field is coming on; keep holding.
+    kWaiting,      ///< Field on; waiting for the released end-effector to settle.
+    kStillHeld,    ///< Settled with almost no sag: the hand is still holding it. Let go.
+    kDone,         ///< G_hat_0 is available.
+    kDeviceFault,  ///< The device stopped answering or sent non-finite samples.
+  };
+
+  /// Uses k0, n_S, eps_S, the minimum step duration and the servo period of `parameters`.
+  /// `damping_n_s_per_m` adds light viscous damping to the field: it does not move the steady
+  /// state (eq. 7 holds unchanged) but lets a device with little friction settle. `ramp_s` is the
+  /// fade-in time of the field. Throws autograv::Error on bad parameters. Not real-time safe.
+  InitializationEstimator(const EstimationParameters& parameters, double max_force_n,
+                          double ramp_s = 0.3, double damping_n_s_per_m = 5.0);
+
+  /// Centres the field on `center_m` (X0) and starts ramping it in. Real-time safe.
+  void start(const Eigen::Vector3d& center_m) noexcept;
+  /// One servo tick: returns the field force to send and the status. Real-time safe.
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+
+  /// G_hat_0 (eq. 7), valid once step() returned kDone. Unit: [N]
+  const Eigen::Vector3d& gravityEstimate_n() const noexcept { return estimate_n_; }
+  const Eigen::Vector3d& center_m() const noexcept { return center_m_; }
+  /// Current sag of the end-effector below the field centre. Unit: [m]
+  double sag_m() const noexcept { return sag_m_; }
+  /// Smallest |G_hat_0| accepted (constraint 6 of the paper). Unit: [N]
+  static constexpr double kMinGravityN = 0.02;
+
+ private:
+  EstimationParameters parameters_;
+  double max_force_n_;
+  double damping_n_s_per_m_;
+  long ramp_ticks_;
+  long tick_ = 0;
+  SteadyStateDetector detector_;
+  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d estimate_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double sag_m_ = 0.0;
+  int invalid_samples_ = 0;
+  bool done_ = false;
+};
+
+}  // namespace autograv

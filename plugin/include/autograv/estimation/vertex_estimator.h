@@ -1,0 +1,78 @@
+#pragma once
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/steady_state_detector.h"
+#include "autograv/map/gravity_map.h"
+
+namespace autograv {
+
+/// The inner loop of the paper (Section III-B) at one vertex X_i, stepped once per servo tick:
+///   F_j = K_P(i,j) (X_i - X) - K_D(i,j) Xd + G_hat_j                       (eq. 10)
+///   K_P(i,j) = beta M_hat_{j-1},  K_D(i,j) = alpha M_hat_{j-1},  M_hat = |G_hat|/g  (eq. 11)
+///   at steady state: G_hat_{j+1} = K_P(i,j) (X_i - X_inf) + G_hat_j        (eq. 12)
+/// until n_G consecutive updates change G_hat by at most eps_G.
+class VertexEstimator {
+ public:
+  enum class Status : std::uint8_t {
+    kSettling,       ///< Holding X_i, waiting for the steady state of iteration j.
+    kUpdated,        ///< This tick ended iteration j with an update (eq. 12).
+    kConverged,      ///< Done: n_G consecutive small updates.
+    kIterationCap,   ///< Done: max_iterations reached; the last estimate is kept.
+    kNoSteadyState,  ///< Done: an iteration did not settle within max_step_duration_s.
+    kSaturated,      ///< Done: the holding force stayed at the actuator limit.
+    kDeviceFault,    ///< Done: the device stopped answering.
+  };
+
+  /// Reserves the history for max_iterations records. Throws autograv::Error on bad parameters.
+  /// Not real-time safe.
+  VertexEstimator(const EstimationParameters& parameters, double max_force_n);
+
+  /// Begins the inner loop at `vertex_m` with G_hat_0 = `initial_gravity_n` (eqs. 9 and 13: the
+  /// gains of iteration 0 come from the same estimate). Real-time safe.
+  void start(const Eigen::Vector3d& vertex_m, const Eigen::Vector3d& initial_gravity_n) noexcept;
+  /// One servo tick; writes the force to send (clamped to the force limit). Real-time safe.
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+
+  bool finished() const noexcept { return finished_; }
+  /// Result so far: G_hat, iterations, seconds, outcome and history. Real-time safe to read.
+  const VertexEstimate& estimate() const noexcept { return estimate_; }
+  const Eigen::Vector3d& vertex_m() const noexcept { return vertex_m_; }
+  /// Iteration in progress (0-based), i.e. the number of updates so far.
+  int iteration() const noexcept { return estimate_.iterations; }
+  /// Most recent ||Delta_j||, NaN before the first update. Unit: [m]
+  double lastPositionError_m() const noexcept { return last_error_m_; }
+  /// Current proportional gain K_P(i,j). Unit: [N/m]
+  double stiffness_n_per_m() const noexcept { return stiffness_n_per_m_; }
+
+  /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6). Unit: [N]
+  static constexpr double kMinGravityN = 0.01;
+
+ private:
+  void setGains(const Eigen::Vector3d& gravity_n) noexcept;
+  void finish(VertexOutcome outcome) noexcept;
+
+  EstimationParameters parameters_;
+  double max_force_n_;
+  SteadyStateDetector detector_;
+  VertexEstimate estimate_;
+  Eigen::Vector3d vertex_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // G_hat_j, the feedforward
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double stiffness_n_per_m_ = 0.0;
+  double damping_n_s_per_m_ = 0.0;
+  double last_error_m_ = 0.0;
+  long ticks_ = 0;
+  int small_updates_ = 0;
+  int saturated_ticks_ = 0;
+  int invalid_samples_ = 0;
+  bool finished_ = true;
+};
+
+const char* toString(VertexEstimator::Status status) noexcept;
+
+}  // namespace autograv

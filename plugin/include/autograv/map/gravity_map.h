@@ -1,0 +1,104 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/workspace_grid.h"
+
+namespace autograv {
+
+/// One inner-loop iteration j at a vertex: what the paper plots in Figs. 8 and 9.
+struct IterationRecord {
+  /// ||Delta_j|| = ||X_i - X_inf||, steady-state positioning error. Unit: [m]
+  double position_error_m = 0.0;
+  /// M_hat_j = ||G_hat_j|| / g. Unit: [kg]
+  double mass_estimate_kg = 0.0;
+  /// G_hat_{j+1}, the estimate produced at the end of this iteration (eq. 12). Unit: [N]
+  Eigen::Vector3d gravity_estimate_n = Eigen::Vector3d::Zero();
+  /// Time from the start of the iteration to its steady state. Unit: [s]
+  double duration_s = 0.0;
+};
+
+/// Why a vertex ended the way it did.
+enum class VertexOutcome : std::uint8_t {
+  kPending,        ///< Not visited yet.
+  kConverged,      ///< n_G consecutive updates within eps_G.
+  kIterationCap,   ///< max_iterations reached first; the last estimate is kept.
+  kNoSteadyState,  ///< An iteration never settled within max_step_duration_s.
+  kSaturated,      ///< The actuators saturated while holding the vertex.
+  kDeviceFault,    ///< The device stopped answering or sent non-finite samples.
+};
+
+/// Stable lower-case name used in files and reports ("converged", "iteration_cap", ...).
+const char* toString(VertexOutcome outcome) noexcept;
+/// Inverse of toString; returns false for an unknown name.
+bool parseVertexOutcome(const std::string& name, VertexOutcome& outcome) noexcept;
+
+/// The result of the inner loop at one vertex.
+struct VertexEstimate {
+  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< Final G_hat(X_i). Unit: [N]
+  int iterations = 0;
+  double seconds = 0.0;  ///< Servo time spent at the vertex, move excluded. Unit: [s]
+  VertexOutcome outcome = VertexOutcome::kPending;
+  std::vector<IterationRecord> history;  ///< One record per iteration, oldest first.
+};
+
+/// Where a map came from.
+struct MapMetadata {
+  std::string device_model;   ///< DeviceSpecifications::model_name at calibration time.
+  std::string device_serial;  ///< Empty when unknown.
+  std::string created_utc;    ///< ISO 8601, e.g. "2026-11-23T13:25:00Z".
+  EstimationParameters parameters;
+};
+
+/// Largest magnitude of a vertex estimate's component that a map accepts. No device's gravity
+/// comes near it; the bound keeps interpolation, ramps and the application's force plus the
+/// compensation far from overflow in the servo path. Unit: [N]
+inline constexpr double kMaxGravityEstimate_n = 1e9;
+
+/// Apparent gravity estimated on the grid vertices, and its trilinear interpolation (the on-line
+/// phase). Immutable once built, so one instance can be shared by a servo thread and others.
+class GravityMap {
+ public:
+  /// Throws autograv::Error when vertices.size() != grid.vertexCount() or an estimate is not
+  /// finite or has a component beyond kMaxGravityEstimate_n. Not real-time safe.
+  GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices, MapMetadata metadata);
+
+  const WorkspaceGrid& grid() const noexcept { return grid_; }
+  const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
+  const MapMetadata& metadata() const noexcept { return metadata_; }
+
+  /// Trilinear interpolation of the vertex estimates in the cell containing `position_m`; a point
+  /// outside the grid is clamped to the grid's boundary first. Unit: [N].
+  /// Real-time safe: no allocation, no lock, no throw.
+  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
+
+  /// The same, and whether `position_m` lies within the grid grown by `margin_m` on every side
+  /// (false for a NaN coordinate): how the compensation tells a position it may trust the map
+  /// at from one it should not. Units: [m], [N]. Real-time safe.
+  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m,
+                            bool& inside) const noexcept;
+
+  /// Vertices whose outcome is kConverged.
+  int convergedCount() const noexcept;
+  /// True when every vertex has converged.
+  bool isComplete() const noexcept { return convergedCount() == grid_.vertexCount(); }
+
+ private:
+  WorkspaceGrid grid_;
+  std::vector<VertexEstimate> vertices_;
+  MapMetadata metadata_;
+  // The lookup's view of the grid, computed once: no division per query.
+  Eigen::Vector3d min_corner_m_;
+  double inverse_spacing_per_m_;  ///< Unit: [1/m]
+  double last_cell_;              ///< resolution - 1. Unit: [cells]
+  /// The estimates again, zero-padded to four components in one aligned array: the lookup reads
+  /// eight neighbours from it on whole SIMD packets. Unit: [N]
+  std::vector<Eigen::Vector4d> packed_gravity_n_;
+};
+
+}  // namespace autograv

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "autograv/map/gravity_map.h"
+
+namespace autograv {
+
+/// Current map file schema version; files with another major version are refused.
+inline constexpr int kMapSchemaVersion = 1;
+
+struct MapLoadOptions {
+  /// When non-empty, a map whose device_model differs is refused.
+  std::string expected_device_model;
+  /// Accept a map made for another device model anyway.
+  bool allow_model_mismatch = false;
+};
+
+/// Reads and fully validates a JSON map file (schema, units, grid, parameters, every vertex,
+/// checksum). Throws autograv::Error naming the file, the field and what was expected; nothing
+/// half-loaded is ever returned. Not real-time safe.
+GravityMap loadMap(const std::string& path, const MapLoadOptions& options = {});
+
+/// Writes `map` atomically: a temporary file in the same folder, flushed, then renamed over
+/// `path`, so a crash mid-write never destroys the previous file. Throws autograv::Error.
+/// Not real-time safe.
+void saveMap(const GravityMap& map, const std::string& path);
+
+/// Writes `text` to `path` so that `path` holds either its previous content or all of `text`,
+/// whatever happens: a unique temporary file in the same folder (rename is atomic only within
+/// one file system), written, fsync'ed, renamed over the target, then the folder fsync'ed so
+/// that the rename itself survives a power cut. What saveMap does; reports use it too. Throws
+/// autograv::Error saying "saving <what> '<path>': ..." and why. Not real-time safe.
+void writeFileAtomically(const std::string& path, const std::string& text,
+                         const std::string& what = "file");
+
+// --- In-memory form and checksum (additions for tools and tests) ---------------------------
+//
+// File format (schema version 1), one JSON object:
+//   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
+//   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], side_m,
+//   resolution}, parameters {every EstimationParameters field under its C++ name}, vertices[]
+//   (one object per grid vertex, in vertex-index order: index, position_m[3], gravity_n[3],
+//   iterations, seconds, outcome, history[] of {position_error_m, mass_estimate_kg,
+//   gravity_estimate_n[3], duration_s}), and checksum {algorithm "fnv1a-64", value}.
+// The checksum is FNV-1a 64 over the UTF-8 bytes of the compact canonical dump of the whole
+// document WITHOUT its "checksum" member (nlohmann::json::dump() with no indent: keys sorted,
+// no spaces, doubles in shortest round-trip form), written as 16 lower-case hex digits.
+
+/// FNV-1a 64-bit hash of `bytes` (offset basis 0xcbf29ce484222325, prime 0x100000001b3).
+/// Real-time safe (no allocation).
+std::uint64_t fnv1a64(const std::string& bytes) noexcept;
+
+/// The exact text saveMap writes for `map` (indented JSON with its checksum). An empty
+/// metadata.created_utc is replaced by the current UTC time. Throws autograv::Error when the map
+/// cannot be written as a valid file (empty device model, non-finite history values).
+/// Not real-time safe.
+std::string mapToJson(const GravityMap& map);
+
+/// The "parameters" object of a map file on its own (compact JSON text, the same keys and SI
+/// units), for reports. Not real-time safe.
+std::string parametersToJson(const EstimationParameters& parameters);
+
+/// Parses and validates `text` exactly as loadMap validates a file; `source` names the text in
+/// error messages (a path, "<stdin>", ...). Not real-time safe.
+GravityMap mapFromJson(const std::string& text, const std::string& source,
+                       const MapLoadOptions& options = {});
+
+}  // namespace autograv

@@ -1,0 +1,398 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/device/haptic_device.h"
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/initialization_estimator.h"
+#include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/workspace_grid.h"
+
+namespace autograv {
+
+namespace wizard {
+struct Live;  // the servo side's live numbers (plugin/src/core/wizard_internal.h)
+}  // namespace wizard
+
+/// The steps of the calibration wizard, in order, then the three ways it ends.
+enum class WizardStep : std::uint8_t {
+  kCheck,            ///< Device opens and is homed, specifications and parameters are sane.
+  kCentre,           ///< The user brings the end-effector near the workspace centre.
+  kRelease,          ///< The k0 field ramps in, the user lets go: G_hat_0 (paper eq. 7).
+  kAutoCalibration,  ///< The device visits the grid by itself (paper Sec. III-B).
+  kReview,           ///< Results; the failed vertices can be redone.
+  kSave,             ///< The map is written atomically.
+  kVerify,           ///< Release tests at a few vertices with compensation on.
+  kDone,             ///< Map saved (and verified); the device is held with compensation on.
+  kAborted,          ///< The user stopped; finished vertices are in the checkpoint.
+  kFault,            ///< Cannot go on (device fault, refused plan); see WizardStatus::message.
+};
+
+/// Stable lower-case name ("check", "centre", ..., "fault"). Real-time safe.
+const char* toString(WizardStep step) noexcept;
+
+/// What the front end tells the wizard. Events that mean nothing in the current step are ignored.
+enum class WizardEvent : std::uint8_t {
+  kConfirm,     ///< Centre: the end-effector is there. Check/Save: retry. Review: save as it is.
+  kPause,       ///< AutoCalibration: hold the device where it is.
+  kResume,      ///< AutoCalibration: go on after a pause.
+  kAbort,       ///< Stop (checkpointing what is finished). In Verify: stop verifying.
+  kRedoFailed,  ///< Review: visit again only the vertices that did not converge.
+  kSkipRedo,    ///< Review: keep the result as it is and save it (same as kConfirm there).
+};
+
+/// Why Check stopped, so that a front end can answer for an unattended user.
+enum class CheckIssue : std::uint8_t {
+  kNone,               ///< Not stopped (or not checked yet).
+  kOpenFailed,         ///< open() failed; Enter retries.
+  kUncalibrated,       ///< calibrate() failed; Enter runs the device's homing.
+  kEarlierCheckpoint,  ///< A checkpoint exists and --resume was not given; Enter replaces it.
+  kSettings,           ///< Specifications, grid or parameters refused; change them and restart.
+};
+
+/// Settings of one wizard run. Set-up only.
+struct WizardConfig {
+  /// Calibration grid (paper Sec. I). Units: [m]
+  Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
+  double grid_side_m = 0.06;
+  int grid_resolution = 5;
+  EstimationParameters parameters;
+  AutoCalibrator::Options calibrator;
+  /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
+  /// `autograv calibrate`, so either command resumes the other's run.
+  std::string map_path;
+  /// Continue from the checkpoint: its finished vertices are kept bit for bit.
+  bool resume = false;
+  /// Centre is confirmed only this close to grid_center_m. Unit: [m]
+  double centre_tolerance_m = 0.01;
+  /// Fade-in time of the k0 field. Unit: [s]
+  double field_ramp_s = 0.3;
+  /// After the field is on, how long the end-effector may take to settle before the wizard says
+  /// that it does not (it keeps waiting). Unit: [s]
+  double release_patience_s = 4.0;
+  /// Vertices of the release test in Verify (0 skips Verify; at most kMaxVerifyPoints).
+  int verify_points = 3;
+  /// Hold at a verify vertex with compensation fully on before letting go. Unit: [s]
+  double verify_settle_s = 0.8;
+  /// Length of one release test. Unit: [s]
+  double verify_release_s = 0.5;
+  /// A release test stops early (and the device is caught) past this drift. Unit: [m]
+  double verify_drift_limit_m = 0.01;
+  /// Fade of the compensation when Verify switches it on. Unit: [s]
+  double compensation_ramp_s = 0.5;
+  /// Serial number written into the map; empty takes the device's.
+  std::string device_serial;
+};
+
+/// Largest number of release tests in Verify.
+inline constexpr int kMaxVerifyPoints = 8;
+
+/// One release test of Verify.
+struct VerifyResult {
+  int vertex = -1;
+  /// End-effector displacement while only the compensation acted. Unit: [m]
+  double drift_m = 0.0;
+  /// Duration of the test (shorter than verify_release_s when the drift limit was hit). Unit: [s]
+  double duration_s = 0.0;
+  /// Constant force that would cause that drift on the apparent mass |G_hat|/g from rest:
+  /// 2 M d / t^2 (friction hides part of it). Unit: [N]
+  double residual_force_n = 0.0;
+  bool finished = false;
+};
+
+/// One vertex of the review table.
+struct ReviewRow {
+  int vertex = -1;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< Unit: [m]
+  VertexOutcome outcome = VertexOutcome::kPending;
+  int iterations = 0;
+  double seconds = 0.0;                                 ///< Unit: [s]
+  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< Unit: [N]
+};
+
+/// What Review shows: the whole grid in numbers, and the vertices to redo.
+struct WizardReview {
+  int vertex_count = 0;
+  int converged = 0;
+  int iterations_min = 0;
+  double iterations_median = 0.0;
+  int iterations_max = 0;
+  /// Servo time spent estimating, moves excluded. Unit: [s]
+  double estimation_seconds = 0.0;
+  /// Smallest and largest |G_hat| over converged vertices. Unit: [N]
+  double gravity_min_n = 0.0;
+  double gravity_max_n = 0.0;
+  /// Paper's Lipschitz constant c measured on the converged neighbours. Unit: [N/m]
+  double lipschitz_n_per_m = 0.0;
+  /// Largest force commanded by the calibration. Unit: [N]
+  double peak_force_n = 0.0;
+  /// Vertices that saturated, hit the iteration cap, never settled or faulted (not kPending).
+  std::vector<ReviewRow> failed;
+  /// Vertices never visited (a run aborted before them).
+  int pending = 0;
+  /// Converged vertices that came from the checkpoint of an earlier run.
+  int restored = 0;
+};
+
+/// Everything a front end shows, rebuilt by CalibrationWizard::status().
+struct WizardStatus {
+  WizardStep step = WizardStep::kCheck;
+  /// 1-based number of the step among the seven of a normal run (0 for Aborted and Fault).
+  int step_number = 1;
+  static constexpr int kStepCount = 7;
+  std::string title;    ///< e.g. "Centre the end-effector".
+  std::string message;  ///< What is happening, with the live numbers; may span lines.
+  std::string prompt;   ///< What the user should do now; empty when nothing.
+  /// One line on the run (device, grid, resume), known once Check passed.
+  std::string summary;
+  /// True while the wizard waits for the user (a key, the stylus button, letting go).
+  bool waiting_for_user = false;
+  /// Check: why it stopped.
+  CheckIssue check_issue = CheckIssue::kNone;
+
+  /// Latest end-effector position and speed. Units: [m], [m/s]
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  double speed_m_per_s = 0.0;
+  bool position_valid = false;
+  /// Servo time since the wizard started ticking. Unit: [s]
+  double time_s = 0.0;
+
+  // Centre.
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();     ///< Unit: [m]
+  Eigen::Vector3d to_centre_m = Eigen::Vector3d::Zero();  ///< centre - position. Unit: [m]
+  double centre_distance_m = 0.0;                         ///< Unit: [m]
+  double centre_tolerance_m = 0.0;                        ///< Unit: [m]
+  bool within_tolerance = false;
+
+  // Release.
+  InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
+  double sag_m = 0.0;              ///< Unit: [m]
+  bool still_held = false;         ///< The estimator saw the hand carry the weight recently.
+  bool not_settling = false;       ///< Field on for release_patience_s and still no steady state.
+  double release_elapsed_s = 0.0;  ///< Unit: [s]
+  Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
+  bool initial_gravity_valid = false;
+
+  // AutoCalibration.
+  AutoCalibrator::Status calibrator_state = AutoCalibrator::Status::kIdle;
+  bool paused = false;
+  int vertex = -1;            ///< Grid index being approached or estimated.
+  int vertex_ordinal = 0;     ///< i of "vertex i of N" (1-based).
+  int vertices_to_visit = 0;  ///< N.
+  int vertex_count = 0;       ///< Whole grid.
+  int converged = 0;          ///< Converged vertices so far (restored ones included).
+  int iteration = 0;          ///< j at the current vertex.
+  double delta_m = 0.0;       ///< Latest ||Delta_j||, NaN before the first update. Unit: [m]
+  double eta_s = 0.0;         ///< Remaining servo time, NaN while unknown. Unit: [s]
+  double calibration_elapsed_s = 0.0;  ///< Unit: [s]
+
+  // Review (filled from the first Review on).
+  WizardReview review;
+  bool review_valid = false;
+
+  // Files.
+  std::string map_path;
+  std::string checkpoint_path;
+  int checkpointed_converged = 0;  ///< Converged vertices in the last checkpoint written.
+  bool checkpoint_written = false;
+  bool map_saved = false;
+  std::string save_error;  ///< Why the last save failed (Save retries on kConfirm).
+
+  // Verify.
+  std::vector<VerifyResult> verify;  ///< One per test, finished ones first.
+  int verify_index = 0;              ///< Test in progress (0-based).
+  double max_drift_m = 0.0;          ///< Over finished tests. Unit: [m]
+  bool verify_cancelled = false;
+
+  /// Aborted / Fault: what happened and what to do.
+  std::string fault;
+};
+
+/// The guided calibration (paper Sec. III-A then III-B) as a state machine with no UI code:
+/// Check -> Centre -> Release -> AutoCalibration -> Review -> Save -> Verify -> Done.
+///
+/// Two sides, so that the servo loop never blocks, allocates or touches a file:
+///  - servoTick(), on the servo thread once per period: reads the device, steps the current
+///    step, writes the force. It only fills preallocated state and raises request flags.
+///  - service(), on one non-real-time thread (typically the UI thread, every frame): the device's
+///    open/calibrate, the checks, checkpoint and map files, the review table, publishing the map
+///    to the compensation. status() is read on that same thread.
+/// post() may be called from any thread. All I/O with the device goes through a
+/// GravityCompensatedDevice owned by the wizard (compensation off until Verify).
+///
+/// Checkpoints: after each finished vertex the servo side copies it into a mirror (a try-lock it
+/// never waits on) and service() writes the mirror to map_path + ".partial" with saveMap (atomic).
+class CalibrationWizard {
+ public:
+  /// Checks the configuration (grid, paths); the device is opened by the Check step, not here.
+  /// Throws autograv::Error. Not real-time safe.
+  CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config);
+  /// Sends zero force and closes the device if the wizard opened it. The servo loop must have
+  /// stopped. Not real-time safe.
+  ~CalibrationWizard();
+  CalibrationWizard(const CalibrationWizard&) = delete;
+  CalibrationWizard& operator=(const CalibrationWizard&) = delete;
+
+  /// Queues an event for the next tick (or the next service() in Check). Any thread.
+  /// Real-time safe.
+  void post(WizardEvent event) noexcept;
+
+  /// One servo tick: read, step, write. Returns the step after the tick. Does nothing during
+  /// Check (the device may not be open yet). Real-time safe: no allocation, lock, throw or I/O.
+  WizardStep servoTick() noexcept;
+
+  /// The non-real-time half: runs Check, answers the servo side's requests (plan check, review,
+  /// redo, save, verify set-up) and writes checkpoints. Call it often (each UI frame). Never
+  /// throws for device or file problems: they become the step's message. Not real-time safe.
+  void service();
+
+  /// Snapshot for the front end, with the texts. Same thread as service(). Not real-time safe.
+  WizardStatus status() const;
+
+  /// Current step. Any thread. Real-time safe.
+  WizardStep step() const noexcept { return phase_.load(std::memory_order_acquire); }
+  /// True in Done, Aborted or Fault once every checkpoint has been written: the front end may
+  /// stop ticking and exit. Same thread as service(). Not real-time safe.
+  bool finished() const;
+
+  /// Vertices as the checkpoint mirror holds them (restored, finished, pending). Same thread as
+  /// service(). Not real-time safe.
+  std::vector<VertexEstimate> vertices() const;
+  /// The saved map, null before Save succeeded. Same thread as service(). Not real-time safe.
+  std::shared_ptr<const GravityMap> savedMap() const { return saved_map_; }
+
+  /// The configuration and grid of this run. Real-time safe.
+  const WizardConfig& config() const noexcept { return config_; }
+  const WorkspaceGrid& grid() const noexcept { return grid_; }
+  /// The device as the wizard drives it (compensation decorator around the one passed in), e.g.
+  /// for its fault counters. Real-time safe.
+  GravityCompensatedDevice& device() noexcept { return *device_; }
+  /// map_path + ".partial". Real-time safe.
+  const std::string& checkpointPath() const noexcept { return checkpoint_path_; }
+
+ private:
+  // Sub-states the servo side keeps between ticks.
+  enum class HoldMode : std::uint8_t { kNone, kField, kCalibrator, kPd };
+  enum class VerifyStage : std::uint8_t { kWaitMap, kMove, kSettle, kRelease };
+
+  // Servo side (servo thread only).
+  void tickCentre(const ServoSample& sample, bool pressed, std::uint32_t events,
+                  Eigen::Vector3d& force_n) noexcept;
+  void tickRelease(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
+                   Eigen::Vector3d& force_n) noexcept;
+  void tickCalibration(const ServoSample& sample, std::uint32_t events,
+                       Eigen::Vector3d& force_n) noexcept;
+  void tickReview(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
+                  Eigen::Vector3d& force_n) noexcept;
+  void tickSave(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
+                Eigen::Vector3d& force_n) noexcept;
+  void tickVerify(const ServoSample& sample, std::uint32_t events,
+                  Eigen::Vector3d& force_n) noexcept;
+  void holdForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+  void heldForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+  Eigen::Vector3d feedforward_n(const Eigen::Vector3d& position_m) const noexcept;
+  void beginVerifyMove(const Eigen::Vector3d& from_m) noexcept;
+  void enter(WizardStep step) noexcept;
+  void fail(int fault_code, HoldMode hold) noexcept;
+  bool sampleLost(const ServoSample& sample) noexcept;
+  void flushMirror() noexcept;
+  void publishLive() noexcept;
+
+  // Service side (non-real-time thread only).
+  void runCheck(bool retry);
+  void writeCheckpoint();
+  void buildReview();
+  void prepareRedo();
+  void saveAndPrepareVerify();
+  std::vector<int> chooseVerifyVertices(const std::vector<VertexEstimate>& vertices) const;
+  MapMetadata metadata() const;
+  std::vector<VertexEstimate> mirrorCopy(std::uint64_t* version) const;
+
+  WizardConfig config_;
+  WorkspaceGrid grid_;
+  std::string checkpoint_path_;
+  std::shared_ptr<GravityCompensatedDevice> device_;
+
+  // Built by Check on the service side, then used by the servo side.
+  std::unique_ptr<InitializationEstimator> initialization_;
+  std::unique_ptr<AutoCalibrator> calibrator_;
+  double max_force_n_ = 0.0;
+
+  // Shared between the two sides.
+  std::atomic<WizardStep> phase_{WizardStep::kCheck};
+  std::atomic<std::uint32_t> events_{0};
+  std::atomic<std::uint32_t> requests_{0};  // servo -> service
+  std::atomic<std::uint32_t> replies_{0};   // service -> servo
+  mutable std::atomic_flag mirror_busy_ = ATOMIC_FLAG_INIT;
+  std::vector<VertexEstimate> mirror_;  // guarded by mirror_busy_
+  std::uint64_t mirror_version_ = 0;    // guarded by mirror_busy_
+  std::atomic<bool> mirror_pending_{false};
+  mutable std::atomic_flag live_busy_ = ATOMIC_FLAG_INIT;
+  std::unique_ptr<wizard::Live> live_shared_;  // guarded by live_busy_
+  // Written by service before the reply that hands them over, read by the servo side after it.
+  std::vector<int> verify_vertices_;
+  std::shared_ptr<const GravityMap> saved_map_;
+  Eigen::Vector3d plan_gravity_n_ = Eigen::Vector3d::Zero();  // G_hat_0 for the plan check
+
+  // Servo side only.
+  std::unique_ptr<wizard::Live> live_;
+  long ticks_ = 0;
+  long phase_ticks_ = 0;
+  int invalid_samples_ = 0;
+  int failed_writes_ = 0;
+  bool last_switch_ = false;
+  bool awaiting_plan_ = false;
+  bool awaiting_redo_ = false;
+  bool awaiting_save_ = false;
+  long waiting_since_tick_ = 0;
+  HoldMode hold_mode_ = HoldMode::kNone;
+  Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_good_gravity_n_ = Eigen::Vector3d::Zero();
+  std::vector<char> copy_pending_;  // per vertex: to copy into the mirror
+  bool any_copy_pending_ = false;
+  const GravityMap* verify_map_ = nullptr;
+  VerifyStage verify_stage_ = VerifyStage::kMove;
+  MinimumJerkMove verify_move_;
+  long verify_ticks_ = 0;
+  Eigen::Vector3d release_start_m_ = Eigen::Vector3d::Zero();
+
+  // Service side only.
+  bool opened_ = false;
+  bool check_passed_ = false;
+  bool check_attempted_ = false;
+  bool force_calibrate_ = false;
+  std::string check_message_;
+  std::string check_prompt_;
+  CheckIssue check_issue_ = CheckIssue::kNone;
+  std::string summary_;
+  std::string plan_message_;
+  std::uint64_t checkpoint_version_ = 0;
+  bool checkpoint_written_ = false;
+  int checkpointed_converged_ = 0;
+  std::string checkpoint_error_;
+  WizardReview review_;
+  bool review_valid_ = false;
+  std::vector<char> restored_;  // per vertex: converged in the loaded checkpoint
+  std::string save_error_;
+  bool map_saved_ = false;
+  std::string redo_message_;
+};
+
+/// Loads the checkpoint `path` of a run on `grid` with a device of model `device_model` and
+/// returns its vertices (pending ones included). Throws autograv::Error naming the file when it
+/// is missing, invalid, or made for another device or grid. Not real-time safe.
+std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const WorkspaceGrid& grid,
+                                           const std::string& device_model);
+
+}  // namespace autograv

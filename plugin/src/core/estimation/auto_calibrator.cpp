@@ -1,0 +1,290 @@
+#include "autograv/estimation/auto_calibrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "autograv/error.h"
+
+namespace autograv {
+
+namespace {
+constexpr int kMaxInvalidSamples = 20;  // 20 ms at 1 kHz, as in the vertex estimator
+
+bool isDone(const VertexEstimate& vertex) noexcept {
+  return vertex.outcome == VertexOutcome::kConverged;
+}
+}  // namespace
+
+AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
+                               double max_force_n, const Options& options)
+    : grid_(grid),
+      parameters_(parameters),
+      max_force_n_(max_force_n),
+      options_(options),
+      estimator_(parameters, max_force_n),
+      vertices_(static_cast<std::size_t>(grid.vertexCount())),
+      order_(grid.visitOrder(grid.center_m())) {
+  if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
+    throw Error("auto-calibrator: move acceleration and duration must be positive");
+  }
+  // Reserve every history now so that finishing a vertex in the servo loop never allocates.
+  for (auto& vertex : vertices_) {
+    vertex.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
+  }
+}
+
+void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
+  if (vertices.size() != vertices_.size()) {
+    std::ostringstream message;
+    message << "auto-calibrator: checkpoint has " << vertices.size() << " vertices, the grid "
+            << vertices_.size();
+    throw Error(message.str());
+  }
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    vertices_[i] = vertices[i];
+    vertices_[i].history.reserve(static_cast<std::size_t>(parameters_.max_iterations));
+  }
+  std::vector<int> pending;
+  for (int index : grid_.visitOrder(grid_.center_m())) {
+    if (!isDone(vertices_[static_cast<std::size_t>(index)])) pending.push_back(index);
+  }
+  order_ = std::move(pending);
+  next_in_order_ = 0;
+}
+
+void AutoCalibrator::visitOnly(const std::vector<int>& indices) {
+  std::vector<bool> wanted(vertices_.size(), false);
+  for (int index : indices) {
+    if (index < 0 || index >= grid_.vertexCount()) {
+      std::ostringstream message;
+      message << "auto-calibrator: vertex " << index << " is not in the grid (0.."
+              << grid_.vertexCount() - 1 << ")";
+      throw Error(message.str());
+    }
+    wanted[static_cast<std::size_t>(index)] = true;
+  }
+  std::vector<int> order;
+  for (int index : grid_.visitOrder(grid_.center_m())) {
+    if (wanted[static_cast<std::size_t>(index)]) order.push_back(index);
+  }
+  order_ = std::move(order);
+  next_in_order_ = 0;
+}
+
+void AutoCalibrator::start(const Eigen::Vector3d& position_m,
+                           const Eigen::Vector3d& initial_gravity_n) noexcept {
+  gravity_n_ = initial_gravity_n;
+  ticks_ = 0;
+  invalid_samples_ = 0;
+  previous_vertex_ = -1;
+  last_finished_vertex_ = -1;
+  next_in_order_ = 0;
+  active_ = false;
+  hold_m_ = position_m;
+  beginNextVertex(position_m);
+}
+
+void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
+  if (next_in_order_ >= order_.size()) {
+    active_ = false;
+    current_vertex_ = -1;
+    state_ = Status::kFinished;
+    return;
+  }
+  current_vertex_ = order_[next_in_order_++];
+  active_ = true;
+  beginMove(from_m);
+}
+
+void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
+  const Eigen::Vector3d target_m = grid_.vertexPosition(current_vertex_);
+  move_.start(from_m, target_m,
+              MinimumJerkMove::durationFor((target_m - from_m).norm(),
+                                           options_.max_move_acceleration_m_per_s2,
+                                           options_.min_move_duration_s));
+  move_ticks_ = 0;
+  state_ = Status::kMoving;
+}
+
+Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
+  // eq. (9): start from the estimate carried from the previous vertex.
+  if (!options_.extrapolate_initial_estimate || previous_vertex_ < 0) return gravity_n_;
+  const auto& previous = vertices_[static_cast<std::size_t>(previous_vertex_)];
+  if (!isDone(previous)) return gravity_n_;
+  // If the vertex behind the previous one (on the same line) converged too, extrapolate linearly.
+  const Eigen::Vector3i step =
+      grid_.vertexCoordinates(vertex) - grid_.vertexCoordinates(previous_vertex_);
+  if (step.cwiseAbs().sum() != 1) return gravity_n_;
+  const Eigen::Vector3i behind = grid_.vertexCoordinates(previous_vertex_) - step;
+  if ((behind.array() < 0).any() || (behind.array() >= grid_.resolution()).any()) return gravity_n_;
+  const auto& before =
+      vertices_[static_cast<std::size_t>(grid_.vertexIndex(behind.x(), behind.y(), behind.z()))];
+  if (!isDone(before)) return gravity_n_;
+  return 2.0 * previous.gravity_n - before.gravity_n;
+}
+
+Eigen::Vector3d AutoCalibrator::holdForce(const ServoSample& sample) const noexcept {
+  const double mass_kg =
+      std::max(gravity_n_.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
+  Eigen::Vector3d force_n = parameters_.beta_per_s2 * mass_kg * (hold_m_ - sample.position_m) -
+                            parameters_.alpha_per_s * mass_kg * sample.velocity_m_per_s +
+                            gravity_n_;
+  clampForce(force_n, max_force_n_);
+  return force_n;
+}
+
+void AutoCalibrator::recordFinished() noexcept {
+  const int index = current_vertex_;
+  auto& slot = vertices_[static_cast<std::size_t>(index)];
+  const VertexEstimate& result = estimator_.estimate();
+  slot.gravity_n = result.gravity_n;
+  slot.iterations = result.iterations;
+  slot.seconds = result.seconds;
+  slot.outcome = result.outcome;
+  slot.history.clear();
+  for (const auto& record : result.history) {
+    if (slot.history.size() < slot.history.capacity()) slot.history.push_back(record);
+  }
+  last_finished_vertex_ = index;
+  if (isDone(slot)) {
+    gravity_n_ = slot.gravity_n;  // eq. (9)
+    const Eigen::Vector3i here = grid_.vertexCoordinates(index);
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int sign : {-1, 1}) {
+        Eigen::Vector3i other = here;
+        other[axis] += sign;
+        if (other[axis] < 0 || other[axis] >= grid_.resolution()) continue;
+        const auto& neighbour =
+            vertices_[static_cast<std::size_t>(grid_.vertexIndex(other.x(), other.y(), other.z()))];
+        if (!isDone(neighbour)) continue;
+        lipschitz_n_per_m_ = std::max(
+            lipschitz_n_per_m_, (slot.gravity_n - neighbour.gravity_n).norm() / grid_.spacing_m());
+      }
+    }
+    previous_vertex_ = index;
+  } else {
+    previous_vertex_ = -1;  // do not extrapolate from a failed vertex
+  }
+}
+
+AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
+                                            Eigen::Vector3d& force_n) noexcept {
+  ++ticks_;
+  if (state_ == Status::kIdle || state_ == Status::kDeviceFault) {
+    force_n.setZero();
+    return state_;
+  }
+  if (!sample.valid) {
+    force_n = last_force_n_;
+    if (++invalid_samples_ > kMaxInvalidSamples) {
+      force_n.setZero();
+      last_force_n_.setZero();
+      if (active_ && state_ == Status::kEstimating) {
+        vertices_[static_cast<std::size_t>(current_vertex_)].outcome = VertexOutcome::kDeviceFault;
+      }
+      state_ = Status::kDeviceFault;
+    }
+    return state_;
+  }
+  invalid_samples_ = 0;
+
+  switch (state_) {
+    case Status::kPaused:
+    case Status::kFinished:
+    case Status::kAborted:
+      force_n = holdForce(sample);
+      break;
+    case Status::kMoving: {
+      ++move_ticks_;
+      Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
+      move_.sample(move_ticks_ * parameters_.servo_period_s, desired_m, desired_velocity,
+                   desired_acceleration);
+      const double mass_kg =
+          std::max(gravity_n_.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
+      // eq. (10) tracking a moving target, with the path's acceleration fed forward.
+      force_n = parameters_.beta_per_s2 * mass_kg * (desired_m - sample.position_m) +
+                parameters_.alpha_per_s * mass_kg * (desired_velocity - sample.velocity_m_per_s) +
+                mass_kg * desired_acceleration + gravity_n_;
+      clampForce(force_n, max_force_n_);
+      hold_m_ = desired_m;
+      if (move_ticks_ * parameters_.servo_period_s >= move_.duration_s()) {
+        estimator_.start(grid_.vertexPosition(current_vertex_),
+                         initialEstimateFor(current_vertex_));
+        state_ = Status::kEstimating;
+      }
+      break;
+    }
+    case Status::kEstimating: {
+      const VertexEstimator::Status inner = estimator_.step(sample, force_n);
+      if (inner == VertexEstimator::Status::kSettling ||
+          inner == VertexEstimator::Status::kUpdated) {
+        break;
+      }
+      recordFinished();
+      hold_m_ = grid_.vertexPosition(current_vertex_);
+      if (inner == VertexEstimator::Status::kDeviceFault) {
+        force_n.setZero();
+        state_ = Status::kDeviceFault;
+        break;
+      }
+      beginNextVertex(hold_m_);
+      last_force_n_ = force_n;
+      peak_force_n_ = std::max(peak_force_n_, force_n.norm());
+      return Status::kVertexFinished;
+    }
+    case Status::kVertexFinished:
+    case Status::kIdle:
+    case Status::kDeviceFault:
+      force_n.setZero();
+      break;
+  }
+  last_force_n_ = force_n;
+  peak_force_n_ = std::max(peak_force_n_, force_n.norm());
+  return state_;
+}
+
+void AutoCalibrator::pause() noexcept {
+  if (state_ != Status::kMoving && state_ != Status::kEstimating) return;
+  state_before_pause_ = state_;
+  state_ = Status::kPaused;
+}
+
+void AutoCalibrator::resume() noexcept {
+  if (state_ != Status::kPaused) return;
+  // Restart the interrupted move (or the approach to the interrupted vertex) from the hold point.
+  beginMove(hold_m_);
+}
+
+void AutoCalibrator::abort() noexcept {
+  if (state_ == Status::kIdle || state_ == Status::kDeviceFault) return;
+  state_ = Status::kAborted;
+}
+
+GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
+  return GravityMap(grid_, vertices_, metadata);
+}
+
+const char* toString(AutoCalibrator::Status status) noexcept {
+  switch (status) {
+    case AutoCalibrator::Status::kIdle:
+      return "idle";
+    case AutoCalibrator::Status::kMoving:
+      return "moving";
+    case AutoCalibrator::Status::kEstimating:
+      return "estimating";
+    case AutoCalibrator::Status::kVertexFinished:
+      return "vertex_finished";
+    case AutoCalibrator::Status::kPaused:
+      return "paused";
+    case AutoCalibrator::Status::kFinished:
+      return "finished";
+    case AutoCalibrator::Status::kAborted:
+      return "aborted";
+    case AutoCalibrator::Status::kDeviceFault:
+      return "device_fault";
+  }
+  return "unknown";
+}
+
+}  // namespace autograv

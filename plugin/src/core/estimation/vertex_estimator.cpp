@@ -1,0 +1,162 @@
+#include "autograv/estimation/vertex_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "autograv/error.h"
+
+namespace autograv {
+
+namespace {
+// Consecutive bad samples tolerated (holding the last force) before the vertex is given up.
+constexpr int kMaxInvalidSamples = 20;
+// Holding force at the actuator limit for this long (at 1 kHz: 50 ms) means the estimate is
+// corrupted by saturation (paper Sec. IV: the proofs hold only without saturation).
+constexpr int kMaxSaturatedTicks = 50;
+
+void validate(const EstimationParameters& p, double max_force_n) {
+  std::ostringstream problem;
+  if (!(p.alpha_per_s > 0.0)) problem << "alpha must be positive (1/s); ";
+  if (!(p.beta_per_s2 > 0.0)) problem << "beta must be positive (1/s^2); ";
+  if (p.n_g < 1) problem << "n_G must be at least 1; ";
+  if (!(p.eps_g_n > 0.0)) problem << "eps_G must be a positive force (N); ";
+  if (p.max_iterations < p.n_g) problem << "max_iterations must be at least n_G; ";
+  if (!(p.max_step_duration_s > p.min_step_duration_s)) {
+    problem << "max step duration must exceed the minimum step duration; ";
+  }
+  if (!(max_force_n > 0.0)) problem << "the device's max force must be positive (N); ";
+  if (!problem.str().empty()) throw Error("vertex estimator: " + problem.str());
+}
+}  // namespace
+
+VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double max_force_n)
+    : parameters_(parameters),
+      max_force_n_(max_force_n),
+      detector_(parameters.n_s, parameters.eps_s_m_per_s, parameters.min_step_duration_s,
+                parameters.servo_period_s) {
+  validate(parameters, max_force_n);
+  estimate_.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
+}
+
+void VertexEstimator::setGains(const Eigen::Vector3d& gravity_n) noexcept {
+  // Constraint (6): the gains need |G_hat| > 0; a floor keeps the loop controllable.
+  const double mass_kg = std::max(gravity_n.norm(), kMinGravityN) / kStandardGravity;
+  stiffness_n_per_m_ = parameters_.beta_per_s2 * mass_kg;
+  damping_n_s_per_m_ = parameters_.alpha_per_s * mass_kg;
+}
+
+void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
+                            const Eigen::Vector3d& initial_gravity_n) noexcept {
+  vertex_m_ = vertex_m;
+  gravity_n_ = initial_gravity_n;
+  setGains(initial_gravity_n);  // eqs. (8) and (13)
+  estimate_.gravity_n = initial_gravity_n;
+  estimate_.iterations = 0;
+  estimate_.seconds = 0.0;
+  estimate_.outcome = VertexOutcome::kPending;
+  estimate_.history.clear();  // keeps the reserved capacity
+  last_error_m_ = NAN;
+  last_force_n_.setZero();
+  ticks_ = 0;
+  small_updates_ = 0;
+  saturated_ticks_ = 0;
+  invalid_samples_ = 0;
+  finished_ = false;
+  detector_.reset();
+}
+
+void VertexEstimator::finish(VertexOutcome outcome) noexcept {
+  estimate_.outcome = outcome;
+  estimate_.gravity_n = gravity_n_;
+  finished_ = true;
+}
+
+VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
+                                              Eigen::Vector3d& force_n) noexcept {
+  if (finished_) {
+    // Keep holding the vertex with the final estimate until the caller moves on.
+    force_n = last_force_n_;
+    return Status::kSettling;
+  }
+  ++ticks_;
+  estimate_.seconds = ticks_ * parameters_.servo_period_s;
+  if (!sample.valid) {
+    force_n = last_force_n_;
+    if (++invalid_samples_ > kMaxInvalidSamples) {
+      force_n.setZero();
+      finish(VertexOutcome::kDeviceFault);
+      return Status::kDeviceFault;
+    }
+    return Status::kSettling;
+  }
+  invalid_samples_ = 0;
+
+  // eq. (10)
+  force_n = stiffness_n_per_m_ * (vertex_m_ - sample.position_m) -
+            damping_n_s_per_m_ * sample.velocity_m_per_s + gravity_n_;
+  saturated_ticks_ = clampForce(force_n, max_force_n_) ? saturated_ticks_ + 1 : 0;
+  last_force_n_ = force_n;
+  if (saturated_ticks_ > kMaxSaturatedTicks) {
+    finish(VertexOutcome::kSaturated);
+    return Status::kSaturated;
+  }
+
+  if (!detector_.update(sample.position_m, sample.velocity_m_per_s)) {
+    if (detector_.elapsed_s() > parameters_.max_step_duration_s) {
+      finish(VertexOutcome::kNoSteadyState);
+      return Status::kNoSteadyState;
+    }
+    return Status::kSettling;
+  }
+
+  // Steady state of iteration j: eq. (12), then gains for j+1 from G_hat_j (eq. 11).
+  const Eigen::Vector3d settled_m = detector_.settledPosition_m();
+  const Eigen::Vector3d previous_n = gravity_n_;
+  const Eigen::Vector3d updated_n = stiffness_n_per_m_ * (vertex_m_ - settled_m) + previous_n;
+  last_error_m_ = (vertex_m_ - settled_m).norm();
+  IterationRecord record;
+  record.position_error_m = last_error_m_;
+  record.mass_estimate_kg = updated_n.norm() / kStandardGravity;
+  record.gravity_estimate_n = updated_n;
+  record.duration_s = detector_.elapsed_s();
+  if (estimate_.history.size() < estimate_.history.capacity()) estimate_.history.push_back(record);
+  ++estimate_.iterations;
+  setGains(previous_n);
+  gravity_n_ = updated_n;
+  estimate_.gravity_n = updated_n;
+  detector_.reset();
+
+  small_updates_ = (updated_n - previous_n).norm() <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
+  if (small_updates_ >= parameters_.n_g) {
+    finish(VertexOutcome::kConverged);
+    return Status::kConverged;
+  }
+  if (estimate_.iterations >= parameters_.max_iterations) {
+    finish(VertexOutcome::kIterationCap);
+    return Status::kIterationCap;
+  }
+  return Status::kUpdated;
+}
+
+const char* toString(VertexEstimator::Status status) noexcept {
+  switch (status) {
+    case VertexEstimator::Status::kSettling:
+      return "settling";
+    case VertexEstimator::Status::kUpdated:
+      return "updated";
+    case VertexEstimator::Status::kConverged:
+      return "converged";
+    case VertexEstimator::Status::kIterationCap:
+      return "iteration_cap";
+    case VertexEstimator::Status::kNoSteadyState:
+      return "no_steady_state";
+    case VertexEstimator::Status::kSaturated:
+      return "saturated";
+    case VertexEstimator::Status::kDeviceFault:
+      return "device_fault";
+  }
+  return "unknown";
+}
+
+}  // namespace autograv

@@ -1,0 +1,474 @@
+#include "map/map_json.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <initializer_list>
+#include <limits>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "autograv/error.h"
+
+namespace autograv::detail {
+
+namespace {
+
+using nlohmann::json;
+
+json vectorToJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+json parametersDocument(const EstimationParameters& p) {
+  return json{{"alpha_per_s", p.alpha_per_s},
+              {"beta_per_s2", p.beta_per_s2},
+              {"k0_n_per_m", p.k0_n_per_m},
+              {"n_s", p.n_s},
+              {"eps_s_m_per_s", p.eps_s_m_per_s},
+              {"n_g", p.n_g},
+              {"eps_g_n", p.eps_g_n},
+              {"min_step_duration_s", p.min_step_duration_s},
+              {"max_step_duration_s", p.max_step_duration_s},
+              {"max_iterations", p.max_iterations},
+              {"servo_period_s", p.servo_period_s},
+              {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m}};
+}
+
+namespace {
+
+json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& vertex) {
+  json history = json::array();
+  for (const IterationRecord& record : vertex.history) {
+    history.push_back(json{{"position_error_m", record.position_error_m},
+                           {"mass_estimate_kg", record.mass_estimate_kg},
+                           {"gravity_estimate_n", vectorToJson(record.gravity_estimate_n)},
+                           {"duration_s", record.duration_s}});
+  }
+  return json{{"index", index},
+              {"position_m", vectorToJson(grid.vertexPosition(index))},
+              {"gravity_n", vectorToJson(vertex.gravity_n)},
+              {"iterations", vertex.iterations},
+              {"seconds", vertex.seconds},
+              {"outcome", toString(vertex.outcome)},
+              {"history", std::move(history)}};
+}
+
+/// Short description of a JSON value for error messages: its type and the start of its text.
+std::string describe(const json& value) {
+  std::string text = value.dump();
+  if (text.size() > 48) text = text.substr(0, 45) + "...";
+  return std::string(value.type_name()) + " " + text;
+}
+
+/// Escapes a member name for a JSON pointer (RFC 6901).
+std::string escapePointerToken(const std::string& key) {
+  std::string escaped;
+  for (const char c : key) {
+    if (c == '~') {
+      escaped += "~0";
+    } else if (c == '/') {
+      escaped += "~1";
+    } else {
+      escaped += c;
+    }
+  }
+  return escaped;
+}
+
+/// "YYYY-MM-DDTHH:MM:SS[.fraction]Z" with plausible field ranges. (std::regex would do, but
+/// GCC 12 warns inside <regex> under the sanitizers.)
+bool isIso8601Utc(const std::string& text) {
+  const auto digits = [&](std::size_t from, std::size_t count, int low, int high) {
+    if (from + count > text.size()) return false;
+    int value = 0;
+    for (std::size_t i = from; i < from + count; ++i) {
+      if (text[i] < '0' || text[i] > '9') return false;
+      value = 10 * value + (text[i] - '0');
+    }
+    return value >= low && value <= high;
+  };
+  if (text.size() < 20 || text[4] != '-' || text[7] != '-' || text[10] != 'T' || text[13] != ':' ||
+      text[16] != ':' || text.back() != 'Z') {
+    return false;
+  }
+  if (!digits(0, 4, 0, 9999) || !digits(5, 2, 1, 12) || !digits(8, 2, 1, 31) ||
+      !digits(11, 2, 0, 23) || !digits(14, 2, 0, 59) || !digits(17, 2, 0, 60)) {
+    return false;
+  }
+  if (text.size() == 20) return true;
+  // A fraction: '.', at least one digit, then the final 'Z'.
+  if (text[19] != '.' || text.size() < 22) return false;
+  return std::all_of(text.begin() + 20, text.end() - 1,
+                     [](char c) { return c >= '0' && c <= '9'; });
+}
+
+enum class Range { kAny, kNonNegative, kPositive };
+
+/// Walks a document and throws autograv::Error naming the source, the JSON pointer of the field
+/// and what was expected at the first problem it finds.
+class DocumentReader {
+ public:
+  explicit DocumentReader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+    throw Error("map file '" + source_ + "': field " + (pointer.empty() ? "/" : pointer) + ": " +
+                message);
+  }
+
+  [[noreturn]] void expected(const std::string& pointer, const std::string& what,
+                             const json& got) const {
+    fail(pointer, "expected " + what + ", got " + describe(got));
+  }
+
+  /// `value` must be an object holding exactly `keys`.
+  void requireObject(const json& value, const std::string& pointer,
+                     std::initializer_list<const char*> keys) const {
+    if (!value.is_object()) expected(pointer, "an object", value);
+    for (const char* key : keys) {
+      if (!value.contains(key)) {
+        fail(pointer + "/" + key,
+             "missing (required by schema version " + std::to_string(kMapSchemaVersion) + ")");
+      }
+    }
+    for (auto it = value.begin(); it != value.end(); ++it) {
+      const bool known =
+          std::any_of(keys.begin(), keys.end(), [&](const char* key) { return it.key() == key; });
+      if (!known) {
+        fail(pointer + "/" + escapePointerToken(it.key()),
+             "unexpected field (not part of schema version " + std::to_string(kMapSchemaVersion) +
+                 "; misspelt, or written by a newer autograv?)");
+      }
+    }
+  }
+
+  double number(const json& parent, const std::string& parent_pointer, const char* key, Range range,
+                const char* unit) const {
+    const std::string pointer = parent_pointer + "/" + key;
+    const json& value = parent.at(key);
+    const char* range_text = range == Range::kPositive      ? "a finite number > 0"
+                             : range == Range::kNonNegative ? "a finite number >= 0"
+                                                            : "a finite number";
+    const std::string what = std::string(range_text) + " (unit: " + unit + ")";
+    if (!value.is_number()) expected(pointer, what, value);
+    const double x = value.get<double>();
+    const bool ok =
+        std::isfinite(x) && (range == Range::kAny || (range == Range::kNonNegative && x >= 0.0) ||
+                             (range == Range::kPositive && x > 0.0));
+    if (!ok) expected(pointer, what, value);
+    return x;
+  }
+
+  int integer(const json& parent, const std::string& parent_pointer, const char* key, int min,
+              int max) const {
+    const std::string pointer = parent_pointer + "/" + key;
+    const json& value = parent.at(key);
+    const std::string what =
+        "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    if (!value.is_number_integer()) expected(pointer, what, value);
+    // Read as a 64-bit signed value first so that huge numbers do not wrap into range.
+    if (value.is_number_unsigned() &&
+        value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+      expected(pointer, what, value);
+    }
+    const std::int64_t x = value.get<std::int64_t>();
+    if (x < min || x > max) expected(pointer, what, value);
+    return static_cast<int>(x);
+  }
+
+  std::string string(const json& parent, const std::string& parent_pointer, const char* key,
+                     bool non_empty) const {
+    const std::string pointer = parent_pointer + "/" + key;
+    const json& value = parent.at(key);
+    if (!value.is_string() || (non_empty && value.get_ref<const std::string&>().empty())) {
+      expected(pointer, non_empty ? "a non-empty string" : "a string", value);
+    }
+    return value.get<std::string>();
+  }
+
+  Eigen::Vector3d vector3(const json& parent, const std::string& parent_pointer, const char* key,
+                          const char* unit) const {
+    const std::string pointer = parent_pointer + "/" + key;
+    const json& value = parent.at(key);
+    const std::string what = std::string("an array of 3 finite numbers (unit: ") + unit + ")";
+    if (!value.is_array() || value.size() != 3) expected(pointer, what, value);
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) {
+      const json& element = value[static_cast<std::size_t>(i)];
+      if (!element.is_number() || !std::isfinite(element.get<double>())) {
+        expected(pointer + "/" + std::to_string(i),
+                 std::string("a finite number (unit: ") + unit + ")", element);
+      }
+      v[i] = element.get<double>();
+    }
+    return v;
+  }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+};
+
+EstimationParameters readParameters(const DocumentReader& reader, const json& value) {
+  const std::string p = "/parameters";
+  reader.requireObject(value, p,
+                       {"alpha_per_s", "beta_per_s2", "k0_n_per_m", "n_s", "eps_s_m_per_s", "n_g",
+                        "eps_g_n", "min_step_duration_s", "max_step_duration_s", "max_iterations",
+                        "servo_period_s", "lipschitz_prior_n_per_m"});
+  constexpr int kMaxCount = 1000000;
+  EstimationParameters parameters;
+  parameters.alpha_per_s = reader.number(value, p, "alpha_per_s", Range::kPositive, "1/s");
+  parameters.beta_per_s2 = reader.number(value, p, "beta_per_s2", Range::kPositive, "1/s^2");
+  parameters.k0_n_per_m = reader.number(value, p, "k0_n_per_m", Range::kPositive, "N/m");
+  parameters.n_s = reader.integer(value, p, "n_s", 1, kMaxCount);
+  parameters.eps_s_m_per_s = reader.number(value, p, "eps_s_m_per_s", Range::kPositive, "m/s");
+  parameters.n_g = reader.integer(value, p, "n_g", 1, kMaxCount);
+  parameters.eps_g_n = reader.number(value, p, "eps_g_n", Range::kPositive, "N");
+  parameters.min_step_duration_s =
+      reader.number(value, p, "min_step_duration_s", Range::kNonNegative, "s");
+  parameters.max_step_duration_s =
+      reader.number(value, p, "max_step_duration_s", Range::kPositive, "s");
+  if (parameters.max_step_duration_s < parameters.min_step_duration_s) {
+    reader.expected(p + "/max_step_duration_s", "a duration >= /parameters/min_step_duration_s",
+                    value.at("max_step_duration_s"));
+  }
+  parameters.max_iterations = reader.integer(value, p, "max_iterations", 1, kMaxCount);
+  parameters.servo_period_s = reader.number(value, p, "servo_period_s", Range::kPositive, "s");
+  parameters.lipschitz_prior_n_per_m =
+      reader.number(value, p, "lipschitz_prior_n_per_m", Range::kNonNegative, "N/m");
+  return parameters;
+}
+
+VertexEstimate readVertex(const DocumentReader& reader, const json& value,
+                          const WorkspaceGrid& grid, int index) {
+  const std::string p = "/vertices/" + std::to_string(index);
+  reader.requireObject(
+      value, p,
+      {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome", "history"});
+  const int stored_index = reader.integer(value, p, "index", 0, grid.vertexCount() - 1);
+  if (stored_index != index) {
+    reader.expected(p + "/index", std::to_string(index) + " (vertices are stored in index order)",
+                    value.at("index"));
+  }
+  const Eigen::Vector3d position = reader.vector3(value, p, "position_m", "m");
+  const Eigen::Vector3d expected_position = grid.vertexPosition(index);
+  // The position is redundant (it follows from the grid); it is stored for people and other
+  // tools, and a mismatch means the grid or the vertex order was edited.
+  if ((position - expected_position).cwiseAbs().maxCoeff() > 1e-9 + 1e-9 * grid.side_m()) {
+    std::ostringstream what;
+    what.precision(17);
+    what << "the grid position of vertex " << index << ", [" << expected_position.x() << ", "
+         << expected_position.y() << ", " << expected_position.z()
+         << "] m (was /grid or the vertex order edited?)";
+    reader.expected(p + "/position_m", what.str(), value.at("position_m"));
+  }
+  VertexEstimate vertex;
+  vertex.gravity_n = reader.vector3(value, p, "gravity_n", "N");
+  vertex.iterations = reader.integer(value, p, "iterations", 0, 1000000000);
+  vertex.seconds = reader.number(value, p, "seconds", Range::kNonNegative, "s");
+  const std::string outcome = reader.string(value, p, "outcome", true);
+  if (!parseVertexOutcome(outcome, vertex.outcome)) {
+    reader.expected(p + "/outcome",
+                    "one of pending, converged, iteration_cap, no_steady_state, saturated, "
+                    "device_fault",
+                    value.at("outcome"));
+  }
+  const json& history = value.at("history");
+  if (!history.is_array())
+    reader.expected(p + "/history", "an array of iteration records", history);
+  vertex.history.reserve(history.size());
+  for (std::size_t j = 0; j < history.size(); ++j) {
+    const std::string r = p + "/history/" + std::to_string(j);
+    const json& entry = history[j];
+    reader.requireObject(
+        entry, r, {"position_error_m", "mass_estimate_kg", "gravity_estimate_n", "duration_s"});
+    IterationRecord record;
+    record.position_error_m = reader.number(entry, r, "position_error_m", Range::kNonNegative, "m");
+    record.mass_estimate_kg =
+        reader.number(entry, r, "mass_estimate_kg", Range::kNonNegative, "kg");
+    record.gravity_estimate_n = reader.vector3(entry, r, "gravity_estimate_n", "N");
+    record.duration_s = reader.number(entry, r, "duration_s", Range::kNonNegative, "s");
+    vertex.history.push_back(record);
+  }
+  return vertex;
+}
+
+}  // namespace
+
+std::string currentUtcTimestamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+std::string documentChecksum(const json& document) {
+  json content = document;
+  if (content.is_object()) content.erase("checksum");
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016" PRIx64, fnv1a64(content.dump()));
+  return hex;
+}
+
+void stampChecksum(json& document) {
+  document["checksum"] =
+      json{{"algorithm", kChecksumAlgorithm}, {"value", documentChecksum(document)}};
+}
+
+json mapToDocument(const GravityMap& map) {
+  const MapMetadata& metadata = map.metadata();
+  if (metadata.device_model.empty()) {
+    throw Error(
+        "cannot save gravity map: metadata.device_model is empty; set it to the model_name of "
+        "the device the map was calibrated on (maps are tied to a device model)");
+  }
+  const WorkspaceGrid& grid = map.grid();
+  json vertices = json::array();
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    vertices.push_back(vertexToJson(grid, i, map.vertices()[static_cast<std::size_t>(i)]));
+  }
+  json document{
+      {"format", kMapFormatName},
+      {"schema_version", kMapSchemaVersion},
+      {"units", json{{"length", "m"}, {"force", "N"}, {"time", "s"}, {"mass", "kg"}}},
+      {"device", json{{"model", metadata.device_model}, {"serial", metadata.device_serial}}},
+      {"created_utc", metadata.created_utc.empty() ? currentUtcTimestamp() : metadata.created_utc},
+      {"grid", json{{"center_m", vectorToJson(grid.center_m())},
+                    {"side_m", grid.side_m()},
+                    {"resolution", grid.resolution()}}},
+      {"parameters", parametersDocument(metadata.parameters)},
+      {"vertices", std::move(vertices)},
+  };
+  stampChecksum(document);
+  // Whatever is written must load again: validate with the reader itself, so that a bad value
+  // (a NaN in a history record, a malformed timestamp) is refused here and not found later.
+  try {
+    mapFromDocument(document, "<map being saved>", MapLoadOptions{});
+  } catch (const Error& error) {
+    throw Error(std::string("cannot save gravity map, it would not load again: ") + error.what());
+  }
+  return document;
+}
+
+GravityMap mapFromDocument(const json& document, const std::string& source,
+                           const MapLoadOptions& options) {
+  const DocumentReader reader(source);
+  if (!document.is_object()) reader.expected("", "a JSON object (an autograv map)", document);
+  if (!document.contains("format")) {
+    reader.fail("/format", std::string("missing; not an autograv map file (expected \"") +
+                               kMapFormatName + "\")");
+  }
+  if (reader.string(document, "", "format", true) != kMapFormatName) {
+    reader.expected("/format", std::string("\"") + kMapFormatName + "\"", document.at("format"));
+  }
+  if (!document.contains("schema_version")) reader.fail("/schema_version", "missing");
+  {
+    const json& version = document.at("schema_version");
+    if (!version.is_number_integer() || version.get<std::int64_t>() != kMapSchemaVersion) {
+      reader.expected("/schema_version",
+                      std::to_string(kMapSchemaVersion) + " (this autograv reads schema version " +
+                          std::to_string(kMapSchemaVersion) + " only)",
+                      version);
+    }
+  }
+  reader.requireObject(document, "",
+                       {"format", "schema_version", "units", "device", "created_utc", "grid",
+                        "parameters", "vertices", "checksum"});
+
+  // Units are fixed; the block exists so that a reader never has to guess.
+  const json& units = document.at("units");
+  reader.requireObject(units, "/units", {"length", "force", "time", "mass"});
+  const std::pair<const char*, const char*> kUnits[] = {
+      {"length", "m"}, {"force", "N"}, {"time", "s"}, {"mass", "kg"}};
+  for (const auto& [quantity, unit] : kUnits) {
+    if (reader.string(units, "/units", quantity, true) != unit) {
+      reader.expected(std::string("/units/") + quantity, std::string("\"") + unit + "\"",
+                      units.at(quantity));
+    }
+  }
+
+  const json& device = document.at("device");
+  reader.requireObject(device, "/device", {"model", "serial"});
+  MapMetadata metadata;
+  metadata.device_model = reader.string(device, "/device", "model", true);
+  metadata.device_serial = reader.string(device, "/device", "serial", false);
+
+  metadata.created_utc = reader.string(document, "", "created_utc", true);
+  if (!isIso8601Utc(metadata.created_utc)) {
+    reader.expected("/created_utc", "an ISO 8601 UTC time like \"2026-11-23T13:25:00Z\"",
+                    document.at("created_utc"));
+  }
+
+  const json& grid_json = document.at("grid");
+  reader.requireObject(grid_json, "/grid", {"center_m", "side_m", "resolution"});
+  const Eigen::Vector3d center = reader.vector3(grid_json, "/grid", "center_m", "m");
+  const double side = reader.number(grid_json, "/grid", "side_m", Range::kPositive, "m");
+  const int resolution = reader.integer(grid_json, "/grid", "resolution", 2, 64);
+  const WorkspaceGrid grid(center, side, resolution);
+
+  metadata.parameters = readParameters(reader, document.at("parameters"));
+
+  const json& vertices_json = document.at("vertices");
+  const auto vertex_count = static_cast<std::size_t>(grid.vertexCount());
+  if (!vertices_json.is_array() || vertices_json.size() != vertex_count) {
+    const std::string got = vertices_json.is_array()
+                                ? "an array of " + std::to_string(vertices_json.size())
+                                : describe(vertices_json);
+    reader.fail("/vertices", "expected an array of " + std::to_string(vertex_count) +
+                                 " vertex objects (grid resolution " + std::to_string(resolution) +
+                                 " cubed), got " + got);
+  }
+  std::vector<VertexEstimate> vertices;
+  vertices.reserve(vertex_count);
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    vertices.push_back(readVertex(reader, vertices_json[i], grid, static_cast<int>(i)));
+  }
+
+  // The checksum comes after the fields so that a hand edit that breaks a field is reported by
+  // name; a flipped digit that still parses is caught here.
+  const json& checksum = document.at("checksum");
+  reader.requireObject(checksum, "/checksum", {"algorithm", "value"});
+  if (reader.string(checksum, "/checksum", "algorithm", true) != kChecksumAlgorithm) {
+    reader.expected("/checksum/algorithm", std::string("\"") + kChecksumAlgorithm + "\"",
+                    checksum.at("algorithm"));
+  }
+  const std::string stored = reader.string(checksum, "/checksum", "value", true);
+  const std::string computed = documentChecksum(document);
+  if (stored != computed) {
+    reader.fail("/checksum/value",
+                "expected \"" + computed + "\" (FNV-1a 64 of the content), got \"" + stored +
+                    "\": the file was modified or corrupted after it was written; recalibrate "
+                    "or restore a backup");
+  }
+
+  if (!options.expected_device_model.empty() &&
+      metadata.device_model != options.expected_device_model && !options.allow_model_mismatch) {
+    reader.fail("/device/model", "the map was calibrated on a \"" + metadata.device_model +
+                                     "\" but the device is a \"" + options.expected_device_model +
+                                     "\"; calibrate this device, or allow the mismatch "
+                                     "explicitly if the two are the same hardware "
+                                     "(--allow-model-mismatch on the command line)");
+  }
+
+  try {
+    return GravityMap(grid, std::move(vertices), std::move(metadata));
+  } catch (const Error& error) {
+    throw Error("map file '" + source + "': " + error.what());
+  }
+}
+
+}  // namespace autograv::detail
+
+namespace autograv {
+
+std::string parametersToJson(const EstimationParameters& parameters) {
+  return detail::parametersDocument(parameters).dump();
+}
+
+}  // namespace autograv

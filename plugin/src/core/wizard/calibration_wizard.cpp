@@ -1,0 +1,601 @@
+// CalibrationWizard, servo side: everything servoTick() runs. Real-time safe throughout: the
+// objects it steps were built by the Check step (service side); it only fills preallocated state
+// and raises request flags that service() (wizard_service.cpp) answers.
+#include "autograv/wizard/calibration_wizard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+#include "autograv/device/servo_sample.h"
+#include "autograv/error.h"
+#include "autograv/estimation/vertex_estimator.h"
+#include "wizard/wizard_internal.h"
+
+namespace autograv {
+
+using wizard::eventBit;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool has(std::uint32_t events, WizardEvent event) noexcept {
+  return (events & eventBit(static_cast<int>(event))) != 0;
+}
+
+/// Apparent mass |G|/g (paper Sec. II) with the floor of constraint (6). Unit: [kg]
+double apparentMass_kg(const Eigen::Vector3d& gravity_n) noexcept {
+  return std::max(gravity_n.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
+}
+
+void requirePositive(double value, const char* field, const char* unit) {
+  if (std::isfinite(value) && value > 0.0) return;
+  std::ostringstream message;
+  message << "calibration wizard: " << field << " must be a positive number in " << unit << ", got "
+          << value;
+  throw Error(message.str());
+}
+
+}  // namespace
+
+const char* toString(WizardStep step) noexcept {
+  switch (step) {
+    case WizardStep::kCheck:
+      return "check";
+    case WizardStep::kCentre:
+      return "centre";
+    case WizardStep::kRelease:
+      return "release";
+    case WizardStep::kAutoCalibration:
+      return "auto_calibration";
+    case WizardStep::kReview:
+      return "review";
+    case WizardStep::kSave:
+      return "save";
+    case WizardStep::kVerify:
+      return "verify";
+    case WizardStep::kDone:
+      return "done";
+    case WizardStep::kAborted:
+      return "aborted";
+    case WizardStep::kFault:
+      return "fault";
+  }
+  return "unknown";
+}
+
+CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
+    : config_(std::move(config)),
+      grid_(config_.grid_center_m, config_.grid_side_m, config_.grid_resolution),
+      checkpoint_path_(config_.map_path + ".partial"),
+      live_shared_(std::make_unique<wizard::Live>()),
+      live_(std::make_unique<wizard::Live>()) {
+  if (!device) throw Error("calibration wizard: the device is null");
+  if (config_.map_path.empty()) {
+    throw Error("calibration wizard: no map path; say where the map should be saved (--out)");
+  }
+  requirePositive(config_.centre_tolerance_m, "centre_tolerance_m", "m");
+  requirePositive(config_.release_patience_s, "release_patience_s", "s");
+  requirePositive(config_.verify_settle_s, "verify_settle_s", "s");
+  requirePositive(config_.verify_release_s, "verify_release_s", "s");
+  requirePositive(config_.verify_drift_limit_m, "verify_drift_limit_m", "m");
+  requirePositive(config_.parameters.servo_period_s, "parameters.servo_period_s", "s");
+  if (!(config_.field_ramp_s >= 0.0) || !(config_.compensation_ramp_s >= 0.0)) {
+    throw Error("calibration wizard: field_ramp_s and compensation_ramp_s must be >= 0 s");
+  }
+  if (config_.verify_points < 0 || config_.verify_points > kMaxVerifyPoints) {
+    throw Error("calibration wizard: verify_points must be between 0 and " +
+                std::to_string(kMaxVerifyPoints));
+  }
+  CompensationOptions compensation;
+  compensation.servo_period_s = config_.parameters.servo_period_s;
+  compensation.ramp_duration_s = config_.compensation_ramp_s;
+  compensation.enabled = false;  // the calibration itself must run uncompensated
+  // A release test at a boundary vertex may drift up to the limit outside the grid: that is not
+  // a fault of the device.
+  compensation.outside_margin_m = std::max(0.02, 2.0 * config_.verify_drift_limit_m);
+  device_ = std::make_shared<GravityCompensatedDevice>(std::move(device), compensation);
+
+  const auto count = static_cast<std::size_t>(grid_.vertexCount());
+  mirror_.resize(count);
+  for (auto& vertex : mirror_) {
+    vertex.history.reserve(static_cast<std::size_t>(config_.parameters.max_iterations));
+  }
+  copy_pending_.assign(count, 0);
+  restored_.assign(count, 0);
+  verify_vertices_.reserve(kMaxVerifyPoints);
+}
+
+CalibrationWizard::~CalibrationWizard() {
+  if (opened_) device_->close();  // the inner device sends zero force first
+}
+
+void CalibrationWizard::post(WizardEvent event) noexcept {
+  events_.fetch_or(eventBit(static_cast<int>(event)), std::memory_order_acq_rel);
+}
+
+WizardStep CalibrationWizard::servoTick() noexcept {
+  const WizardStep phase = phase_.load(std::memory_order_acquire);
+  if (phase == WizardStep::kCheck) return phase;  // service() owns the device during Check
+  ++ticks_;
+  ++phase_ticks_;
+  const double period_s = config_.parameters.servo_period_s;
+  const ServoSample sample = readServoSample(*device_);
+  bool pressed = false;
+  if (!device_->getUserSwitch(0, pressed)) pressed = false;
+  const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
+  const std::uint32_t replies = replies_.exchange(0, std::memory_order_acq_rel);
+
+  live_->time_s = static_cast<double>(ticks_) * period_s;
+  live_->position_valid = sample.valid;
+  if (sample.valid) {
+    live_->position_m = sample.position_m;
+    live_->speed_m_per_s = sample.velocity_m_per_s.norm();
+  }
+
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  switch (phase) {
+    case WizardStep::kCentre:
+      tickCentre(sample, pressed, events, force_n);
+      break;
+    case WizardStep::kRelease:
+      tickRelease(sample, events, replies, force_n);
+      break;
+    case WizardStep::kAutoCalibration:
+      tickCalibration(sample, events, force_n);
+      break;
+    case WizardStep::kReview:
+      tickReview(sample, events, replies, force_n);
+      break;
+    case WizardStep::kSave:
+      tickSave(sample, events, replies, force_n);
+      break;
+    case WizardStep::kVerify:
+      tickVerify(sample, events, force_n);
+      break;
+    case WizardStep::kDone:
+    case WizardStep::kAborted:
+    case WizardStep::kFault:
+      heldForce(sample, force_n);
+      break;
+    case WizardStep::kCheck:
+      break;
+  }
+  last_switch_ = pressed;
+
+  if (!force_n.allFinite()) force_n.setZero();
+  if (device_->setForce(force_n)) {
+    failed_writes_ = 0;
+  } else if (++failed_writes_ > wizard::kMaxFailedWrites) {
+    const WizardStep now = phase_.load(std::memory_order_relaxed);
+    if (now != WizardStep::kFault && now != WizardStep::kAborted && now != WizardStep::kDone) {
+      fail(wizard::kFaultWritesFailed, HoldMode::kNone);
+    }
+  }
+  if (any_copy_pending_) flushMirror();
+  publishLive();
+  return phase_.load(std::memory_order_relaxed);
+}
+
+void CalibrationWizard::enter(WizardStep step) noexcept {
+  phase_ticks_ = 0;
+  live_->step = step;
+  phase_.store(step, std::memory_order_release);
+}
+
+bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
+  if (sample.valid) {
+    invalid_samples_ = 0;
+    return false;
+  }
+  // A dropped frame now and then is ridden over; a device that stays silent is a fault.
+  if (++invalid_samples_ > wizard::kMaxInvalidSamples) {
+    fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
+  }
+  return true;
+}
+
+void CalibrationWizard::fail(int fault_code, HoldMode hold) noexcept {
+  live_->fault_code = fault_code;
+  hold_mode_ = hold;
+  enter(WizardStep::kFault);
+}
+
+// --- Centre ----------------------------------------------------------------------------------
+
+void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std::uint32_t events,
+                                   Eigen::Vector3d& force_n) noexcept {
+  force_n.setZero();                              // the user carries the end-effector
+  if (phase_ticks_ == 1) last_switch_ = pressed;  // a button already down is not a confirmation
+  if (has(events, WizardEvent::kAbort)) {
+    hold_mode_ = HoldMode::kNone;
+    enter(WizardStep::kAborted);
+    return;
+  }
+  if (sampleLost(sample)) return;
+  const bool within = (grid_.center_m() - sample.position_m).norm() <= config_.centre_tolerance_m;
+  const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
+  if (!confirm) return;
+  if (!within) {
+    live_->confirm_rejected = true;
+    live_->confirm_rejected_moving = false;
+    return;
+  }
+  // X0 must be a point where the user holds still: confirming on the move would centre the field
+  // on a point the hand is leaving, and the hand's pull would pass for gravity in eq. (7).
+  if (sample.velocity_m_per_s.norm() > wizard::kCentreStillSpeed_m_per_s) {
+    live_->confirm_rejected_moving = true;
+    return;
+  }
+  live_->confirm_rejected = false;
+  live_->confirm_rejected_moving = false;
+  // X0 is where the user chose to stop (paper Sec. III-A), not the exact centre.
+  initialization_->start(sample.position_m);
+  live_->release_status = InitializationEstimator::Status::kRampingIn;
+  live_->release_elapsed_s = 0.0;
+  live_->sag_m = 0.0;
+  live_->last_still_held_s = -1.0;
+  live_->not_settling = false;
+  live_->initial_gravity_valid = false;
+  waiting_since_tick_ =
+      ticks_ + std::lround(config_.field_ramp_s / config_.parameters.servo_period_s);
+  hold_mode_ = HoldMode::kField;
+  enter(WizardStep::kRelease);
+}
+
+// --- Release ---------------------------------------------------------------------------------
+
+void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t events,
+                                    std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
+  using Status = InitializationEstimator::Status;
+  const double period_s = config_.parameters.servo_period_s;
+  const Status status = initialization_->step(sample, force_n);
+  live_->release_status = status;
+  live_->sag_m = initialization_->sag_m();
+  live_->release_elapsed_s = static_cast<double>(phase_ticks_) * period_s;
+  if (has(events, WizardEvent::kAbort)) {
+    enter(WizardStep::kAborted);  // the field keeps holding until the front end closes
+    return;
+  }
+  switch (status) {
+    case Status::kRampingIn:
+      break;
+    case Status::kStillHeld:
+      live_->last_still_held_s = live_->time_s;
+      live_->not_settling = false;
+      waiting_since_tick_ = ticks_;  // patience restarts: the user was told to let go
+      break;
+    case Status::kWaiting:
+      if (static_cast<double>(ticks_ - waiting_since_tick_) * period_s >
+          config_.release_patience_s) {
+        live_->not_settling = true;
+      }
+      break;
+    case Status::kDone:
+      live_->not_settling = false;
+      if (!live_->initial_gravity_valid) {
+        live_->initial_gravity_n = initialization_->gravityEstimate_n();
+        live_->initial_gravity_valid = true;
+        last_good_gravity_n_ = live_->initial_gravity_n;
+        plan_gravity_n_ = live_->initial_gravity_n;
+        awaiting_plan_ = true;
+        live_->awaiting_service = true;
+        requests_.fetch_or(wizard::kRequestPlanCheck, std::memory_order_acq_rel);
+      }
+      break;
+    case Status::kDeviceFault:
+      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
+      return;
+  }
+  if (!awaiting_plan_) return;
+  if ((replies & wizard::kReplyPlanAccepted) != 0) {
+    awaiting_plan_ = false;
+    live_->awaiting_service = false;
+    calibrator_->start(sample.valid ? sample.position_m : initialization_->center_m(),
+                       live_->initial_gravity_n);
+    hold_mode_ = HoldMode::kCalibrator;
+    enter(WizardStep::kAutoCalibration);
+  } else if ((replies & wizard::kReplyPlanRefused) != 0) {
+    awaiting_plan_ = false;
+    live_->awaiting_service = false;
+    fail(wizard::kFaultPlanRefused, HoldMode::kField);  // the field keeps holding it
+  }
+}
+
+// --- AutoCalibration -------------------------------------------------------------------------
+
+void CalibrationWizard::tickCalibration(const ServoSample& sample, std::uint32_t events,
+                                        Eigen::Vector3d& force_n) noexcept {
+  if (has(events, WizardEvent::kPause)) calibrator_->pause();
+  if (has(events, WizardEvent::kResume)) calibrator_->resume();
+  if (has(events, WizardEvent::kAbort)) calibrator_->abort();
+  const AutoCalibrator::Status status = calibrator_->step(sample, force_n);
+  const AutoCalibrator& calibrator = *calibrator_;
+
+  live_->calibrator_state = calibrator.state();
+  live_->vertex = calibrator.currentVertex();
+  live_->visited = calibrator.visitedCount();
+  live_->to_visit = calibrator.toVisitCount();
+  live_->iteration = calibrator.estimator().iteration();
+  live_->delta_m =
+      calibrator.estimator().iteration() > 0 ? calibrator.estimator().lastPositionError_m() : kNaN;
+  live_->calibration_elapsed_s = calibrator.elapsed_s();
+  live_->eta_s = live_->visited > 0
+                     ? calibrator.elapsed_s() / live_->visited * (live_->to_visit - live_->visited)
+                     : kNaN;
+  live_->peak_force_n = calibrator.peakForce_n();
+  live_->lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
+
+  if (status == AutoCalibrator::Status::kVertexFinished ||
+      status == AutoCalibrator::Status::kDeviceFault) {
+    for (int vertex : {calibrator.lastFinishedVertex(), calibrator.currentVertex()}) {
+      if (vertex < 0) continue;
+      copy_pending_[static_cast<std::size_t>(vertex)] = 1;
+      any_copy_pending_ = true;
+      mirror_pending_.store(true, std::memory_order_release);
+    }
+    const int finished = calibrator.lastFinishedVertex();
+    if (finished >= 0 && calibrator.vertices()[static_cast<std::size_t>(finished)].outcome ==
+                             VertexOutcome::kConverged) {
+      last_good_gravity_n_ = calibrator.vertices()[static_cast<std::size_t>(finished)].gravity_n;
+    }
+  }
+  switch (calibrator.state()) {
+    case AutoCalibrator::Status::kDeviceFault:
+      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
+      force_n.setZero();
+      break;
+    case AutoCalibrator::Status::kAborted:
+      hold_mode_ = HoldMode::kCalibrator;  // it keeps holding the end-effector where it is
+      enter(WizardStep::kAborted);
+      break;
+    case AutoCalibrator::Status::kFinished: {
+      const int last = calibrator.lastFinishedVertex();
+      hold_m_ = last >= 0 ? grid_.vertexPosition(last) : sample.position_m;
+      hold_gravity_n_ = last_good_gravity_n_;
+      hold_mode_ = HoldMode::kPd;
+      enter(WizardStep::kReview);
+      requests_.fetch_or(wizard::kRequestReview, std::memory_order_acq_rel);
+      break;
+    }
+    default:
+      break;
+  }
+  live_->paused = calibrator.state() == AutoCalibrator::Status::kPaused;
+}
+
+// --- Review and Save -------------------------------------------------------------------------
+
+void CalibrationWizard::tickReview(const ServoSample& sample, std::uint32_t events,
+                                   std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
+  holdForce(sample, force_n);
+  if (has(events, WizardEvent::kAbort)) {
+    enter(WizardStep::kAborted);
+    return;
+  }
+  if (awaiting_redo_) {
+    if ((replies & wizard::kReplyRedoReady) != 0) {
+      awaiting_redo_ = false;
+      live_->awaiting_service = false;
+      calibrator_->start(sample.valid ? sample.position_m : hold_m_, hold_gravity_n_);
+      hold_mode_ = HoldMode::kCalibrator;
+      enter(WizardStep::kAutoCalibration);
+    } else if ((replies & wizard::kReplyNothingToRedo) != 0) {
+      awaiting_redo_ = false;
+      live_->awaiting_service = false;
+    }
+    return;
+  }
+  if (sampleLost(sample)) return;
+  if (has(events, WizardEvent::kRedoFailed)) {
+    awaiting_redo_ = true;
+    live_->awaiting_service = true;
+    requests_.fetch_or(wizard::kRequestRedo, std::memory_order_acq_rel);
+    return;
+  }
+  if (has(events, WizardEvent::kConfirm) || has(events, WizardEvent::kSkipRedo)) {
+    awaiting_save_ = true;
+    live_->awaiting_service = true;
+    enter(WizardStep::kSave);
+    requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
+  }
+}
+
+void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events,
+                                 std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
+  holdForce(sample, force_n);
+  if ((replies & wizard::kReplySaved) != 0) {
+    awaiting_save_ = false;
+    live_->awaiting_service = false;
+    verify_map_ = saved_map_.get();  // published with the reply (acquire above)
+    const int count = std::min(static_cast<int>(verify_vertices_.size()), kMaxVerifyPoints);
+    if (count == 0) {
+      enter(WizardStep::kDone);
+      return;
+    }
+    live_->verify_count = count;
+    live_->verify_index = 0;
+    live_->verify_cancelled = false;
+    for (int i = 0; i < kMaxVerifyPoints; ++i) {
+      live_->verify[static_cast<std::size_t>(i)] = VerifyResult{};
+      if (i < count) {
+        live_->verify[static_cast<std::size_t>(i)].vertex =
+            verify_vertices_[static_cast<std::size_t>(i)];
+      }
+    }
+    verify_stage_ = VerifyStage::kWaitMap;
+    verify_ticks_ = 0;
+    enter(WizardStep::kVerify);
+    return;
+  }
+  if ((replies & wizard::kReplySaveFailed) != 0) {
+    awaiting_save_ = false;
+    live_->awaiting_service = false;
+  }
+  if (sampleLost(sample) || awaiting_save_) return;
+  if (has(events, WizardEvent::kAbort)) {
+    enter(WizardStep::kAborted);
+  } else if (has(events, WizardEvent::kConfirm)) {
+    awaiting_save_ = true;
+    live_->awaiting_service = true;
+    requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
+  }
+}
+
+// --- Verify ----------------------------------------------------------------------------------
+
+void CalibrationWizard::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept {
+  const int vertex = live_->verify[static_cast<std::size_t>(live_->verify_index)].vertex;
+  const Eigen::Vector3d target_m = grid_.vertexPosition(vertex);
+  verify_move_.start(from_m, target_m,
+                     MinimumJerkMove::durationFor((target_m - from_m).norm(),
+                                                  config_.calibrator.max_move_acceleration_m_per_s2,
+                                                  config_.calibrator.min_move_duration_s));
+  hold_gravity_n_ = verify_map_->gravityAt(target_m);
+  verify_stage_ = VerifyStage::kMove;
+  verify_ticks_ = 0;
+}
+
+void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t events,
+                                   Eigen::Vector3d& force_n) noexcept {
+  const double period_s = config_.parameters.servo_period_s;
+  ++verify_ticks_;
+  const double stage_s = static_cast<double>(verify_ticks_) * period_s;
+  if (sampleLost(sample)) {
+    force_n.setZero();
+    return;
+  }
+  if (has(events, WizardEvent::kAbort)) {
+    live_->verify_cancelled = true;
+    hold_m_ = sample.position_m;  // catch it where it is
+    holdForce(sample, force_n);
+    enter(WizardStep::kDone);
+    return;
+  }
+  VerifyResult& result = live_->verify[static_cast<std::size_t>(live_->verify_index)];
+  live_->verify_stage = static_cast<int>(verify_stage_);
+  switch (verify_stage_) {
+    case VerifyStage::kWaitMap:
+      holdForce(sample, force_n);
+      // Switch compensation on only once the decorator has taken the map, so that its fade and
+      // the fade of our own feed-forward are the same ramp.
+      if (device_->latestMapInUse()) {
+        device_->setCompensationEnabled(true);
+        beginVerifyMove(sample.position_m);
+      }
+      break;
+    case VerifyStage::kMove: {
+      Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
+      verify_move_.sample(stage_s, desired_m, desired_velocity, desired_acceleration);
+      const double mass_kg = apparentMass_kg(hold_gravity_n_);
+      // eq. (10) along the path; the decorator adds G_hat(X) as its ramp allows.
+      force_n =
+          config_.parameters.beta_per_s2 * mass_kg * (desired_m - sample.position_m) +
+          config_.parameters.alpha_per_s * mass_kg * (desired_velocity - sample.velocity_m_per_s) +
+          mass_kg * desired_acceleration + feedforward_n(sample.position_m);
+      clampForce(force_n, max_force_n_);
+      hold_m_ = desired_m;
+      if (stage_s >= verify_move_.duration_s()) {
+        verify_stage_ = VerifyStage::kSettle;
+        verify_ticks_ = 0;
+      }
+      break;
+    }
+    case VerifyStage::kSettle:
+      holdForce(sample, force_n);
+      if (stage_s >= config_.verify_settle_s && device_->compensationLevel() >= 1.0) {
+        release_start_m_ = sample.position_m;
+        verify_stage_ = VerifyStage::kRelease;
+        verify_ticks_ = 0;
+      }
+      break;
+    case VerifyStage::kRelease: {
+      force_n.setZero();  // only the compensation acts: the release test
+      const double drift_m = (sample.position_m - release_start_m_).norm();
+      result.drift_m = drift_m;
+      result.duration_s = stage_s;
+      if (drift_m <= config_.verify_drift_limit_m && stage_s < config_.verify_release_s) break;
+      result.residual_force_n =
+          2.0 * apparentMass_kg(hold_gravity_n_) * drift_m / (stage_s * stage_s);
+      result.finished = true;
+      hold_m_ = sample.position_m;  // catch it where it drifted to
+      hold_gravity_n_ = verify_map_->gravityAt(hold_m_);
+      holdForce(sample, force_n);
+      if (live_->verify_index + 1 < live_->verify_count) {
+        ++live_->verify_index;
+        beginVerifyMove(sample.position_m);
+      } else {
+        enter(WizardStep::kDone);
+      }
+      break;
+    }
+  }
+}
+
+// --- Holding ---------------------------------------------------------------------------------
+
+Eigen::Vector3d CalibrationWizard::feedforward_n(const Eigen::Vector3d& position_m) const noexcept {
+  // Once compensation is on, the decorator adds level * G_hat(X): supply only the rest.
+  if (verify_map_ != nullptr) {
+    return (1.0 - device_->compensationLevel()) * verify_map_->gravityAt(position_m);
+  }
+  return hold_gravity_n_;
+}
+
+void CalibrationWizard::holdForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept {
+  if (!sample.valid) {
+    force_n.setZero();
+    return;
+  }
+  const double mass_kg = apparentMass_kg(hold_gravity_n_);
+  force_n = config_.parameters.beta_per_s2 * mass_kg * (hold_m_ - sample.position_m) -
+            config_.parameters.alpha_per_s * mass_kg * sample.velocity_m_per_s +
+            feedforward_n(sample.position_m);
+  clampForce(force_n, max_force_n_);
+}
+
+void CalibrationWizard::heldForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept {
+  switch (hold_mode_) {
+    case HoldMode::kNone:
+      force_n.setZero();
+      break;
+    case HoldMode::kField:
+      initialization_->step(sample, force_n);
+      break;
+    case HoldMode::kCalibrator:
+      calibrator_->step(sample, force_n);
+      break;
+    case HoldMode::kPd:
+      holdForce(sample, force_n);
+      break;
+  }
+}
+
+// --- Exchange with the service side ----------------------------------------------------------
+
+void CalibrationWizard::flushMirror() noexcept {
+  wizard::TryLock lock(mirror_busy_);
+  if (!lock.tryLock()) return;  // service() is reading it: next tick
+  const std::vector<VertexEstimate>& vertices = calibrator_->vertices();
+  for (std::size_t i = 0; i < copy_pending_.size(); ++i) {
+    if (copy_pending_[i] == 0) continue;
+    mirror_[i] = vertices[i];  // the mirror's history has the capacity: no allocation
+    copy_pending_[i] = 0;
+  }
+  ++mirror_version_;
+  lock.unlock();
+  any_copy_pending_ = false;
+  mirror_pending_.store(false, std::memory_order_release);
+}
+
+void CalibrationWizard::publishLive() noexcept {
+  wizard::TryLock lock(live_busy_);
+  if (!lock.tryLock()) return;  // status() is copying it: next tick
+  *live_shared_ = *live_;
+  lock.unlock();
+}
+
+}  // namespace autograv

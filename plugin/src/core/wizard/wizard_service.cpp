@@ -1,0 +1,438 @@
+// CalibrationWizard, service side: the non-real-time half (device set-up, checks, files, review).
+// It runs on one thread; it hands objects to the servo side through the atomics declared in the
+// class and never touches what the servo side is stepping.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <system_error>
+
+#include "autograv/device/device_specifications.h"
+#include "autograv/error.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/map/map_io.h"
+#include "autograv/wizard/calibration_wizard.h"
+#include "wizard/wizard_internal.h"
+
+namespace autograv {
+
+using wizard::eventBit;
+
+namespace {
+
+/// Damping of the k0 field on a device that renders it stably. Unit: [N s/m]
+constexpr double kFieldDamping_n_s_per_m = 5.0;
+
+std::string millimetres(double metres) {
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(1);
+  text << metres * 1e3 << " mm";
+  return text.str();
+}
+
+bool sameGrid(const WorkspaceGrid& a, const WorkspaceGrid& b) {
+  return a.resolution() == b.resolution() && std::abs(a.side_m() - b.side_m()) <= 1e-9 &&
+         a.center_m().isApprox(b.center_m(), 1e-9);
+}
+
+/// Messages of the plan check for the lightest |G| that the convergence check alone accepts:
+/// when no |G| passes both checks, these name what to change. Empty when some |G| passes.
+std::vector<std::string> refusalForAnyGravity(const EstimationParameters& parameters, double cell_m,
+                                              double max_force_n) {
+  constexpr int kSteps = 240;
+  constexpr double kLightest_n = 0.01;
+  double lightest_converging_n = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k <= kSteps; ++k) {
+    const double gravity_n =
+        kLightest_n * std::pow(max_force_n / kLightest_n, static_cast<double>(k) / kSteps);
+    const Eigen::Vector3d gravity(0.0, 0.0, gravity_n);
+    if (checkCalibrationPlan(parameters, cell_m, max_force_n, gravity).empty()) return {};
+    if (std::isnan(lightest_converging_n) &&
+        checkConvergence(parameters.beta_per_s2, gravity_n, parameters.lipschitz_prior_n_per_m)
+            .ok) {
+      lightest_converging_n = gravity_n;
+    }
+  }
+  const double shown_n = std::isnan(lightest_converging_n) ? max_force_n : lightest_converging_n;
+  return checkCalibrationPlan(parameters, cell_m, max_force_n, Eigen::Vector3d(0.0, 0.0, shown_n));
+}
+
+}  // namespace
+
+std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const WorkspaceGrid& grid,
+                                           const std::string& device_model) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) {
+    throw Error("no checkpoint " + path +
+                " to resume: it is written while a calibration runs and removed once the map is "
+                "saved; start without --resume");
+  }
+  MapLoadOptions options;
+  options.expected_device_model = device_model;
+  const GravityMap partial = loadMap(path, options);
+  if (!sameGrid(partial.grid(), grid)) {
+    std::ostringstream message;
+    message << "checkpoint " << path << " was made for another grid ("
+            << partial.grid().resolution() << "^3 vertices, side "
+            << millimetres(partial.grid().side_m()) << ", this run " << grid.resolution()
+            << "^3, side " << millimetres(grid.side_m())
+            << "); use the same --grid and --side-mm as that run";
+    throw Error(message.str());
+  }
+  return partial.vertices();
+}
+
+// --- Check -----------------------------------------------------------------------------------
+
+void CalibrationWizard::runCheck(bool retry) {
+  check_attempted_ = true;
+  check_message_.clear();
+  check_prompt_.clear();
+  check_issue_ = CheckIssue::kNone;
+  try {
+    if (!opened_) {
+      if (!device_->open()) {
+        check_message_ =
+            "The device did not open. Is it plugged in, switched on and not in use by another "
+            "program?";
+        check_prompt_ = "Press Enter to try again, q to quit.";
+        check_issue_ = CheckIssue::kOpenFailed;
+        return;
+      }
+      opened_ = true;
+    }
+    if (!device_->calibrate(force_calibrate_)) {
+      force_calibrate_ = true;  // the retry runs the device's own homing
+      check_message_ =
+          "The device reports itself uncalibrated: its encoders are not homed, so every position "
+          "it reports is offset and a map made now would be wrong.";
+      check_prompt_ =
+          "Put the end-effector in its rest (homing) position as the manufacturer describes, then "
+          "press Enter: the wizard runs the device's calibration. q quits.";
+      check_issue_ = CheckIssue::kUncalibrated;
+      return;
+    }
+    const DeviceSpecifications& specifications = device_->specifications();
+    validateSpecifications(specifications);
+    max_force_n_ = specifications.max_linear_force_n;
+
+    const EstimationParameters& parameters = config_.parameters;
+    const double corner_m = 0.5 * std::sqrt(3.0) * grid_.side_m();
+    if (corner_m > specifications.workspace_radius_m) {
+      std::ostringstream message;
+      message << "The grid does not fit in the workspace: its corners are " << millimetres(corner_m)
+              << " from the centre, the workspace radius is "
+              << millimetres(specifications.workspace_radius_m) << ". Use --side-mm "
+              << std::floor(0.8 * 2.0 * specifications.workspace_radius_m / std::sqrt(3.0) * 1e3)
+              << " or less.";
+      throw Error(message.str());
+    }
+    if (parameters.k0_n_per_m > specifications.max_linear_stiffness_n_per_m) {
+      std::ostringstream message;
+      message << "k0 = " << parameters.k0_n_per_m * 1e-3
+              << " N/mm is stiffer than the device can render ("
+              << specifications.max_linear_stiffness_n_per_m * 1e-3 << " N/mm): lower --k0.";
+      throw Error(message.str());
+    }
+    const std::vector<std::string> refusal =
+        refusalForAnyGravity(parameters, grid_.spacing_m(), max_force_n_);
+    if (!refusal.empty()) {
+      std::string message =
+          "These parameters cannot work on this device whatever its weight (paper Secs. IV and "
+          "VI):";
+      for (const auto& problem : refusal) message += "\n  - " + problem;
+      throw Error(message);
+    }
+    // The constructors validate the remaining parameters with messages naming them.
+    // The field's damping lets a device with little friction settle; it must stay well inside
+    // what the device renders stably (an Omni-class arm quotes 3 N s/m).
+    const double field_damping_n_s_per_m =
+        std::min(kFieldDamping_n_s_per_m, 0.5 * specifications.max_linear_damping_n_s_per_m);
+    initialization_ = std::make_unique<InitializationEstimator>(
+        parameters, max_force_n_, config_.field_ramp_s, field_damping_n_s_per_m);
+    calibrator_ =
+        std::make_unique<AutoCalibrator>(grid_, parameters, max_force_n_, config_.calibrator);
+
+    const std::filesystem::path folder = std::filesystem::path(config_.map_path).parent_path();
+    std::error_code error;
+    if (!folder.empty() && !std::filesystem::is_directory(folder, error)) {
+      throw Error("The folder of the map file, " + folder.string() +
+                  ", does not exist: create it or choose another --out.");
+    }
+
+    if (config_.resume) {
+      const std::vector<VertexEstimate> vertices =
+          loadCheckpoint(checkpoint_path_, grid_, specifications.model_name);
+      calibrator_->restore(vertices);
+      wizard::ScopedLock lock(mirror_busy_);
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        mirror_[i] = vertices[i];
+        mirror_[i].history.reserve(static_cast<std::size_t>(parameters.max_iterations));
+        restored_[i] = vertices[i].outcome == VertexOutcome::kConverged ? 1 : 0;
+      }
+    } else if (!retry && std::filesystem::exists(checkpoint_path_, error)) {
+      check_message_ = "A checkpoint of an earlier, unfinished run exists: " + checkpoint_path_ +
+                       ". Starting afresh replaces it at the first finished vertex.";
+      check_prompt_ =
+          "Quit with q and run again with --resume to continue it, or press Enter to "
+          "start afresh.";
+      check_issue_ = CheckIssue::kEarlierCheckpoint;
+      return;
+    }
+    std::ostringstream summary;
+    summary << specifications.model_name << ", max force " << max_force_n_ << " N; grid "
+            << grid_.resolution() << "^3 = " << grid_.vertexCount() << " vertices, side "
+            << millimetres(grid_.side_m()) << " (cell " << millimetres(grid_.spacing_m()) << ")";
+    if (config_.resume) {
+      summary << "; resuming " << std::count(restored_.begin(), restored_.end(), 1)
+              << " converged vertices from " << checkpoint_path_;
+    }
+    summary_ = summary.str();
+    check_passed_ = true;
+  } catch (const Error& error) {
+    check_message_ = error.what();
+    check_prompt_ = "Change what is named above and start again (q quits, Enter checks again).";
+    check_issue_ = CheckIssue::kSettings;
+  } catch (const std::exception& error) {
+    check_message_ = std::string("Unexpected error: ") + error.what();
+    check_prompt_ = "q quits, Enter checks again.";
+    check_issue_ = CheckIssue::kSettings;
+  }
+}
+
+// --- The service loop ------------------------------------------------------------------------
+
+void CalibrationWizard::service() {
+  if (step() == WizardStep::kCheck) {
+    const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
+    if ((events & eventBit(static_cast<int>(WizardEvent::kAbort))) != 0) {
+      phase_.store(WizardStep::kAborted, std::memory_order_release);
+      return;
+    }
+    const bool retry = (events & eventBit(static_cast<int>(WizardEvent::kConfirm))) != 0;
+    if (!check_attempted_ || retry) runCheck(retry);
+    if (check_passed_) {
+      // The servo side is idle during Check: its state may be set here, published by the store.
+      events_.store(0, std::memory_order_relaxed);
+      live_->step = WizardStep::kCentre;
+      phase_.store(WizardStep::kCentre, std::memory_order_release);
+    }
+    return;
+  }
+
+  const std::uint32_t requests = requests_.exchange(0, std::memory_order_acq_rel);
+  if ((requests & wizard::kRequestPlanCheck) != 0) {
+    const std::vector<std::string> problems =
+        checkCalibrationPlan(config_.parameters, grid_.spacing_m(), max_force_n_, plan_gravity_n_);
+    plan_message_.clear();
+    for (const auto& problem : problems) plan_message_ += "\n  - " + problem;
+    replies_.fetch_or(problems.empty() ? wizard::kReplyPlanAccepted : wizard::kReplyPlanRefused,
+                      std::memory_order_acq_rel);
+  }
+  writeCheckpoint();
+  // Review, redo and save read the mirror: wait until the servo side has flushed it.
+  std::uint32_t deferred = 0;
+  const bool mirror_ready = !mirror_pending_.load(std::memory_order_acquire);
+  if ((requests & wizard::kRequestReview) != 0) {
+    if (mirror_ready)
+      buildReview();
+    else
+      deferred |= wizard::kRequestReview;
+  }
+  if ((requests & wizard::kRequestRedo) != 0) {
+    if (mirror_ready)
+      prepareRedo();
+    else
+      deferred |= wizard::kRequestRedo;
+  }
+  if ((requests & wizard::kRequestSave) != 0) {
+    if (mirror_ready)
+      saveAndPrepareVerify();
+    else
+      deferred |= wizard::kRequestSave;
+  }
+  if (deferred != 0) requests_.fetch_or(deferred, std::memory_order_acq_rel);
+  device_->reclaimRetiredMaps();
+}
+
+bool CalibrationWizard::finished() const {
+  const WizardStep now = step();
+  if (now != WizardStep::kDone && now != WizardStep::kAborted && now != WizardStep::kFault) {
+    return false;
+  }
+  if (mirror_pending_.load(std::memory_order_acquire)) return false;
+  if (map_saved_ || !calibrator_) return true;
+  wizard::ScopedLock lock(mirror_busy_);
+  return mirror_version_ == checkpoint_version_;
+}
+
+// --- Files -----------------------------------------------------------------------------------
+
+std::vector<VertexEstimate> CalibrationWizard::mirrorCopy(std::uint64_t* version) const {
+  wizard::ScopedLock lock(mirror_busy_);
+  if (version != nullptr) *version = mirror_version_;
+  return mirror_;
+}
+
+std::vector<VertexEstimate> CalibrationWizard::vertices() const { return mirrorCopy(nullptr); }
+
+MapMetadata CalibrationWizard::metadata() const {
+  MapMetadata metadata;
+  metadata.device_model = device_->specifications().model_name;
+  metadata.device_serial = config_.device_serial.empty() ? device_->specifications().serial_number
+                                                         : config_.device_serial;
+  metadata.parameters = config_.parameters;
+  return metadata;  // created_utc is filled in by saveMap
+}
+
+void CalibrationWizard::writeCheckpoint() {
+  if (map_saved_ || !calibrator_) return;
+  {
+    wizard::ScopedLock lock(mirror_busy_);
+    if (mirror_version_ == checkpoint_version_) return;
+  }
+  std::uint64_t version = 0;
+  std::vector<VertexEstimate> vertices = mirrorCopy(&version);
+  const int converged = static_cast<int>(std::count_if(
+      vertices.begin(), vertices.end(),
+      [](const VertexEstimate& vertex) { return vertex.outcome == VertexOutcome::kConverged; }));
+  try {
+    saveMap(GravityMap(grid_, std::move(vertices), metadata()), checkpoint_path_);
+    checkpoint_written_ = true;
+    checkpointed_converged_ = converged;
+    checkpoint_error_.clear();
+  } catch (const Error& error) {
+    checkpoint_error_ = error.what();  // tried again after the next vertex
+  }
+  checkpoint_version_ = version;
+}
+
+void CalibrationWizard::buildReview() {
+  const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
+  WizardReview review;
+  review.vertex_count = grid_.vertexCount();
+  std::vector<int> iterations;
+  for (int i = 0; i < review.vertex_count; ++i) {
+    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(i)];
+    if (vertex.outcome == VertexOutcome::kPending) {
+      ++review.pending;
+      continue;
+    }
+    if (vertex.outcome != VertexOutcome::kConverged) {
+      review.failed.push_back(ReviewRow{i, grid_.vertexPosition(i), vertex.outcome,
+                                        vertex.iterations, vertex.seconds, vertex.gravity_n});
+      continue;
+    }
+    const double norm_n = vertex.gravity_n.norm();
+    review.gravity_min_n = review.converged == 0 ? norm_n : std::min(review.gravity_min_n, norm_n);
+    review.gravity_max_n = std::max(review.gravity_max_n, norm_n);
+    ++review.converged;
+    iterations.push_back(vertex.iterations);
+    review.estimation_seconds += vertex.seconds;
+    if (restored_[static_cast<std::size_t>(i)] != 0) ++review.restored;
+  }
+  if (!iterations.empty()) {
+    std::sort(iterations.begin(), iterations.end());
+    const std::size_t n = iterations.size();
+    review.iterations_min = iterations.front();
+    review.iterations_max = iterations.back();
+    review.iterations_median =
+        n % 2 ? iterations[n / 2] : 0.5 * (iterations[n / 2 - 1] + iterations[n / 2]);
+  }
+  {
+    wizard::ScopedLock lock(live_busy_);
+    review.lipschitz_n_per_m = live_shared_->lipschitz_n_per_m;
+    review.peak_force_n = live_shared_->peak_force_n;
+  }
+  review_ = std::move(review);
+  review_valid_ = true;
+}
+
+void CalibrationWizard::prepareRedo() {
+  const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
+  std::vector<int> redo;
+  for (int i = 0; i < grid_.vertexCount(); ++i) {
+    if (vertices[static_cast<std::size_t>(i)].outcome != VertexOutcome::kConverged) {
+      redo.push_back(i);
+    }
+  }
+  if (redo.empty()) {
+    redo_message_ = "Nothing to redo: every vertex converged.";
+    replies_.fetch_or(wizard::kReplyNothingToRedo, std::memory_order_acq_rel);
+    return;
+  }
+  // The servo side holds the device with its own PD during Review: the calibrator is ours now.
+  calibrator_->visitOnly(redo);
+  redo_message_.clear();
+  replies_.fetch_or(wizard::kReplyRedoReady, std::memory_order_acq_rel);
+}
+
+std::vector<int> CalibrationWizard::chooseVerifyVertices(
+    const std::vector<VertexEstimate>& vertices) const {
+  std::vector<int> converged;
+  for (int i = 0; i < grid_.vertexCount(); ++i) {
+    if (vertices[static_cast<std::size_t>(i)].outcome == VertexOutcome::kConverged) {
+      converged.push_back(i);
+    }
+  }
+  std::vector<int> chosen;
+  if (converged.empty() || config_.verify_points == 0) return chosen;
+  // The vertex nearest the centre, then each time the one farthest from those chosen: a few
+  // tests that still span the grid.
+  const auto nearest = std::min_element(converged.begin(), converged.end(), [&](int a, int b) {
+    return (grid_.vertexPosition(a) - grid_.center_m()).norm() <
+           (grid_.vertexPosition(b) - grid_.center_m()).norm();
+  });
+  chosen.push_back(*nearest);
+  const auto wanted =
+      std::min<std::size_t>(static_cast<std::size_t>(config_.verify_points), converged.size());
+  while (chosen.size() < wanted) {
+    int best = -1;
+    double best_distance = -1.0;
+    for (int candidate : converged) {
+      double distance = std::numeric_limits<double>::infinity();
+      for (int taken : chosen) {
+        distance = std::min(distance,
+                            (grid_.vertexPosition(candidate) - grid_.vertexPosition(taken)).norm());
+      }
+      if (distance > best_distance) {
+        best_distance = distance;
+        best = candidate;
+      }
+    }
+    chosen.push_back(best);
+  }
+  return chosen;
+}
+
+void CalibrationWizard::saveAndPrepareVerify() {
+  std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
+  std::shared_ptr<const GravityMap> map;
+  try {
+    map = std::make_shared<const GravityMap>(grid_, vertices, metadata());
+    saveMap(*map, config_.map_path);
+  } catch (const Error& error) {
+    save_error_ = error.what();
+    replies_.fetch_or(wizard::kReplySaveFailed, std::memory_order_acq_rel);
+    return;
+  }
+  save_error_.clear();
+  map_saved_ = true;
+  std::error_code ignored;
+  std::filesystem::remove(checkpoint_path_, ignored);  // the map supersedes it
+  verify_vertices_ = chooseVerifyVertices(vertices);
+  if (!verify_vertices_.empty()) {
+    try {
+      device_->publishMap(map);
+    } catch (const Error& error) {
+      verify_vertices_.clear();
+      save_error_ = std::string("verification skipped: ") + error.what();
+    }
+  }
+  saved_map_ = std::move(map);
+  replies_.fetch_or(wizard::kReplySaved, std::memory_order_acq_rel);
+}
+
+}  // namespace autograv

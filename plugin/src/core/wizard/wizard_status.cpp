@@ -1,0 +1,385 @@
+// CalibrationWizard::status(): the texts and numbers a front end shows, built on the service
+// thread from the servo side's latest live numbers.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "autograv/wizard/calibration_wizard.h"
+#include "wizard/wizard_internal.h"
+
+namespace autograv {
+
+namespace {
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+std::string mm(double metres) { return format("%.1f mm", metres * 1e3); }
+
+/// "12 mm right, 20 mm down": the move that brings the end-effector to the centre, in CHAI3D's
+/// frame (x toward the operator, y right, z up); components under half a millimetre are left out.
+std::string directionWords(const Eigen::Vector3d& to_centre_m) {
+  static const char* const kWords[3][2] = {
+      {"away from you", "toward you"}, {"left", "right"}, {"down", "up"}};
+  std::string words;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double component_m = to_centre_m[axis];
+    if (std::abs(component_m) < 0.5e-3) continue;
+    if (!words.empty()) words += ", ";
+    words += format("%.0f mm ", std::abs(component_m) * 1e3) + kWords[axis][component_m > 0.0];
+  }
+  return words.empty() ? "right there" : words;
+}
+
+std::string vector_n(const Eigen::Vector3d& force_n) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f) N", force_n.x(), force_n.y(), force_n.z());
+  return text;
+}
+
+std::string seconds(double value) {
+  if (!std::isfinite(value) || value < 0.0) return "?";
+  if (value < 60.0) return format("%.0f s", value);
+  const int whole = static_cast<int>(value);
+  char text[32];
+  std::snprintf(text, sizeof text, "%dm %02ds", whole / 60, whole % 60);
+  return text;
+}
+
+int stepNumber(WizardStep step) {
+  switch (step) {
+    case WizardStep::kCheck:
+      return 1;
+    case WizardStep::kCentre:
+      return 2;
+    case WizardStep::kRelease:
+      return 3;
+    case WizardStep::kAutoCalibration:
+      return 4;
+    case WizardStep::kReview:
+      return 5;
+    case WizardStep::kSave:
+      return 6;
+    case WizardStep::kVerify:
+    case WizardStep::kDone:
+      return 7;
+    case WizardStep::kAborted:
+    case WizardStep::kFault:
+      return 0;
+  }
+  return 0;
+}
+
+}  // namespace
+
+WizardStatus CalibrationWizard::status() const {
+  wizard::Live live;
+  {
+    wizard::ScopedLock lock(live_busy_);
+    live = *live_shared_;
+  }
+  WizardStatus s;
+  s.step = step();
+  s.step_number = stepNumber(s.step);
+  s.summary = summary_;
+  s.position_m = live.position_m;
+  s.speed_m_per_s = live.speed_m_per_s;
+  s.position_valid = live.position_valid;
+  s.time_s = live.time_s;
+  s.centre_m = grid_.center_m();
+  s.to_centre_m = grid_.center_m() - live.position_m;
+  s.centre_distance_m = s.to_centre_m.norm();
+  s.centre_tolerance_m = config_.centre_tolerance_m;
+  s.within_tolerance = live.position_valid && s.centre_distance_m <= config_.centre_tolerance_m;
+  s.release_status = live.release_status;
+  s.sag_m = live.sag_m;
+  s.still_held = live.last_still_held_s >= 0.0 &&
+                 live.time_s - live.last_still_held_s < wizard::kStillHeldNotice_s;
+  s.not_settling = live.not_settling;
+  s.release_elapsed_s = live.release_elapsed_s;
+  s.initial_gravity_n = live.initial_gravity_n;
+  s.initial_gravity_valid = live.initial_gravity_valid;
+  s.calibrator_state = live.calibrator_state;
+  s.paused = live.paused && s.step == WizardStep::kAutoCalibration;
+  s.vertex = live.vertex;
+  s.vertices_to_visit = live.to_visit;
+  s.vertex_ordinal = std::min(live.visited + 1, std::max(live.to_visit, 1));
+  s.vertex_count = grid_.vertexCount();
+  s.iteration = live.iteration;
+  s.delta_m = live.delta_m;
+  s.eta_s = live.eta_s;
+  s.calibration_elapsed_s = live.calibration_elapsed_s;
+  s.review = review_;
+  s.review_valid = review_valid_;
+  s.map_path = config_.map_path;
+  s.checkpoint_path = checkpoint_path_;
+  s.checkpoint_written = checkpoint_written_;
+  s.checkpointed_converged = checkpointed_converged_;
+  s.map_saved = map_saved_;
+  s.save_error = save_error_;
+  for (int i = 0; i < live.verify_count; ++i) {
+    const VerifyResult& result = live.verify[static_cast<std::size_t>(i)];
+    s.verify.push_back(result);
+    if (result.finished) s.max_drift_m = std::max(s.max_drift_m, result.drift_m);
+  }
+  s.verify_index = live.verify_index;
+  s.verify_cancelled = live.verify_cancelled;
+  {
+    wizard::ScopedLock lock(mirror_busy_);
+    for (const auto& vertex : mirror_) {
+      if (vertex.outcome == VertexOutcome::kConverged) ++s.converged;
+    }
+  }
+
+  const EstimationParameters& parameters = config_.parameters;
+  std::ostringstream message;
+  switch (s.step) {
+    case WizardStep::kCheck:
+      s.title = "Check the device and the settings";
+      if (!check_attempted_) {
+        message << "Opening the device and checking the settings...";
+      } else {
+        message << check_message_;
+        s.prompt = check_prompt_;
+        s.check_issue = check_issue_;
+        s.waiting_for_user = true;
+      }
+      break;
+
+    case WizardStep::kCentre:
+      s.title = "Bring the end-effector to the centre";
+      s.waiting_for_user = true;
+      // The live numbers first: a small screen cuts messages from their end.
+      if (!live.position_valid) {
+        message << "Waiting for the device's position...\n";
+      } else {
+        message << "Distance to the centre: " << mm(s.centre_distance_m) << " (move "
+                << directionWords(s.to_centre_m) << ").\n";
+        if (live.confirm_rejected && !s.within_tolerance) {
+          message << "Not close enough yet: confirm within " << mm(config_.centre_tolerance_m)
+                  << " of the centre.\n";
+        } else if (live.confirm_rejected_moving) {
+          message << "Not taken: it was moving. Hold it still, then confirm again.\n";
+        }
+      }
+      message << "Hold the end-effector and bring it near the centre of the workspace.";
+      s.prompt = s.within_tolerance ? "Hold it still there and press Enter (or the stylus button)."
+                                    : "Move it closer to the centre (within " +
+                                          mm(config_.centre_tolerance_m) + ").";
+      break;
+
+    case WizardStep::kRelease:
+      s.title = "Let go in the spring field";
+      if (live.initial_gravity_valid) {
+        message << "Settled. Initial estimate (eq. 7): G_hat_0 = "
+                << vector_n(live.initial_gravity_n) << ", apparent mass "
+                << format("%.0f g", live.initial_gravity_n.norm() / kStandardGravity * 1e3)
+                << ".\nChecking the calibration plan (convergence and saturation)...";
+      } else if (live.release_status == InitializationEstimator::Status::kRampingIn) {
+        message << "The spring field (k0 = " << format("%.2f", parameters.k0_n_per_m * 1e-3)
+                << " N/mm) is coming on around the point where you stopped.";
+        s.prompt = "Keep holding for a moment.";
+        s.waiting_for_user = true;
+      } else if (s.still_held) {
+        message << "The end-effector is still being held: it stays where the field centre is "
+                   "(sag "
+                << mm(live.sag_m) << "), so the field carries none of its weight.";
+        s.prompt = "Let go of it completely.";
+        s.waiting_for_user = true;
+      } else if (live.not_settling) {
+        message << "It has not settled yet: speed " << format("%.2f mm/s", live.speed_m_per_s * 1e3)
+                << ", sag " << mm(live.sag_m) << ". It must stay under "
+                << format("%.2f mm/s", parameters.eps_s_m_per_s * 1e3) << " for " << parameters.n_s
+                << " samples in a row. If the end-effector is not moving, this device's velocity "
+                   "noise is above eps_S: start again with a larger --eps-s.";
+        s.prompt = "Let go of it, and keep the device and the table still.";
+        s.waiting_for_user = true;
+      } else {
+        message << "Field on. Sag " << mm(live.sag_m) << ", speed "
+                << format("%.2f mm/s", live.speed_m_per_s * 1e3) << ".";
+        s.prompt = "Let go of the end-effector now.";
+        s.waiting_for_user = true;
+      }
+      break;
+
+    case WizardStep::kAutoCalibration: {
+      s.title = "Automatic calibration";
+      message << "Vertex " << s.vertex_ordinal << " of " << s.vertices_to_visit;
+      if (s.vertex >= 0) message << " (grid #" << s.vertex << ")";
+      if (live.calibrator_state == AutoCalibrator::Status::kMoving) {
+        message << ": moving there";
+      } else {
+        message << ", iteration " << s.iteration;
+        if (std::isfinite(s.delta_m))
+          message << ", |Delta_j| = " << format("%.3f mm", s.delta_m * 1e3);
+      }
+      message << "\nConverged " << s.converged << " of " << s.vertex_count << ", elapsed "
+              << seconds(s.calibration_elapsed_s) << ", ETA " << seconds(s.eta_s) << ".";
+      if (s.checkpoint_written) {
+        message << "\nCheckpoint: " << s.checkpointed_converged << " vertices in "
+                << checkpoint_path_ << ".";
+      }
+      if (!checkpoint_error_.empty()) message << "\nCheckpoint failed: " << checkpoint_error_;
+      if (s.paused) {
+        message << "\nPaused: the device holds its position.";
+        s.prompt = "Press p to resume; q stops (finished vertices are kept).";
+        s.waiting_for_user = true;
+      } else {
+        s.prompt = "The device moves by itself: keep clear. p pauses, q stops (progress is kept).";
+      }
+      break;
+    }
+
+    case WizardStep::kReview: {
+      s.title = "Review the result";
+      const WizardReview& r = review_;
+      if (!review_valid_) {
+        message << "Gathering the results...";
+        break;
+      }
+      message << "Converged: " << r.converged << " of " << r.vertex_count << " vertices";
+      if (r.restored > 0) message << " (" << r.restored << " from the checkpoint)";
+      message << ".\nIterations per vertex: median " << format("%.1f", r.iterations_median)
+              << ", min " << r.iterations_min << ", max " << r.iterations_max << ".\n"
+              << "|G_hat| from " << format("%.3f", r.gravity_min_n) << " to "
+              << format("%.3f N", r.gravity_max_n)
+              << "; Lipschitz c = " << format("%.1f N/m", r.lipschitz_n_per_m) << "; peak force "
+              << format("%.2f N", r.peak_force_n) << ".";
+      for (const ReviewRow& row : r.failed) {
+        message << "\n  vertex #" << row.vertex << " at ("
+                << format("%.0f", row.position_m.x() * 1e3) << ", "
+                << format("%.0f", row.position_m.y() * 1e3) << ", "
+                << format("%.0f", row.position_m.z() * 1e3) << ") mm: " << toString(row.outcome)
+                << " after " << row.iterations << " iterations";
+      }
+      if (!redo_message_.empty()) message << "\n" << redo_message_;
+      s.waiting_for_user = true;
+      if (live.awaiting_service) {
+        message << "\nPreparing the redo...";
+        s.waiting_for_user = false;
+      } else if (r.failed.empty() && r.pending == 0) {
+        s.prompt = "Press Enter to save the map.";
+      } else {
+        s.prompt = "Press r to redo the " + std::to_string(r.failed.size() + r.pending) +
+                   " vertices that did not converge, or Enter to save the map as it is.";
+      }
+      break;
+    }
+
+    case WizardStep::kSave:
+      s.title = "Save the map";
+      if (!save_error_.empty() && !live.awaiting_service) {
+        message << "Could not save the map: " << save_error_;
+        s.prompt = "Press Enter to try again; q stops (the checkpoint is kept).";
+        s.waiting_for_user = true;
+      } else {
+        message << "Writing " << config_.map_path << "...";
+      }
+      break;
+
+    case WizardStep::kVerify: {
+      s.title = "Verify: release tests with compensation on";
+      const int count = static_cast<int>(s.verify.size());
+      message << "Test " << std::min(s.verify_index + 1, count) << " of " << count;
+      if (s.verify_index < count) {
+        message << " at vertex #" << s.verify[static_cast<std::size_t>(s.verify_index)].vertex;
+      }
+      static const char* const kStages[] = {": switching compensation on", ": moving there",
+                                            ": holding", ": let go, measuring the drift"};
+      message << kStages[std::min(std::max(live.verify_stage, 0), 3)] << ".";
+      for (const VerifyResult& result : s.verify) {
+        if (!result.finished) continue;
+        message << "\n  vertex #" << result.vertex << ": drift " << mm(result.drift_m) << " in "
+                << format("%.2f s", result.duration_s) << " (residual about "
+                << format("%.1f mN", result.residual_force_n * 1e3) << ")";
+      }
+      s.prompt =
+          "Keep clear: the device lets go of itself briefly at each vertex. q skips the "
+          "rest.";
+      break;
+    }
+
+    case WizardStep::kDone: {
+      s.title = "Done";
+      message << "Map saved to " << config_.map_path << ": " << s.converged << " of "
+              << s.vertex_count << " vertices converged.";
+      int tested = 0;
+      for (const VerifyResult& result : s.verify) tested += result.finished ? 1 : 0;
+      if (tested > 0) {
+        message << "\nRelease test with compensation on: largest drift " << mm(s.max_drift_m)
+                << " over " << tested << " vertices in "
+                << format("%.2f s", config_.verify_release_s) << ".";
+        for (const VerifyResult& result : s.verify) {
+          if (!result.finished) continue;
+          message << "\n  vertex #" << result.vertex << ": drift " << mm(result.drift_m)
+                  << " (residual about " << format("%.1f mN", result.residual_force_n * 1e3) << ")";
+        }
+      }
+      if (s.verify_cancelled) message << "\nVerification stopped before the end.";
+      if (!save_error_.empty()) message << "\n" << save_error_;
+      break;
+    }
+
+    case WizardStep::kAborted:
+      s.title = "Stopped";
+      if (checkpoint_written_) {
+        message << "Stopped by you. " << checkpointed_converged_
+                << " converged vertices are saved in " << checkpoint_path_
+                << ".\nRun the same command with --resume to continue.";
+      } else if (config_.resume && check_passed_) {
+        message << "Stopped by you. The checkpoint " << checkpoint_path_
+                << " is unchanged; run again with --resume to continue.";
+      } else {
+        message << "Stopped by you before any vertex was finished; nothing was saved.";
+      }
+      s.fault = message.str();
+      break;
+
+    case WizardStep::kFault:
+      s.title = "Cannot continue";
+      switch (live.fault_code) {
+        case wizard::kFaultDeviceStopped:
+          message << "The device stopped answering (no valid position for "
+                  << wizard::kMaxInvalidSamples << " servo ticks).";
+          break;
+        case wizard::kFaultWritesFailed:
+          message << "The device refused the forces sent to it (" << wizard::kMaxFailedWrites
+                  << " failed writes in a row; decorator fault: " << toString(device_->lastFault())
+                  << ").";
+          break;
+        case wizard::kFaultPlanRefused:
+          message << "The calibration was refused before the device moves by itself, with "
+                     "G_hat_0 = "
+                  << vector_n(live.initial_gravity_n) << ":" << plan_message_
+                  << "\nThe spring field still holds the end-effector: take it, then start again "
+                     "with the parameter named above changed.";
+          break;
+        default:
+          message << "Unknown fault.";
+          break;
+      }
+      if (map_saved_) {
+        message << "\nThe map had been saved to " << config_.map_path << " before that.";
+      } else if (live.fault_code != wizard::kFaultPlanRefused) {
+        if (checkpoint_written_) {
+          message << "\n"
+                  << checkpointed_converged_ << " converged vertices are saved in "
+                  << checkpoint_path_
+                  << ". Check the cable and the power, then run the same command with --resume.";
+        } else {
+          message << "\nCheck the cable and the power, then start again.";
+        }
+      }
+      s.fault = message.str();
+      break;
+  }
+  s.message = message.str();
+  return s;
+}
+
+}  // namespace autograv
