@@ -11,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/calibration_wizard.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"

@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "autograv/auto_calibrator.h"
-#include "autograv/calibration_wizard.h"
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/map/map_io.h"
+#include "autograv/wizard/calibration_wizard.h"
 
 namespace {
 

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "autograv/error.h"
-#include "autograv/map_io.h"
+#include "autograv/map/map_io.h"
 
 namespace {
 

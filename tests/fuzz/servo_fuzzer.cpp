@@ -22,8 +22,8 @@
 
 #include <fuzzer/FuzzedDataProvider.h>
 
+#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/error.h"
-#include "autograv/gravity_compensated_device.h"
 #include "core/recording_device.h"
 #include "support/allocation_counter.h"
 
