@@ -15,6 +15,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
@@ -71,21 +72,13 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
   const std::string checkpoint_path = options.out_path + ".partial";
   if (options.resume) {
-    if (!std::filesystem::exists(checkpoint_path)) {
-      throw Error("--resume: no checkpoint " + checkpoint_path + " (nothing to resume)");
-    }
-    MapLoadOptions load;
-    load.expected_device_model = specs.model_name;
-    const GravityMap partial = loadMap(checkpoint_path, load);
-    if (partial.grid().resolution() != grid.resolution() ||
-        std::abs(partial.grid().side_m() - grid.side_m()) > 1e-9 ||
-        !partial.grid().center_m().isApprox(grid.center_m(), 1e-9)) {
-      throw Error("--resume: checkpoint " + checkpoint_path +
-                  " was made for another grid; use the same --grid and --side-mm");
-    }
-    run.resume_from = partial.vertices();
+    // The wizard's reader: either command resumes the other's run, with the same checks.
+    run.resume_from = loadCheckpoint(checkpoint_path, grid, specs.model_name);
+    const auto converged = std::count_if(
+        run.resume_from.begin(), run.resume_from.end(),
+        [](const VertexEstimate& vertex) { return vertex.outcome == VertexOutcome::kConverged; });
     std::fprintf(stderr, "resuming: %d of %d vertices already done (%s)\n",
-                 partial.convergedCount(), grid.vertexCount(), checkpoint_path.c_str());
+                 static_cast<int>(converged), grid.vertexCount(), checkpoint_path.c_str());
   }
 
   std::printf(
