@@ -94,7 +94,7 @@ void addPaperExperimentCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   command->add_option("--report", options->report_path, "Write a JSON report here");
-  addEstimationOptions(*command, options->parameters);
+  addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
 }
 
