@@ -13,9 +13,10 @@ namespace autograv {
 ///   removes most encoder noise.
 /// - window means (the dither method): the positions are averaged over windows of whole dither
 ///   periods; the steady state is `required_windows` consecutive windows whose mean moved by at
-///   most eps_S times the window duration, i.e. the mean position moves slower than eps_S. X_inf
-///   is the mean over that run of windows. A dithered, limit-cycling or noisy end-effector never
-///   has n_S slow velocity samples, but its mean position settles.
+///   most eps_S times the window duration (the mean position moves slower than eps_S), or by at
+///   most a tolerance the caller sets from what the position is used for (setWindowTolerance_m).
+///   X_inf is the mean over that run of windows. A dithered, limit-cycling or noisy end-effector
+///   never has n_S slow velocity samples, but its mean position settles.
 class SteadyStateDetector {
  public:
   /// Slow-samples rule: `required_samples` = n_S >= 1, `speed_threshold_m_per_s` = eps_S [m/s],
@@ -34,6 +35,10 @@ class SteadyStateDetector {
 
   /// Starts a new observation (time 0, no samples). Real-time safe.
   void reset() noexcept;
+  /// Window-means rule: window means that moved by at most `tolerance_m` also agree, whatever
+  /// eps_S allows (e.g. the displacement that would change eq. 12's update by a fraction of
+  /// eps_G). Kept across reset(). Real-time safe. Unit: [m]
+  void setWindowTolerance_m(double tolerance_m) noexcept { window_tolerance_m_ = tolerance_m; }
   /// Feeds one servo sample; returns true once the steady state is reached (and stays true for
   /// further calls until reset). Real-time safe.
   bool update(const Eigen::Vector3d& position_m, const Eigen::Vector3d& velocity_m_per_s) noexcept;
@@ -57,6 +62,7 @@ class SteadyStateDetector {
   long min_ticks_;
   double period_s_;
   int window_ticks_ = 0;  // 0: slow-samples rule
+  double window_tolerance_m_ = 0.0;
   long elapsed_ticks_ = 0;
   int consecutive_ = 0;
   bool settled_ = false;

@@ -86,8 +86,8 @@ bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
     window_sum_m_.setZero();
     window_fill_ = 0;
     const double window_s = window_ticks_ * period_s_;
-    const bool agrees = has_previous_mean_ &&
-                        (mean_m - previous_mean_m_).norm() <= speed_threshold_m_per_s_ * window_s;
+    const double tolerance_m = std::max(speed_threshold_m_per_s_ * window_s, window_tolerance_m_);
+    const bool agrees = has_previous_mean_ && (mean_m - previous_mean_m_).norm() <= tolerance_m;
     if (agrees) {
       if (run_count_ == 0) {  // the run starts with the window this one agrees with
         run_sum_m_ = previous_mean_m_;

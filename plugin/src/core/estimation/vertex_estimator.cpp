@@ -37,6 +37,7 @@ void validate(const EstimationParameters& p, double max_force_n) {
 }
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kWindowToleranceOfEpsG = 0.25;
 }  // namespace
 
 VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double max_force_n)
@@ -58,6 +59,9 @@ void VertexEstimator::setGains(const Eigen::Vector3d& gravity_n) noexcept {
   const double mass_kg = std::max(gravity_n.norm(), kMinGravityN) / kStandardGravity;
   stiffness_n_per_m_ = parameters_.beta_per_s2 * mass_kg;
   damping_n_s_per_m_ = parameters_.alpha_per_s * mass_kg;
+  // Eq. 12 turns a mean position into a force through K_P: window means that would move the update
+  // by less than a quarter of eps_G already agree, however soft K_P makes that in millimetres.
+  detector_.setWindowTolerance_m(kWindowToleranceOfEpsG * parameters_.eps_g_n / stiffness_n_per_m_);
 }
 
 void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
