@@ -83,7 +83,7 @@ TEST(SteadyStateDetectorTest, ForParametersFollowsTheMethod) {
   EstimationParameters paper;
   EXPECT_EQ(SteadyStateDetector::forParameters(paper).windowTicks(), 0);
   const EstimationParameters dither = EstimationParameters::frictionRobust();
-  EXPECT_EQ(SteadyStateDetector::forParameters(dither).windowTicks(), 100);  // 2 periods, 20 Hz
+  EXPECT_EQ(SteadyStateDetector::forParameters(dither).windowTicks(), 50);  // 1 period at 20 Hz
 }
 
 TEST(SteadyStateDetectorTest, RejectsBadParameters) {
