@@ -105,7 +105,7 @@ void addPaperExperimentCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
   command->add_option("--report", options->report_path, "Write a JSON report here");
-  addEstimationOptions(*command, options->parameters);
+  addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
 }
 
