@@ -27,8 +27,10 @@ void requirePositive(double value, const char* name) {
 
 }  // namespace
 
-PointMassParameters omegaParameters() {
+PointMassParameters omegaParameters(FrictionLevel friction) {
   PointMassParameters parameters;
+  parameters.coulomb_friction_n *= dryFrictionScale(friction);
+  parameters.static_friction_n *= dryFrictionScale(friction);
   parameters.specifications.model_name = "sim:omega";
   parameters.specifications.manufacturer = "autograv simulation (Force Dimension omega.3-like)";
   parameters.specifications.serial_number = "SIM-OMEGA-0001";

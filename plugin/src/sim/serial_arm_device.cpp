@@ -35,8 +35,10 @@ double sign(double value) noexcept { return value > 0.0 ? 1.0 : (value < 0.0 ? -
 
 }  // namespace
 
-SerialArmParameters omniParameters() {
+SerialArmParameters omniParameters(FrictionLevel friction) {
   SerialArmParameters parameters;
+  parameters.coulomb_friction_n_m *= dryFrictionScale(friction);
+  parameters.static_friction_n_m *= dryFrictionScale(friction);
   parameters.specifications.model_name = "sim:omni";
   parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
   parameters.specifications.serial_number = "SIM-OMNI-0001";

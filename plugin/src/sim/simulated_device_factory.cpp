@@ -11,9 +11,11 @@ namespace autograv::sim {
 
 std::vector<std::string> simulatedDeviceNames() { return {"sim:omega", "sim:omni"}; }
 
-std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, std::uint64_t seed) {
-  if (name == "sim:omega") return std::make_unique<PointMassDevice>(omegaParameters(), seed);
-  if (name == "sim:omni") return std::make_unique<SerialArmDevice>(omniParameters(), seed);
+std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, std::uint64_t seed,
+                                                     FrictionLevel friction) {
+  if (name == "sim:omega")
+    return std::make_unique<PointMassDevice>(omegaParameters(friction), seed);
+  if (name == "sim:omni") return std::make_unique<SerialArmDevice>(omniParameters(friction), seed);
   std::string valid;
   for (const auto& known : simulatedDeviceNames()) valid += (valid.empty() ? "" : ", ") + known;
   throw Error("unknown simulated device '" + name + "'; valid names: " + valid);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
@@ -45,7 +46,7 @@ struct PointMassParameters {
 
 /// The "sim:omega" preset: an Omega.3-like device (12 N, 75 mm workspace radius, 14.5 N/mm),
 /// 214 g apparent mass at the paper's X_D.
-PointMassParameters omegaParameters();
+PointMassParameters omegaParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// The paper's model, eq. (1): M(X) Xdd + G(X) = F with M(X) = ||G(X)||/g I and a smooth,
 /// position-dependent, conservative G(X) (PointMassParameters). Added to what the paper models,

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
@@ -70,7 +71,7 @@ struct SerialArmParameters {
 };
 
 /// The "sim:omni" preset: a PHANToM-Omni-like 3R arm (3.3 N, about 0.10 m workspace radius).
-SerialArmParameters omniParameters();
+SerialArmParameters omniParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// A 3R arm with PHANToM kinematics and rigid-body dynamics in joint space,
 ///   M(q) qdd + C(q, qd) qd + g(q) + friction(qd) = J(q)^T (F_actuators + F_hand),

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "autograv/haptic_device.h"
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_hand.h"
 #include "autograv/tick_source.h"
 
@@ -72,10 +73,12 @@ class SimulatedDevice : public HapticDevice {
 /// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.
 std::vector<std::string> simulatedDeviceNames();
 
-/// Builds a preset simulated device; the same seed gives the same run, bit for bit.
-/// Throws autograv::Error listing the valid names for an unknown one. Not real-time safe.
-std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name,
-                                                     std::uint64_t seed = 1);
+/// Builds a preset simulated device with the given friction level; the same seed gives the same
+/// run, bit for bit. Throws autograv::Error listing the valid names for an unknown one.
+/// Not real-time safe.
+std::unique_ptr<SimulatedDevice> makeSimulatedDevice(
+    const std::string& name, std::uint64_t seed = 1,
+    FrictionLevel friction = FrictionLevel::kTypical);
 
 /// Paces a servo loop on a simulated device: each tick advances the physics by one period,
 /// either as fast as the CPU allows (tests) or locked to the wall clock (demos).
