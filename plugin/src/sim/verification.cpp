@@ -108,56 +108,76 @@ Eigen::Vector3d measuredPosition_m(HapticDevice& device) noexcept {
 
 }  // namespace
 
+namespace {
+
+/// Both approaches along one axis, `repeats` times each (from distances shrinking by a quarter
+/// each time, so that the rest positions, and their encoder counts, differ).
+struct AxisProbe {
+  double effort_plus_n = 0.0;   ///< Mean effort along the axis, approached moving along +axis.
+  double effort_minus_n = 0.0;  ///< Same, approached moving along -axis.
+  bool slid = true;
+  bool read_ok = true;
+  int unsettled = 0;
+};
+
+AxisProbe probeAxis(HapticDevice& device, TickSource& ticks, const Eigen::Vector3d& point_m,
+                    int axis, double stiffness_n_per_m, double damping_n_s_per_m,
+                    const ResidualProbeOptions& options) noexcept {
+  AxisProbe probe;
+  const Eigen::Vector3d direction = Eigen::Vector3d::Unit(axis);
+  const int repeats = std::max(1, options.approaches_per_side);
+  for (int repeat = 0; repeat < repeats; ++repeat) {
+    const double distance_m = options.approach_distance_m * (1.0 - 0.25 * repeat / repeats);
+    for (const double sign : {1.0, -1.0}) {
+      holdToward(device, ticks, point_m - sign * distance_m * direction, stiffness_n_per_m,
+                 damping_n_s_per_m, options.retreat_s, options.average_s);
+      const Eigen::Vector3d before_m = measuredPosition_m(device);
+      const ProbeOutcome outcome =
+          holdToward(device, ticks, point_m, stiffness_n_per_m, damping_n_s_per_m,
+                     options.approach_s, options.average_s);
+      const Eigen::Vector3d after_m = measuredPosition_m(device);
+      probe.read_ok =
+          probe.read_ok && outcome.read_ok && after_m.allFinite() && before_m.allFinite();
+      probe.slid = probe.slid &&
+                   sign * (after_m - before_m)[axis] >= options.min_slide_fraction * distance_m;
+      probe.unsettled += !outcome.settled;
+      (sign > 0.0 ? probe.effort_plus_n : probe.effort_minus_n) +=
+          outcome.mean_effort_n[axis] / repeats;
+    }
+  }
+  return probe;
+}
+
+}  // namespace
+
 ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks,
                                          const Eigen::Vector3d& point_m, double apparent_mass_kg,
                                          const ResidualProbeOptions& options) noexcept {
   ResidualMeasurement result;
   const double start_s = ticks.now_s();
   const double mass_kg = std::max(apparent_mass_kg, 1e-3);
-  const double distance_m = options.approach_distance_m;
   double stiffness_n_per_m = options.stiffness_n_per_m;
-  bool all_valid = true;
-  Eigen::Vector3d residual_sum_n = Eigen::Vector3d::Zero();
+  result.valid = true;
   double friction_sum_n = 0.0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const Eigen::Vector3d direction = Eigen::Vector3d::Unit(axis);
+  for (int axis = 0; axis < 3 && result.valid; ++axis) {
     for (int attempt = 0;; ++attempt) {
       const double damping_n_s_per_m =
           2.0 * options.damping_ratio * std::sqrt(stiffness_n_per_m * mass_kg);
-      // efforts[0]: approached moving along +axis (from the - side); [1]: along -axis.
-      ProbeOutcome efforts[2];
-      bool slid = true;
-      bool read_ok = true;
-      for (int side = 0; side < 2; ++side) {
-        const double sign = side == 0 ? 1.0 : -1.0;
-        holdToward(device, ticks, point_m - sign * distance_m * direction, stiffness_n_per_m,
-                   damping_n_s_per_m, options.retreat_s, options.average_s);
-        const Eigen::Vector3d before_m = measuredPosition_m(device);
-        efforts[side] = holdToward(device, ticks, point_m, stiffness_n_per_m, damping_n_s_per_m,
-                                   options.approach_s, options.average_s);
-        const Eigen::Vector3d after_m = measuredPosition_m(device);
-        efforts[side].slid_m = sign * (after_m - before_m)[axis];
-        read_ok = read_ok && efforts[side].read_ok && after_m.allFinite() && before_m.allFinite();
-        slid = slid && efforts[side].slid_m >= options.min_slide_fraction * distance_m;
-      }
-      if (!read_ok) {
-        all_valid = false;
-        break;
-      }
-      if (!slid && attempt < options.max_stiffness_doublings) {
+      const AxisProbe probe =
+          probeAxis(device, ticks, point_m, axis, stiffness_n_per_m, damping_n_s_per_m, options);
+      if (probe.read_ok && !probe.slid && attempt < options.max_stiffness_doublings) {
         stiffness_n_per_m *= 2.0;  // friction held it: pull harder, for every axis from now on
         continue;
       }
-      all_valid = all_valid && slid;
-      residual_sum_n += 0.5 * (efforts[0].mean_effort_n + efforts[1].mean_effort_n);
-      friction_sum_n += 0.5 * (efforts[0].mean_effort_n - efforts[1].mean_effort_n)[axis];
-      result.unsettled_probes += !efforts[0].settled + !efforts[1].settled;
+      result.valid = probe.read_ok && probe.slid;
+      // Only the component along the approach: a joint the approach hardly moves keeps whatever
+      // friction it had, but by virtual work its friction has no component along the approach.
+      result.residual_force_n[axis] = 0.5 * (probe.effort_plus_n + probe.effort_minus_n);
+      friction_sum_n += 0.5 * (probe.effort_plus_n - probe.effort_minus_n);
+      result.unsettled_probes += probe.unsettled;
       break;
     }
-    if (!all_valid) break;
   }
-  result.valid = all_valid;
-  result.residual_force_n = residual_sum_n / 3.0;
   result.holding_friction_n = friction_sum_n / 3.0;
   result.stiffness_n_per_m = stiffness_n_per_m;
   result.seconds = ticks.now_s() - start_s;

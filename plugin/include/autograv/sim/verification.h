@@ -35,7 +35,7 @@ struct ResidualProbeOptions {
   double damping_ratio = 1.5;
   /// The target first goes this far past the point on the other side, then back to the point.
   /// Unit: [m]
-  double approach_distance_m = 0.008;
+  double approach_distance_m = 0.009;
   /// Time the end-effector gets to reach the far side. Unit: [s]
   double retreat_s = 0.8;
   /// Time from the target's return to the point to the end of the averaging. Unit: [s]
@@ -45,8 +45,11 @@ struct ResidualProbeOptions {
   /// An approach that moved the end-effector less than this fraction of approach_distance_m
   /// was held by friction, not by the hold: it is redone with the stiffness doubled, at most
   /// max_stiffness_doublings times.
-  double min_slide_fraction = 0.5;
+  double min_slide_fraction = 0.25;
   int max_stiffness_doublings = 3;
+  /// Approaches from each side along each axis, averaged (encoder quantization and the joints'
+  /// stick states differ from one rest position to the next).
+  int approaches_per_side = 2;
 };
 
 /// Outcome of probing one point.
