@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   bool no_compensation = false;
   bool no_realtime_check = false;
   bool no_priority = false;
-  app.add_option("--device", options.device, "Simulated device: sim:omega or sim:omni")
+  app.add_option("--device", options.device, "Simulated device: sim:omega, sim:omni or sim:falcon")
       ->capture_default_str();
   app.add_option("--map", options.map_path,
                  "Gravity map (JSON) to compensate with; also the file of the S and L keys");

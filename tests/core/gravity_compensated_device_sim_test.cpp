@@ -98,9 +98,10 @@ TEST_P(ReleaseTest, ATruthMapHoldsTheEndEffectorTenTimesBetterThanNothing) {
   EXPECT_EQ(decorated.clampCount(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(SimulatedDevices, ReleaseTest, ::testing::Values("sim:omega", "sim:omni"),
+INSTANTIATE_TEST_SUITE_P(SimulatedDevices, ReleaseTest,
+                         ::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
                          [](const auto& info) {
-                           return std::string(info.param).substr(4);  // "omega", "omni"
+                           return std::string(info.param).substr(4);  // "omega", "omni", ...
                          });
 
 // A simulated driver's faults never reach the actuators: zero force, a fault the application can
