@@ -20,6 +20,8 @@ constexpr double kHandHold_s = 0.3;
 constexpr double kReadyTimeout_s = 5.0;
 // A probe whose position moved more than this during its averaging window had not settled.
 constexpr double kSettleTolerance_m = 1e-4;
+// How far outside the map's grid the residual probe may take the end-effector. Unit: [m]
+constexpr double kProbeOutsideGrid_m = 0.003;
 
 /// Remembers the largest force that went to the device: the check "never above the device's
 /// maximum" is made on what was sent, not on what the decorator meant to send.
@@ -127,10 +129,14 @@ AxisProbe probeAxis(HapticDevice& device, TickSource& ticks, const Eigen::Vector
   const Eigen::Vector3d direction = Eigen::Vector3d::Unit(axis);
   const int repeats = std::max(1, options.approaches_per_side);
   for (int repeat = 0; repeat < repeats; ++repeat) {
-    const double distance_m = options.approach_distance_m * (1.0 - 0.25 * repeat / repeats);
+    const double nominal_m = options.approach_distance_m * (1.0 - 0.25 * repeat / repeats);
     for (const double sign : {1.0, -1.0}) {
-      holdToward(device, ticks, point_m - sign * distance_m * direction, stiffness_n_per_m,
-                 damping_n_s_per_m, options.retreat_s, options.average_s);
+      const Eigen::Vector3d far_side_m = (point_m - sign * nominal_m * direction)
+                                             .cwiseMax(options.keep_within_min_m)
+                                             .cwiseMin(options.keep_within_max_m);
+      const double distance_m = (far_side_m - point_m).norm();
+      holdToward(device, ticks, far_side_m, stiffness_n_per_m, damping_n_s_per_m, options.retreat_s,
+                 options.average_s);
       const Eigen::Vector3d before_m = measuredPosition_m(device);
       const ProbeOutcome outcome =
           holdToward(device, ticks, point_m, stiffness_n_per_m, damping_n_s_per_m,
@@ -291,11 +297,15 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
     // Every point starts afresh: held by hand at the point until compensation is fully in,
     // whatever the previous release did.
     point.ready = carryAndHold(device, decorated, ticks, point.point_m, fully_compensated);
+    // Outside the grid the map holds its boundary value, so G - G_hat grows with the distance,
+    // a negative spring against the soft hold: the probe keeps close to the grid.
+    ResidualProbeOptions probe = options.probe;
+    probe.keep_within_min_m = grid.minCorner_m().array() - kProbeOutsideGrid_m;
+    probe.keep_within_max_m = grid.minCorner_m().array() + grid.side_m() + kProbeOutsideGrid_m;
     device.hand().release();
     if (point.ready) {
-      point.residual =
-          measureResidualForce(decorated, ticks, point.point_m,
-                               point.map_gravity_n.norm() / kStandardGravity, options.probe);
+      point.residual = measureResidualForce(decorated, ticks, point.point_m,
+                                            point.map_gravity_n.norm() / kStandardGravity, probe);
       point.ready = fully_compensated();
     }
     if (point.ready) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -50,6 +51,9 @@ struct ResidualProbeOptions {
   /// Approaches from each side along each axis, averaged (encoder quantization and the joints'
   /// stick states differ from one rest position to the next).
   int approaches_per_side = 2;
+  /// The far-side targets stay within this box (shorter approaches near its faces). Unit: [m]
+  Eigen::Vector3d keep_within_min_m = Eigen::Vector3d::Constant(-HUGE_VAL);
+  Eigen::Vector3d keep_within_max_m = Eigen::Vector3d::Constant(HUGE_VAL);
 };
 
 /// Outcome of probing one point.
