@@ -212,7 +212,9 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
     if (vertex.outcome != VertexOutcome::kConverged) continue;
     const Eigen::Vector3d truth = device.trueGravity(grid.vertexPosition(i));
-    const double error = (vertex.gravity_n - truth).norm() / truth.norm();
+    const double error_n = (vertex.gravity_n - truth).norm();
+    report.max_error_n = std::max(report.max_error_n, error_n);
+    const double error = error_n / truth.norm();
     if (error > report.max_error_rel) {
       report.max_error_rel = error;
       report.worst_vertex = i;
@@ -232,7 +234,8 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
   report.samples = samples;
   if (samples > 0) {
     report.mean_true_norm_n = sum_norm / samples;
-    report.rms_residual_rel = std::sqrt(sum_squared / samples) / report.mean_true_norm_n;
+    report.rms_residual_n = std::sqrt(sum_squared / samples);
+    report.rms_residual_rel = report.rms_residual_n / report.mean_true_norm_n;
   }
   return report;
 }
