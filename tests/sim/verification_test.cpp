@@ -10,6 +10,7 @@
 
 #include "allocation_counter.h"
 #include "autograv/gravity_compensated_device.h"
+#include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/verification.h"
 
@@ -66,6 +67,9 @@ TEST_P(VerificationTest, AMapTenMillinewtonsTooStrongReadsTenMillinewtons) {
     EXPECT_NEAR(point.truth_error_n, 0.010, 0.001);
     EXPECT_GT(point.residual.holding_friction_n, 0.0);
   }
+  const AccuracyReport accuracy = measureAccuracy(*truthMap(*device, bias_n), *device, 200);
+  EXPECT_NEAR(accuracy.max_error_n, 0.010, 1e-9) << "the vertices hold the truth plus the bias";
+  EXPECT_NEAR(accuracy.rms_residual_n, 0.010, 0.001);
 }
 
 TEST_P(VerificationTest, TheTrueFieldReadsNearZero) {
