@@ -17,6 +17,7 @@
 #include "autograv/sim/verification.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "friction_option.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
 #include "autograv/viz/image.h"
@@ -33,6 +34,7 @@ struct BenchOptions {
   std::string report_path;
   int grid = 5;
   bool quick = false;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   bool friction_sweep = false;
   int sweep_grid = 4;
   int sweep_points = 20;
@@ -101,13 +103,6 @@ struct CalibrationFigures {
   sim::AccuracyReport accuracy;
 };
 
-std::unique_ptr<sim::SimulatedDevice> openDevice(const std::string& name,
-                                                 sim::FrictionLevel friction) {
-  auto device = sim::makeSimulatedDevice(name, 1, friction);
-  if (!device->open() || !device->calibrate()) throw Error("device " + name + ": open failed");
-  return device;
-}
-
 CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resolution,
                                       bool extrapolate, GravityMap* map_out) {
   const double side_m = defaultGridSide_m(device.specifications().workspace_radius_m);
@@ -161,7 +156,7 @@ std::vector<SweepRow> runFrictionSweep(const BenchOptions& options) {
       SweepRow row;
       row.device = name;
       row.friction = sim::parseFrictionLevel(level);
-      std::shared_ptr<sim::SimulatedDevice> device = openDevice(name, row.friction);
+      std::shared_ptr<sim::SimulatedDevice> device = openSimulatedDevice(name, 1, row.friction);
       auto map = std::make_shared<GravityMap>(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2),
                                               std::vector<VertexEstimate>(8), MapMetadata{});
       try {
@@ -283,8 +278,10 @@ void runBenchCommand(const BenchOptions& options) {
   }
 
   std::printf(
-      "\nCalibration, %d^3 grid, default side, seed 1 (paper: 14 iterations at one vertex)\n",
-      options.grid);
+      "\nCalibration, %d^3 grid, default side, seed 1, friction %s (paper: 14 iterations at one "
+      "vertex)\n",
+      options.grid, sim::toString(options.friction));
+  report["friction"] = sim::toString(options.friction);
   std::printf("  %-10s %-12s %6s %6s %10s %10s %9s %8s\n", "device", "start", "median", "max",
               "s/vertex", "sim [s]", "wall [s]", "worst");
   std::unique_ptr<GravityMap> omni_map;
@@ -292,7 +289,7 @@ void runBenchCommand(const BenchOptions& options) {
     for (bool extrapolate : {false, true}) {
       GravityMap map(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2), std::vector<VertexEstimate>(8),
                      MapMetadata{});
-      auto device = openDevice(name, sim::FrictionLevel::kTypical);
+      auto device = openSimulatedDevice(name, 1, options.friction);
       const CalibrationFigures f = calibrationFigures(*device, options.grid, extrapolate, &map);
       const char* start = extrapolate ? "extrapolate" : "eq. (9)";
       std::printf("  %-10s %-12s %6.1f %6d %10.2f %10.1f %9.2f %7.2f%%\n", name.c_str(), start,
@@ -346,6 +343,7 @@ void addBenchCommand(CLI::App& app) {
       ->check(CLI::Range(2, 8))
       ->capture_default_str();
   command->add_flag("--quick", options->quick, "Shorter runs (noisier figures)");
+  addFrictionOption(*command, options->friction);
   command->add_flag("--friction-sweep", options->friction_sweep,
                     "Instead: calibrate and verify every simulated device at every friction level");
   command->add_option("--sweep-grid", options->sweep_grid, "Vertices per axis in the sweep")

@@ -9,6 +9,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -17,6 +18,7 @@ namespace {
 struct PaperExperimentOptions {
   std::string device = "sim:omega";
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   std::string report_path;
   EstimationParameters parameters;  // the paper's values are the defaults
 };
@@ -24,16 +26,16 @@ struct PaperExperimentOptions {
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const auto& p = parameters;
   std::printf(
-      "Paper Sec. V on %s (seed %llu): alpha = %g 1/s, beta = %g 1/s^2, k0 = %g N/mm,\n"
-      "n_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
-      options.device.c_str(), static_cast<unsigned long long>(options.seed), p.alpha_per_s,
-      p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s, p.eps_s_m_per_s * 1e3, p.n_g,
-      p.eps_g_n / kStandardGravity * 1e3);
+      "Paper Sec. V on %s (seed %llu, friction %s): alpha = %g 1/s, beta = %g 1/s^2, "
+      "k0 = %g N/mm,\nn_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
+      options.device.c_str(), static_cast<unsigned long long>(options.seed),
+      sim::toString(options.friction), p.alpha_per_s, p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s,
+      p.eps_s_m_per_s * 1e3, p.n_g, p.eps_g_n / kStandardGravity * 1e3);
   const Eigen::Vector3d target_mm = sim::chai3dToPaperFrame(sim::paperTargetPoint_m());
   const Eigen::Vector3d start_mm = sim::chai3dToPaperFrame(sim::paperStartPoint_m());
   std::printf("X_D = [%.1f, %.1f, %.1f] mm, start = [%.1f, %.1f, %.1f] mm (paper frame, y up)\n\n",
@@ -41,8 +43,8 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
               start_mm.z());
 
   const sim::PaperExperimentResult result = sim::runPaperExperiment(*device, p);
-  // Simulation only: the truth at X0 shows what eq. (7) got right, and an end-stop contact
-  // during the sag would show here as a G_hat_0 far below it.
+  // Simulation only: the truth at X0 shows what eq. (7) got right; a sag onto the end stops
+  // shows as a G_hat_0 far below it.
   const Eigen::Vector3d& initial_n = result.initialization.gravity_n;
   const Eigen::Vector3d initial_true_n = device->trueGravity(result.initialization.center_m);
   std::printf(
@@ -52,10 +54,10 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
       result.initialization.seconds, initial_n.x(), initial_n.y(), initial_n.z(), initial_n.norm(),
       initial_true_n.x(), initial_true_n.y(), initial_true_n.z(), initial_true_n.norm(),
       100.0 * (initial_n - initial_true_n).norm() / initial_true_n.norm());
-  if (device->endStopHit()) {
+  if (result.initialization.end_stop_hit) {
     std::printf(
-        "WARNING: the end-effector pressed against the end stops during the run (simulation\n"
-        "only): a G_hat_0 taken there holds the stop's force, not the gravity at X0.\n\n");
+        "WARNING: the end-effector pressed against the end stops during the initialization:\n"
+        "G_hat_0 then holds the stop's force, not the gravity at X0.\n\n");
   }
   std::printf("%5s %12s %12s %10s\n", "j", "Delta_j[mm]", "M_hat_j[g]", "t_j[ms]");
   nlohmann::json history = nlohmann::json::array();
@@ -81,6 +83,7 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
 
   nlohmann::json report = {{"device", options.device},
                            {"seed", options.seed},
+                           {"friction", sim::toString(options.friction)},
                            {"outcome", toString(result.estimate.outcome)},
                            {"converged", result.estimate.outcome == VertexOutcome::kConverged},
                            {"iterations", result.estimate.iterations},
@@ -92,7 +95,7 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
                            {"initial_gravity_n", vectorJson(initial_n)},
                            {"initial_gravity_true_n", vectorJson(initial_true_n)},
                            {"initial_center_m", vectorJson(result.initialization.center_m)},
-                           {"end_stop_hit", device->endStopHit()},
+                           {"initial_end_stop_hit", result.initialization.end_stop_hit},
                            {"target_m", vectorJson(result.target_m)},
                            {"simulated_seconds", result.simulated_seconds},
                            {"parameters", parametersJson(p)},
@@ -110,6 +113,7 @@ void addPaperExperimentCommand(CLI::App& app) {
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--report", options->report_path, "Write a JSON report here");
   addEstimationOptions(*command, options->parameters);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });

@@ -15,6 +15,7 @@
 #include "autograv/sim/verification.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -24,6 +25,7 @@ struct VerifyOptions {
   std::string map_path;
   std::string device = "sim:omni";
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   int points = 100;
   double duration_s = 1.0;
   double max_drift_ratio = 0.1;
@@ -39,7 +41,7 @@ nlohmann::json vectorJson(const Eigen::Vector3d& value) {
 
 void runVerifyCommand(const VerifyOptions& options) {
   std::shared_ptr<sim::SimulatedDevice> simulated =
-      openSimulatedDevice(options.device, options.seed);
+      openSimulatedDevice(options.device, options.seed, options.friction);
   const DeviceSpecifications& specs = simulated->specifications();
   MapLoadOptions load;
   load.expected_device_model = specs.model_name;
@@ -52,9 +54,9 @@ void runVerifyCommand(const VerifyOptions& options) {
   verification.release_s = options.duration_s;
   verification.stuck_threshold_m = options.stuck_threshold_mm * 1e-3;
   const sim::ResidualProbeOptions& probe = verification.probe;
-  std::printf("verify %s on %s: %d points inside the grid, seed %llu\n", options.map_path.c_str(),
-              specs.model_name.c_str(), options.points,
-              static_cast<unsigned long long>(options.seed));
+  std::printf("verify %s on %s (friction %s): %d points inside the grid, seed %llu\n",
+              options.map_path.c_str(), specs.model_name.c_str(), sim::toString(options.friction),
+              options.points, static_cast<unsigned long long>(options.seed));
   std::printf(
       "each point: carried there by hand and held until compensation is fully in; residual force\n"
       "probed by a %.0f N/m hold approached %d times from each side along each axis (friction\n"
@@ -154,6 +156,7 @@ void runVerifyCommand(const VerifyOptions& options) {
                                {"device", specs.model_name},
                                {"map_device", map->metadata().device_model},
                                {"seed", options.seed},
+                               {"friction", sim::toString(options.friction)},
                                {"points", options.points},
                                {"ready_points", report.ready_points},
                                {"duration_s", options.duration_s},
@@ -215,6 +218,7 @@ void addVerifyCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--points", options->points, "Release points")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

@@ -18,6 +18,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 #include "wizard_auto_hand.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
@@ -37,6 +38,7 @@ struct WizardOptions {
   bool yes = false;
   bool uncalibrated = false;
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   int grid = 0;          // 0: 5 per axis, as `autograv calibrate`
   double side_mm = 0.0;  // 0: the default of `autograv calibrate`
   double speed = -1.0;   // < 0: real time on a terminal, as fast as possible otherwise
@@ -210,6 +212,7 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
   return {
       {"device", options.device},
       {"seed", options.seed},
+      {"friction", sim::toString(options.friction)},
       {"outcome", toString(status.step)},
       {"map", status.map_saved ? options.out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
@@ -242,7 +245,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "saved)");
   }
   std::shared_ptr<sim::SimulatedDevice> device(
-      sim::makeSimulatedDevice(options.device, options.seed));
+      sim::makeSimulatedDevice(options.device, options.seed, options.friction));
   if (options.uncalibrated) device->setCalibrated(false);
 
   WizardConfig config;
@@ -278,7 +281,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   PlainLog log(stdout);
   KeyDecoder decoder;
   ScreenContext context;
-  context.device_name = options.device;
+  context.device_name = options.device + " (friction " + sim::toString(options.friction) + ")";
   context.auto_hand = options.auto_hand;
   int interrupts_seen = 0;
   bool left_at_once = false;
@@ -371,6 +374,7 @@ void addWizardCommand(CLI::App& app) {
                     "Answer the prompts automatically on a terminal too (redo failed vertices "
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   addGridOptions(*command, options->grid, options->side_mm);
   command
       ->add_option("--speed", options->speed,

@@ -57,7 +57,8 @@ struct ServoSnapshot {
 struct SessionOptions {
   std::string device = "sim:omega";  ///< A name of sim::simulatedDeviceNames().
   std::uint64_t seed = 1;
-  double servo_period_s = 1.0e-3;  ///< Unit: [s]
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< Of the simulated device.
+  double servo_period_s = 1.0e-3;                              ///< Unit: [s]
   CompensationOptions compensation;
   EstimationParameters estimation;
   /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed

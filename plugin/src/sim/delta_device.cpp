@@ -312,7 +312,9 @@ Eigen::Matrix3d DeltaDevice::trueApparentMass(const Eigen::Vector3d& position_m)
   return 0.5 * (lambda + lambda.transpose());
 }
 
-void DeltaDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
+void DeltaDevice::integrateStep(const Eigen::Vector3d& motor_command,
+                                const Eigen::Vector3d& external_force_n, double dt_s) noexcept {
+  const Eigen::Vector3d force_n = motor_command + external_force_n;
   const auto& p = parameters_;
   const Eigen::Vector3d tip = tip_m_ + home_tip_m_;
   Pose at{};

@@ -90,6 +90,10 @@ LuGreParameters LuGreParameters::scaledDry(double dry_scale) const {
   LuGreParameters scaled = *this;
   scaled.coulomb *= dry_scale;
   scaled.stiction *= dry_scale;
+  // The same pre-sliding range (a property of the contact's asperities, not of the load), and the
+  // same damping ratio of the bristles: sigma0 scales with the level, sigma1 with its root.
+  scaled.bristle_stiffness *= dry_scale;
+  scaled.bristle_damping *= std::sqrt(dry_scale);
   return scaled;
 }
 

@@ -58,6 +58,7 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
     return result;
   }
   estimator.start(at_center.position_m);
+  device.clearEndStopHit();  // where the hand carried it does not matter; where it settles does
   const double field_on_s = device.time_s();
   InitializationEstimator::Status status = InitializationEstimator::Status::kRampingIn;
   while (status != InitializationEstimator::Status::kDone &&
@@ -81,9 +82,22 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
     result.message = message.str();
     return result;
   }
-  result.ok = true;
   result.gravity_n = estimator.gravityEstimate_n();
   result.settled_m = estimator.center_m() - result.gravity_n / parameters.k0_n_per_m;
+  result.end_stop_hit = device.endStopHit();
+  if (result.end_stop_hit) {
+    const Eigen::Vector3d offset_mm = 1e3 * (result.center_m - device.workspaceCenter_m());
+    std::ostringstream message;
+    message << "the end-effector rested on an end stop after release (X0 is " << offset_mm.norm()
+            << " mm from the workspace centre, radius "
+            << device.specifications().workspace_radius_m * 1e3 << " mm, and sags by about "
+            << 1e3 * result.gravity_n.norm() / parameters.k0_n_per_m
+            << " mm in the k0 field): eq. (7) does not hold there; initialize further inside the "
+               "workspace or raise k0";
+    result.message = message.str();
+    return result;
+  }
+  result.ok = true;
   return result;
 }
 

@@ -142,7 +142,16 @@ class DeltaDevice final : public SimulatedDriver {
   const DeltaParameters& parameters() const noexcept { return parameters_; }
 
  protected:
-  void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
+  void integrateStep(const Eigen::Vector3d& motor_command, const Eigen::Vector3d& external_force_n,
+                     double dt_s) noexcept override;
+  /// The motors are commanded in Cartesian force (the driver's DAC and saturation act on its
+  /// components) until the Falcon's joint-torque actuation is modelled. Real-time safe.
+  Eigen::Vector3d cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept override {
+    return force_n;
+  }
+  Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& command) const noexcept override {
+    return command;
+  }
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
 

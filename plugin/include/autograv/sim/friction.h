@@ -50,8 +50,9 @@ struct LuGreParameters {
 
   /// Throws autograv::Error naming the first unusable value (`owner` prefixes the message).
   void validate(const std::string& owner) const;
-  /// The same model with Fc and Fs multiplied by `dry_scale` (>= 0); the bristle dynamics and the
-  /// viscous term are unchanged, so the pre-sliding range scales with the friction level.
+  /// The same model with Fc, Fs and sigma0 multiplied by `dry_scale` (>= 0) and sigma1 by its
+  /// square root: the same pre-sliding range and bristle damping ratio at another friction level.
+  /// The viscous term is unchanged.
   LuGreParameters scaledDry(double dry_scale) const;
 };
 

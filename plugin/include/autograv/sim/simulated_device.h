@@ -60,6 +60,9 @@ class SimulatedDevice : public HapticDevice {
   /// True when the end-effector has pressed against the mechanical end stops (a stiff spring
   /// beyond the workspace radius) since construction or the last resetState.
   virtual bool endStopHit() const noexcept = 0;
+  /// Forgets that the end stops were hit, so that a procedure can tell whether they are hit from
+  /// now on. Real-time safe.
+  virtual void clearEndStopHit() noexcept = 0;
   /// Centre of the workspace sphere of radius specifications().workspace_radius_m. Unit: [m]
   virtual Eigen::Vector3d workspaceCenter_m() const noexcept = 0;
   /// Step of the fixed-step integration inside advance(). Unit: [s]
