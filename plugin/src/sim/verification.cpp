@@ -20,6 +20,9 @@ constexpr double kHandHold_s = 0.3;
 constexpr double kReadyTimeout_s = 5.0;
 // A probe whose position moved more than this during its averaging window had not settled.
 constexpr double kSettleTolerance_m = 1e-4;
+// Force change the probe may make against friction without the decorator calling the position
+// stale: the hold at its stiffest times its approach distance, with room. Unit: [N]
+constexpr double kProbeStaleForceChange_n = 2.0;
 // How far outside the map's grid the residual probe may take the end-effector. Unit: [m]
 constexpr double kProbeOutsideGrid_m = 0.003;
 
@@ -273,6 +276,10 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
   auto meter = std::make_shared<ForceMeter>(simulated);
   CompensationOptions compensation = options.compensation;
   compensation.servo_period_s = report.servo_period_s;
+  // The probe raises its force on purpose while friction may hold the end-effector still: the
+  // stale-position check must not take that for a frozen driver (its own test covers it).
+  compensation.stale_force_change_n =
+      std::max(compensation.stale_force_change_n, kProbeStaleForceChange_n);
   GravityCompensatedDevice decorated(meter, compensation);
   decorated.publishMap(map, allow_model_mismatch);
   SimulatedTickSource ticks(device, report.servo_period_s,

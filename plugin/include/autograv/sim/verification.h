@@ -47,7 +47,7 @@ struct ResidualProbeOptions {
   /// was held by friction, not by the hold: it is redone with the stiffness doubled, at most
   /// max_stiffness_doublings times.
   double min_slide_fraction = 0.25;
-  int max_stiffness_doublings = 3;
+  int max_stiffness_doublings = 2;
   /// Approaches from each side along each axis, averaged, toward targets spread evenly over
   /// target_spread_m along the axis around the point. The residual is smooth over millimetres;
   /// what is not averages out: cogging (a period of a few millimetres at the tip of a
