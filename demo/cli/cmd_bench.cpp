@@ -37,7 +37,7 @@ struct BenchOptions {
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   bool friction_sweep = false;
   int sweep_grid = 4;
-  int sweep_points = 20;
+  int sweep_points = 12;
   std::string plot_path;
 };
 
