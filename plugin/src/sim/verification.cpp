@@ -64,7 +64,6 @@ Eigen::Vector3d holdEffort_n(const ServoSample& sample, const Eigen::Vector3d& t
 /// What one approach saw at rest.
 struct ProbeOutcome {
   Eigen::Vector3d mean_effort_n = Eigen::Vector3d::Zero();
-  double slid_m = 0.0;  ///< Motion toward the point along the approach axis. Unit: [m]
   bool read_ok = true;
   bool settled = true;
 };
@@ -110,10 +109,6 @@ Eigen::Vector3d measuredPosition_m(HapticDevice& device) noexcept {
   if (!device.getPosition(position_m)) position_m.setConstant(std::nan(""));
   return position_m;
 }
-
-}  // namespace
-
-namespace {
 
 /// Both approaches along one axis, `repeats` times each, toward targets spread evenly along the
 /// axis around the point: the mean then spans target_spread_m of cogging and encoder counts.
@@ -169,12 +164,13 @@ ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks
   double stiffness_n_per_m = options.stiffness_n_per_m;
   result.valid = true;
   double friction_sum_n = 0.0;
+  const auto damping_n_s_per_m = [&] {
+    return 2.0 * options.damping_ratio * std::sqrt(stiffness_n_per_m * mass_kg);
+  };
   for (int axis = 0; axis < 3 && result.valid; ++axis) {
     for (int attempt = 0;; ++attempt) {
-      const double damping_n_s_per_m =
-          2.0 * options.damping_ratio * std::sqrt(stiffness_n_per_m * mass_kg);
       const AxisProbe probe =
-          probeAxis(device, ticks, point_m, axis, stiffness_n_per_m, damping_n_s_per_m, options);
+          probeAxis(device, ticks, point_m, axis, stiffness_n_per_m, damping_n_s_per_m(), options);
       if (probe.read_ok && !probe.slid && attempt < options.max_stiffness_doublings) {
         stiffness_n_per_m *= 2.0;  // friction held it: pull harder, for every axis from now on
         continue;
@@ -189,9 +185,8 @@ ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks
     }
   }
   // End held at the point itself, as documented (the last target was beside it).
-  holdToward(device, ticks, point_m, stiffness_n_per_m,
-             2.0 * options.damping_ratio * std::sqrt(stiffness_n_per_m * mass_kg),
-             options.approach_s, options.average_s);
+  holdToward(device, ticks, point_m, stiffness_n_per_m, damping_n_s_per_m(), options.approach_s,
+             options.average_s);
   result.holding_friction_n = friction_sum_n / 3.0;
   result.stiffness_n_per_m = stiffness_n_per_m;
   result.seconds = ticks.now_s() - start_s;
