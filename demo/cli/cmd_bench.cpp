@@ -250,7 +250,7 @@ void plotFrictionSweep(const std::vector<SweepRow>& rows, const std::string& pat
       panel("verify residual force, median [mN]",
             [](const SweepRow& row) { return row.residual_n.median * 1e3; })};
   viz::PlotOptions plot;
-  plot.title = "Calibration and verify against friction (simulated devices)";
+  plot.title = "Friction sweep, simulated devices";
   viz::writePng(viz::renderSweepPlot(levels, "friction level", panels, plot), path);
   std::printf("\nwrote %s\n", path.c_str());
 #else

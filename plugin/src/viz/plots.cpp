@@ -465,7 +465,10 @@ RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::st
     vtkAxis* bottom = chart->GetAxis(vtkAxis::BOTTOM);
     fixedRange(bottom, -0.3, static_cast<double>(x_labels.size()) - 0.7);
     bottom->SetCustomTickPositions(tick_positions, tick_labels);
-    fixedRange(chart->GetAxis(vtkAxis::LEFT), 0.0, highest > 0.0 ? roundUp(1.1 * highest) : 1.0);
+    // Five or six round ticks above the highest value, not the next power-of-ten-ish number.
+    const double tick = roundUp(highest / 5.0);
+    fixedRange(chart->GetAxis(vtkAxis::LEFT), 0.0,
+               highest > 0.0 ? tick * std::ceil(1.05 * highest / tick) : 1.0);
     chart->SetShowLegend(p == 0);
     chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
     chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
