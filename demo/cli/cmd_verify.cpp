@@ -1,5 +1,5 @@
-// autograv verify: does a map hold a released end-effector still? Drift with the decorator on,
-// next to the same test with compensation off, on a simulated device.
+// autograv verify: how much force does a map miss, measured as a device could, and does it hold
+// a released end-effector still? On a simulated device, also the ground-truth error.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/error.h"
+#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/map/map_io.h"
-#include "autograv/sim/simulated_driver.h"
+#include "autograv/sim/verification.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "friction_option.h"
@@ -29,70 +29,14 @@ struct VerifyOptions {
   int points = 100;
   double duration_s = 1.0;
   double max_drift_ratio = 0.1;
+  double max_residual_ratio = 0.05;
+  double stuck_threshold_mm = 0.15;
   std::string report_path;
   bool allow_model_mismatch = false;
 };
 
-/// Sits between whoever commands forces and the device, and remembers the largest force that
-/// actually went to the device: the check "never above the device's maximum" is made on what
-/// was sent, not on what the decorator meant to send.
-class ForceMeter final : public HapticDevice {
- public:
-  explicit ForceMeter(std::shared_ptr<HapticDevice> inner) : inner_(std::move(inner)) {}
-  bool open() override { return inner_->open(); }
-  bool close() override { return inner_->close(); }
-  bool calibrate(bool force) override { return inner_->calibrate(force); }
-  bool getPosition(Eigen::Vector3d& position_m) override { return inner_->getPosition(position_m); }
-  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override {
-    return inner_->getLinearVelocity(velocity_m_per_s);
-  }
-  bool getUserSwitch(int index, bool& pressed) override {
-    return inner_->getUserSwitch(index, pressed);
-  }
-  bool setForce(const Eigen::Vector3d& force_n) override {
-    max_force_n_ = std::max(max_force_n_, force_n.norm());
-    return inner_->setForce(force_n);
-  }
-  const DeviceSpecifications& specifications() const override { return inner_->specifications(); }
-  /// Unit: [N]
-  double maxForce_n() const { return max_force_n_; }
-
- private:
-  std::shared_ptr<HapticDevice> inner_;
-  double max_force_n_ = 0.0;
-};
-
-struct Stats {
-  double median = 0.0;
-  double p90 = 0.0;
-  double max = 0.0;
-};
-
-Stats statistics(std::vector<double> values) {
-  Stats stats;
-  if (values.empty()) return stats;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  stats.median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-  stats.p90 = values[std::min(n - 1, static_cast<std::size_t>(std::ceil(0.9 * n)) - 1)];
-  stats.max = values.back();
-  return stats;
-}
-
-/// Puts the end-effector at rest at `start_m`, lets go of it (no hand, zero application force)
-/// and runs the servo loop through `device` for `ticks` periods. Returns the drift [m].
-double releaseAndMeasure(sim::SimulatedDevice& simulated, HapticDevice& device,
-                         const Eigen::Vector3d& start_m, int ticks, double period_s) {
-  simulated.resetState(start_m);
-  simulated.hand().release();
-  const Eigen::Vector3d released_at = simulated.truePosition_m();
-  Eigen::Vector3d position_m;
-  for (int k = 0; k < ticks; ++k) {
-    device.getPosition(position_m);  // what an application does each tick
-    device.setForce(Eigen::Vector3d::Zero());
-    simulated.advance(period_s);
-  }
-  return (simulated.truePosition_m() - released_at).norm();
+nlohmann::json vectorJson(const Eigen::Vector3d& value) {
+  return {value.x(), value.y(), value.z()};
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
@@ -103,132 +47,159 @@ void runVerifyCommand(const VerifyOptions& options) {
   load.expected_device_model = specs.model_name;
   load.allow_model_mismatch = options.allow_model_mismatch;
   auto map = std::make_shared<const GravityMap>(loadMap(options.map_path, load));
-  const WorkspaceGrid& grid = map->grid();
-  const double period_s = map->metadata().parameters.servo_period_s;
-  const int ticks = std::max(1, static_cast<int>(std::lround(options.duration_s / period_s)));
 
-  auto meter = std::make_shared<ForceMeter>(simulated);
-  CompensationOptions compensation;
-  compensation.servo_period_s = period_s;
-  GravityCompensatedDevice decorated(meter, compensation);
-  decorated.publishMap(map, options.allow_model_mismatch);
-
-  // Seeded points inside the grid (sim::Random: the same points on every platform).
-  sim::Random random(options.seed);
-  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(options.points));
-  for (auto& point : points) {
-    for (int axis = 0; axis < 3; ++axis) {
-      point[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.side_m();
-    }
-  }
-
+  sim::VerificationOptions verification;
+  verification.points = options.points;
+  verification.seed = options.seed;
+  verification.release_s = options.duration_s;
+  verification.stuck_threshold_m = options.stuck_threshold_mm * 1e-3;
+  const sim::ResidualProbeOptions& probe = verification.probe;
+  std::printf("verify %s on %s (friction %s): %d points inside the grid, seed %llu\n",
+              options.map_path.c_str(), specs.model_name.c_str(), sim::toString(options.friction),
+              options.points, static_cast<unsigned long long>(options.seed));
   std::printf(
-      "verify %s on %s (friction %s): %d points inside the grid, released for %.2f s, seed %llu\n",
-      options.map_path.c_str(), specs.model_name.c_str(), sim::toString(options.friction),
-      options.points, ticks * period_s, static_cast<unsigned long long>(options.seed));
+      "each point: carried there by hand and held until compensation is fully in; residual force\n"
+      "probed by a %.0f N/m hold approached %d times from each side along each axis (friction\n"
+      "cancels in the mean); then released for %.2f s, and again with compensation off\n",
+      probe.stiffness_n_per_m, probe.approaches_per_side, options.duration_s);
   std::fflush(stdout);
 
-  // The decorator ramps compensation in, as it would in an application; hold the end-effector
-  // by hand at the grid centre meanwhile, so that every release starts at full compensation.
-  simulated->resetState(grid.center_m());
-  simulated->hand().grab(grid.center_m());
-  const int ramp_ticks =
-      static_cast<int>(std::lround(compensation.ramp_duration_s / period_s)) + 10;
-  Eigen::Vector3d position_m;
-  for (int k = 0; k < ramp_ticks; ++k) {
-    decorated.getPosition(position_m);
-    decorated.setForce(Eigen::Vector3d::Zero());
-    simulated->advance(period_s);
-  }
-  if (decorated.compensationLevel() != 1.0) {
-    throw Error(std::string("verify: compensation did not ramp in (fault: ") +
-                toString(decorated.lastFault()) + ")");
-  }
-
-  ProgressBar progress("release");
-  std::vector<double> drift_on_m;
-  std::vector<double> drift_off_m;
-  const int total = 2 * options.points;
-  for (const Eigen::Vector3d& point : points) {
-    drift_on_m.push_back(releaseAndMeasure(*simulated, decorated, point, ticks, period_s));
-    progress.update(static_cast<int>(drift_on_m.size()), total, "compensation on");
-  }
-  const double max_force_on_n = meter->maxForce_n();
-  const std::uint64_t faults = decorated.faultCount();
-  const std::uint64_t clamps = decorated.clampCount();
-  for (const Eigen::Vector3d& point : points) {
-    drift_off_m.push_back(releaseAndMeasure(*simulated, *meter, point, ticks, period_s));
-    progress.update(options.points + static_cast<int>(drift_off_m.size()), total,
-                    "compensation off");
-  }
+  ProgressBar progress("verify");
+  verification.on_progress = [&](int done, int total, bool compensated) {
+    progress.update(done, total, compensated ? "compensation on" : "compensation off");
+  };
+  const sim::VerificationReport report =
+      sim::verifyMapOnSimulatedDevice(simulated, map, verification, options.allow_model_mismatch);
   progress.finish();
 
-  const Stats on = statistics(drift_on_m);
-  const Stats off = statistics(drift_off_m);
+  const sim::Percentiles& residual = report.residual_force_n;
+  const sim::Percentiles& on = report.drift_m;
+  const sim::Percentiles& off = report.drift_uncompensated_m;
   const double ratio = off.median > 0.0 ? on.median / off.median : INFINITY;
-  const bool force_ok = max_force_on_n <= specs.max_linear_force_n * (1.0 + 1e-12);
+  const double residual_ratio =
+      report.median_gravity_n > 0.0 ? residual.median / report.median_gravity_n : INFINITY;
+  const bool all_ready = report.ready_points == options.points;
+  const bool all_probed = report.valid_residuals == report.ready_points;
+  const bool force_ok = report.max_force_sent_n <= specs.max_linear_force_n * (1.0 + 1e-12);
   const bool drift_ok = ratio <= options.max_drift_ratio;
+  const bool residual_ok = all_probed && residual_ratio <= options.max_residual_ratio;
+  const bool pass = all_ready && force_ok && drift_ok && residual_ok;
 
-  std::printf("\n%-26s %16s %17s\n", "", "compensation on", "compensation off");
-  std::printf("%-26s %16.3f %17.3f\n", "drift median [mm]", on.median * 1e3, off.median * 1e3);
-  std::printf("%-26s %16.3f %17.3f\n", "drift 90th percentile [mm]", on.p90 * 1e3, off.p90 * 1e3);
-  std::printf("%-26s %16.3f %17.3f\n", "drift max [mm]", on.max * 1e3, off.max * 1e3);
-  std::printf("%-26s %16.3f %17s\n", "max force sent [N]", max_force_on_n, "0 (by design)");
-  std::printf("\n%-26s %.2f N  %s\n", "device force limit", specs.max_linear_force_n,
-              force_ok ? "ok, never exceeded" : "EXCEEDED");
-  std::printf("%-26s %.4f (limit %.3g)  %s\n", "drift median on / off", ratio,
+  std::printf("\n%-34s %10s %10s %10s\n", "", "median", "90th pct", "max");
+  std::printf("%-34s %10.2f %10.2f %10.2f\n", "residual force [mN]", residual.median * 1e3,
+              residual.p90 * 1e3, residual.max * 1e3);
+  std::printf("%-34s %10.3f %10.3f %10.3f\n", "drift, compensation on [mm]", on.median * 1e3,
+              on.p90 * 1e3, on.max * 1e3);
+  std::printf("%-34s %10.3f %10.3f %10.3f\n", "drift, compensation off [mm]", off.median * 1e3,
+              off.p90 * 1e3, off.max * 1e3);
+  std::vector<double> friction_n;
+  for (const auto& point : report.points) {
+    if (point.residual.valid) friction_n.push_back(point.residual.holding_friction_n);
+  }
+  std::printf("%-34s %10.2f\n", "friction the probe saw [mN]",
+              sim::percentiles(friction_n).median * 1e3);
+  std::printf("%-34s %10.2f   (no motion beyond %.2f mm after release)\n", "stuck fraction",
+              report.stuck_fraction, options.stuck_threshold_mm);
+  std::printf("\nSimulation only (ground truth, which no real device can measure):\n");
+  std::printf("%-34s %10.2f %10.2f %10.2f\n", "|G_hat - G| [mN]", report.truth_error_n.median * 1e3,
+              report.truth_error_n.p90 * 1e3, report.truth_error_n.max * 1e3);
+  std::printf("%-34s %10.2f %10.2f %10.2f\n", "|G_hat - G| [% of |G|]",
+              report.truth_error_rel.median * 100.0, report.truth_error_rel.p90 * 100.0,
+              report.truth_error_rel.max * 100.0);
+
+  std::printf("\n%-34s %d of %d%s\n", "points held at full compensation", report.ready_points,
+              options.points, all_ready ? "" : "  SOME NEVER READY");
+  std::printf("%-34s %d of %d%s\n", "residual probes that slid", report.valid_residuals,
+              report.ready_points, all_probed ? "" : "  FRICTION HELD SOME");
+  std::printf("%-34s %.4f of median |G_hat| %.3f N (limit %.3g)  %s\n", "residual median",
+              residual_ratio, report.median_gravity_n, options.max_residual_ratio,
+              residual_ok ? "ok" : "TOO HIGH");
+  std::printf("%-34s %.2f N, max sent %.3f N  %s\n", "device force limit", specs.max_linear_force_n,
+              report.max_force_sent_n, force_ok ? "ok, never exceeded" : "EXCEEDED");
+  std::printf("%-34s %.4f (limit %.3g)  %s\n", "drift median on / off", ratio,
               options.max_drift_ratio, drift_ok ? "ok" : "TOO HIGH");
   std::string fault_kinds;
-  for (int kind = 1; kind < kServoFaultKinds; ++kind) {
-    const auto fault = static_cast<ServoFault>(kind);
-    if (decorated.faultCount(fault) == 0) continue;
-    fault_kinds += std::string(fault_kinds.empty() ? " (" : ", ") + toString(fault) + " " +
-                   std::to_string(decorated.faultCount(fault));
-  }
-  if (!fault_kinds.empty()) fault_kinds += ")";
-  std::printf("%-26s %llu fault ticks%s, %llu clamps\n", "decorator",
-              static_cast<unsigned long long>(faults), fault_kinds.c_str(),
-              static_cast<unsigned long long>(clamps));
-
-  nlohmann::json point_list = nlohmann::json::array();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    point_list.push_back({{"start_m", {points[i].x(), points[i].y(), points[i].z()}},
-                          {"drift_mm", drift_on_m[i] * 1e3},
-                          {"drift_off_mm", drift_off_m[i] * 1e3}});
-  }
+  std::uint64_t faults = 0;
   nlohmann::json fault_counts = nlohmann::json::object();
   for (int kind = 1; kind < kServoFaultKinds; ++kind) {
     const auto fault = static_cast<ServoFault>(kind);
-    fault_counts[toString(fault)] = decorated.faultCount(fault);
+    const std::uint64_t count = report.fault_counts[static_cast<std::size_t>(kind)];
+    fault_counts[toString(fault)] = count;
+    faults += count;
+    if (count == 0) continue;
+    fault_kinds += std::string(fault_kinds.empty() ? " (" : ", ") + toString(fault) + " " +
+                   std::to_string(count);
   }
-  const nlohmann::json report = {{"map", options.map_path},
-                                 {"device", specs.model_name},
-                                 {"map_device", map->metadata().device_model},
-                                 {"seed", options.seed},
-                                 {"friction", sim::toString(options.friction)},
-                                 {"points", options.points},
-                                 {"duration_s", ticks * period_s},
-                                 {"servo_period_s", period_s},
-                                 {"ramp_duration_s", compensation.ramp_duration_s},
-                                 {"drift_median_mm", on.median * 1e3},
-                                 {"drift_p90_mm", on.p90 * 1e3},
-                                 {"drift_max_mm", on.max * 1e3},
-                                 {"drift_off_median_mm", off.median * 1e3},
-                                 {"drift_off_p90_mm", off.p90 * 1e3},
-                                 {"drift_off_max_mm", off.max * 1e3},
-                                 {"drift_ratio", ratio},
-                                 {"max_drift_ratio", options.max_drift_ratio},
-                                 {"max_force_sent_n", max_force_on_n},
-                                 {"max_linear_force_n", specs.max_linear_force_n},
-                                 {"clamp_count", clamps},
-                                 {"fault_count", faults},
-                                 {"faults", fault_counts},
-                                 {"force_within_limit", force_ok},
-                                 {"drift_ratio_ok", drift_ok},
-                                 {"pass", force_ok && drift_ok},
-                                 {"releases", point_list}};
-  writeJsonReport(options.report_path, report);
-  if (!(force_ok && drift_ok)) {
+  if (!fault_kinds.empty()) fault_kinds += ")";
+  std::printf("%-34s %llu fault ticks%s, %llu clamps\n", "decorator",
+              static_cast<unsigned long long>(faults), fault_kinds.c_str(),
+              static_cast<unsigned long long>(report.clamp_count));
+  std::printf("%-34s %.0f s\n", "simulated time", report.simulated_seconds);
+
+  nlohmann::json point_list = nlohmann::json::array();
+  for (const sim::PointVerification& point : report.points) {
+    point_list.push_back({{"start_m", vectorJson(point.point_m)},
+                          {"ready", point.ready},
+                          {"residual_valid", point.residual.valid},
+                          {"residual_force_n", vectorJson(point.residual.residual_force_n)},
+                          {"residual_force_norm_n", point.residual.residual_force_n.norm()},
+                          {"holding_friction_n", point.residual.holding_friction_n},
+                          {"probe_stiffness_n_per_m", point.residual.stiffness_n_per_m},
+                          {"drift_mm", point.release.drift_m * 1e3},
+                          {"stuck", point.release.stuck},
+                          {"drift_off_mm", point.release_uncompensated.drift_m * 1e3},
+                          {"map_gravity_n", vectorJson(point.map_gravity_n)},
+                          {"simulation_only_true_gravity_n", vectorJson(point.true_gravity_n)},
+                          {"simulation_only_truth_error_n", point.truth_error_n}});
+  }
+  const nlohmann::json json = {{"map", options.map_path},
+                               {"device", specs.model_name},
+                               {"map_device", map->metadata().device_model},
+                               {"seed", options.seed},
+                               {"friction", sim::toString(options.friction)},
+                               {"points", options.points},
+                               {"ready_points", report.ready_points},
+                               {"duration_s", options.duration_s},
+                               {"servo_period_s", report.servo_period_s},
+                               {"ramp_duration_s", verification.compensation.ramp_duration_s},
+                               {"probe_stiffness_n_per_m", probe.stiffness_n_per_m},
+                               {"probe_approach_distance_m", probe.approach_distance_m},
+                               {"probe_approaches_per_side", probe.approaches_per_side},
+                               {"residual_force_median_n", residual.median},
+                               {"residual_force_p90_n", residual.p90},
+                               {"residual_force_max_n", residual.max},
+                               {"residual_probes_valid", report.valid_residuals},
+                               {"residual_ratio", residual_ratio},
+                               {"max_residual_ratio", options.max_residual_ratio},
+                               {"holding_friction_median_n", sim::percentiles(friction_n).median},
+                               {"stuck_fraction", report.stuck_fraction},
+                               {"stuck_threshold_mm", options.stuck_threshold_mm},
+                               {"drift_median_mm", on.median * 1e3},
+                               {"drift_p90_mm", on.p90 * 1e3},
+                               {"drift_max_mm", on.max * 1e3},
+                               {"drift_off_median_mm", off.median * 1e3},
+                               {"drift_off_p90_mm", off.p90 * 1e3},
+                               {"drift_off_max_mm", off.max * 1e3},
+                               {"drift_ratio", ratio},
+                               {"max_drift_ratio", options.max_drift_ratio},
+                               {"truth_error_median_n", report.truth_error_n.median},
+                               {"truth_error_max_n", report.truth_error_n.max},
+                               {"truth_error_median_rel", report.truth_error_rel.median},
+                               {"truth_error_max_rel", report.truth_error_rel.max},
+                               {"truth_is_simulation_only", true},
+                               {"max_force_sent_n", report.max_force_sent_n},
+                               {"max_linear_force_n", specs.max_linear_force_n},
+                               {"clamp_count", report.clamp_count},
+                               {"fault_count", faults},
+                               {"faults", fault_counts},
+                               {"simulated_seconds", report.simulated_seconds},
+                               {"force_within_limit", force_ok},
+                               {"drift_ratio_ok", drift_ok},
+                               {"residual_ok", residual_ok},
+                               {"pass", pass},
+                               {"releases", point_list}};
+  writeJsonReport(options.report_path, json);
+  if (!pass) {
     std::printf("\nFAIL\n");
     throw CLI::RuntimeError(1);
   }
@@ -239,8 +210,8 @@ void addVerifyCommand(CLI::App& app) {
   auto options = std::make_shared<VerifyOptions>();
   CLI::App* command = app.add_subcommand(
       "verify",
-      "Release the end-effector at seeded points with the map's compensation on, then off, and "
-      "report the drift");
+      "Measure the force a map misses at seeded points (a PD hold approached from both sides), "
+      "then release the end-effector with compensation on and off and report the drift");
   command->add_option("map", options->map_path, "Map file (JSON)")->required();
   command->add_option("--device", options->device, "Simulated device")
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
@@ -257,6 +228,16 @@ void addVerifyCommand(CLI::App& app) {
   command
       ->add_option("--max-drift-ratio", options->max_drift_ratio,
                    "Fail when drift median on / off exceeds this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--max-residual-ratio", options->max_residual_ratio,
+                   "Fail when the median residual force exceeds this fraction of median |G_hat|")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--stuck-threshold-mm", options->stuck_threshold_mm,
+                   "A release that moved less than this counts as stuck (a few encoder counts)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--report", options->report_path, "Write a JSON report here");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -138,6 +139,23 @@ TEST(SummaryPlotTest, IterationsAloneOrWithTheErrorHistogram) {
   options.ground_truth = analyticGravity;
   const RgbImage both = renderSummaryPlot(map, options);
   EXPECT_GT(countPixels(both, isGreen), 500);
+}
+
+TEST(SweepPlotTest, OneLinePerSeriesInEveryPanel) {
+  const std::vector<std::string> levels = {"none", "low", "typical", "high"};
+  const std::vector<SweepPanel> panels = {
+      {"iterations", {{"sim:omega", {4.0, 6.0, 7.0, 9.0}}, {"sim:omni", {5.0, 7.0, 8.0, 12.0}}}},
+      {"residual [mN]", {{"sim:omega", {1.0, 2.0, 3.0, std::nan("")}}}}};
+  EXPECT_THROW(renderSweepPlot(levels, "friction", {{"bad", {{"short", {1.0, 2.0}}}}}),
+               autograv::Error);
+  EXPECT_THROW(renderSweepPlot(levels, "friction", {}), autograv::Error);
+  AUTOGRAV_REQUIRE_DISPLAY();
+  PlotOptions options = smallPlot();
+  options.width_px = 720;
+  const RgbImage picture = renderSweepPlot(levels, "friction", panels, options);
+  EXPECT_EQ(picture.width_px, 720);
+  EXPECT_GT(countPixels(picture, isBlue), 300);    // sim:omega in both panels
+  EXPECT_GT(countPixels(picture, isOrange), 150);  // sim:omni in the first
 }
 
 }  // namespace

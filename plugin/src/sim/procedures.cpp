@@ -248,7 +248,8 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
   report.samples = samples;
   if (samples > 0) {
     report.mean_true_norm_n = sum_norm / samples;
-    report.rms_residual_rel = std::sqrt(sum_squared / samples) / report.mean_true_norm_n;
+    report.rms_residual_n = std::sqrt(sum_squared / samples);
+    report.rms_residual_rel = report.rms_residual_n / report.mean_true_norm_n;
   }
   return report;
 }

@@ -406,4 +406,74 @@ RgbImage renderSummaryPlot(const GravityMap& map, const PlotOptions& options) {
   return picture.render();
 }
 
+RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::string& x_title,
+                         const std::vector<SweepPanel>& panels, const PlotOptions& options) {
+  checkOptions(options);
+  if (panels.empty() || x_labels.empty()) throw Error("sweep plot: nothing to plot");
+  for (const SweepPanel& panel : panels) {
+    for (const SweepSeries& series : panel.series) {
+      if (series.values.size() != x_labels.size()) {
+        throw Error("sweep plot: series '" + series.name + "' has " +
+                    std::to_string(series.values.size()) + " values for " +
+                    std::to_string(x_labels.size()) + " labels");
+      }
+    }
+  }
+  requireDisplay();
+
+  const int columns = panels.size() > 1 ? 2 : 1;
+  const int rows = static_cast<int>((panels.size() + 1) / 2);
+  ChartPicture picture(options, columns, rows);
+  const detail::Palette& palette = picture.palette();
+  const int font_px = detail::baseFontPx(options.height_px);
+  const detail::Rgb colors[] = {kBlue, kOrange, kGreen, kRed};
+  vtkNew<vtkDoubleArray> tick_positions;
+  vtkNew<vtkStringArray> tick_labels;
+  for (std::size_t k = 0; k < x_labels.size(); ++k) {
+    tick_positions->InsertNextValue(static_cast<double>(k));
+    tick_labels->InsertNextValue(x_labels[k]);
+  }
+  for (std::size_t p = 0; p < panels.size(); ++p) {
+    const SweepPanel& panel = panels[p];
+    vtkNew<vtkTable> table;
+    auto x = column("x");
+    for (std::size_t k = 0; k < x_labels.size(); ++k) x->InsertNextValue(static_cast<double>(k));
+    table->AddColumn(x);
+    double highest = 0.0;
+    for (const SweepSeries& series : panel.series) {
+      auto values = column(series.name.c_str());
+      for (const double value : series.values) {
+        values->InsertNextValue(value);
+        if (std::isfinite(value)) highest = std::max(highest, value);
+      }
+      table->AddColumn(values);
+    }
+    // Row 0 is the bottom one: the first panels go on top.
+    vtkChartXY* chart = picture.chart(static_cast<int>(p % 2), rows - 1 - static_cast<int>(p / 2));
+    styleChart(chart, p == 0 ? options.title : "", x_title, panel.y_title, palette, font_px);
+    for (std::size_t s = 0; s < panel.series.size(); ++s) {
+      vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+      line->SetInputData(table, "x", panel.series[s].name);
+      line->SetLabel(panel.series[s].name);
+      setColor(line, colors[s % 4]);
+      line->SetWidth(2.5f);
+      if (auto* points = vtkPlotPoints::SafeDownCast(line)) {
+        points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+        points->SetMarkerSize(std::max(6.0f, font_px * 0.45f));
+      }
+    }
+    vtkAxis* bottom = chart->GetAxis(vtkAxis::BOTTOM);
+    fixedRange(bottom, -0.3, static_cast<double>(x_labels.size()) - 0.7);
+    bottom->SetCustomTickPositions(tick_positions, tick_labels);
+    // Five or six round ticks above the highest value, not the next power-of-ten-ish number.
+    const double tick = roundUp(highest / 5.0);
+    fixedRange(chart->GetAxis(vtkAxis::LEFT), 0.0,
+               highest > 0.0 ? tick * std::ceil(1.05 * highest / tick) : 1.0);
+    chart->SetShowLegend(p == 0);
+    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
+    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  }
+  return picture.render();
+}
+
 }  // namespace autograv::viz

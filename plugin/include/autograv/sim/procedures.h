@@ -100,8 +100,9 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
 struct AccuracyReport {
   double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
   int worst_vertex = -1;
-  double max_error_n = 0.0;       ///< Worst converged vertex |G_hat - G|. Unit: [N]
-  double rms_residual_rel = 0.0;  ///< RMS of |G_hat(X) - G(X)| at random points / mean |G|.
+  double max_error_n = 0.0;  ///< Worst converged vertex |G_hat - G| (maybe another one). Unit: [N]
+  double rms_residual_n = 0.0;    ///< RMS of |G_hat(X) - G(X)| at random points. Unit: [N]
+  double rms_residual_rel = 0.0;  ///< rms_residual_n / mean |G|.
   double mean_true_norm_n = 0.0;  ///< Unit: [N]
   int samples = 0;
 };

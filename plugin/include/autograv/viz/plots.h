@@ -63,4 +63,23 @@ RgbImage renderConvergencePlot(const GravityMap& map, int vertex_index,
 /// without a display. Not real-time safe.
 RgbImage renderSummaryPlot(const GravityMap& map, const PlotOptions& options = {});
 
+/// One line of a sweep plot: a named series of values, one per x label (NaN leaves a gap).
+struct SweepSeries {
+  std::string name;
+  std::vector<double> values;
+};
+
+/// One panel of a sweep plot.
+struct SweepPanel {
+  std::string y_title;
+  std::vector<SweepSeries> series;
+};
+
+/// Panels side by side (two per row), each with one line per series over the same categorical
+/// x axis (e.g. the friction levels none, low, typical, high). Needs an X display. Throws
+/// autograv::Error when there is no panel, a series' length differs from the labels', the size
+/// is bad or there is no display. Not real-time safe.
+RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::string& x_title,
+                         const std::vector<SweepPanel>& panels, const PlotOptions& options = {});
+
 }  // namespace autograv::viz
