@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/error.h"
 #include "autograv/device/gravity_compensated_device.h"
+#include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/sim/friction.h"
 #include "autograv/sim/procedures.h"
@@ -36,6 +36,9 @@ struct BenchOptions {
   bool quick = false;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   bool friction_sweep = false;
+  bool methods = false;  ///< --methods: the friction sweep for the paper's method and the dither's
+  int seeds = 3;         ///< Seeds 1..seeds of every --methods cell.
+  EstimationMethod method = EstimationMethod::kDither;
   int sweep_grid = 4;
   int sweep_points = 12;
   std::string plot_path;
@@ -104,13 +107,16 @@ struct CalibrationFigures {
 };
 
 CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resolution,
-                                      bool extrapolate, GravityMap* map_out) {
+                                      bool extrapolate, EstimationMethod method,
+                                      GravityMap* map_out) {
   const double side_m = defaultGridSide_m(device.specifications().workspace_radius_m);
   sim::CalibrationRunOptions options;
   options.grid_center_m = device.workspaceCenter_m();
   options.grid_side_m = side_m;
   options.grid_resolution = resolution;
   options.calibrator.extrapolate_initial_estimate = extrapolate;
+  options.parameters = method == EstimationMethod::kDither ? EstimationParameters::frictionRobust()
+                                                           : EstimationParameters{};
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
   const auto start = Clock::now();
   const sim::CalibrationRunResult result = sim::runSimulatedCalibration(device, options);
@@ -135,41 +141,60 @@ CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resoluti
   return figures;
 }
 
-/// One row of the friction sweep: calibration and verify on one device at one friction level.
+/// One row of the friction sweep: calibration and verify on one device at one friction level, with
+/// one method and one seed.
 struct SweepRow {
   std::string device;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  EstimationMethod method = EstimationMethod::kDither;
+  int seed = 1;
   CalibrationFigures calibration;
   sim::Percentiles residual_n;
   std::string failure;  ///< Why the calibration or verify could not run; empty when they did.
 };
 
-std::vector<SweepRow> runFrictionSweep(const BenchOptions& options) {
+SweepRow runSweepCell(const BenchOptions& options, const std::string& name,
+                      sim::FrictionLevel friction, EstimationMethod method, int seed) {
+  SweepRow row;
+  row.device = name;
+  row.friction = friction;
+  row.method = method;
+  row.seed = seed;
+  std::shared_ptr<sim::SimulatedDevice> device =
+      openSimulatedDevice(name, static_cast<std::uint64_t>(seed), friction);
+  auto map = std::make_shared<GravityMap>(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2),
+                                          std::vector<VertexEstimate>(8), MapMetadata{});
+  try {
+    row.calibration = calibrationFigures(*device, options.sweep_grid, true, method, map.get());
+    sim::VerificationOptions verification;
+    verification.points = options.sweep_points;
+    verification.compare_uncompensated = false;
+    row.residual_n =
+        sim::verifyMapOnSimulatedDevice(device, std::move(map), verification).residual_force_n;
+  } catch (const Error& error) {
+    row.failure = error.what();  // a level the calibration cannot handle is a result too
+  }
+  return row;
+}
+
+/// Every simulated device at every friction level, for each of `methods` and seeds 1..`seeds`.
+std::vector<SweepRow> runFrictionSweep(const BenchOptions& options,
+                                       const std::vector<EstimationMethod>& methods, int seeds) {
   const std::vector<std::string> devices = sim::simulatedDeviceNames();
   const std::vector<std::string> levels = sim::frictionLevelNames();
   std::vector<SweepRow> rows;
-  ProgressBar progress("friction sweep");
-  const int total = static_cast<int>(devices.size() * levels.size());
+  ProgressBar progress(methods.size() > 1 ? "methods" : "friction sweep");
+  const int total = static_cast<int>(devices.size() * levels.size() * methods.size()) * seeds;
   for (const std::string& name : devices) {
     for (const std::string& level : levels) {
-      progress.update(static_cast<int>(rows.size()), total, name + " " + level);
-      SweepRow row;
-      row.device = name;
-      row.friction = sim::parseFrictionLevel(level);
-      std::shared_ptr<sim::SimulatedDevice> device = openSimulatedDevice(name, 1, row.friction);
-      auto map = std::make_shared<GravityMap>(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2),
-                                              std::vector<VertexEstimate>(8), MapMetadata{});
-      try {
-        row.calibration = calibrationFigures(*device, options.sweep_grid, true, map.get());
-        sim::VerificationOptions verification;
-        verification.points = options.sweep_points;
-        verification.compare_uncompensated = false;
-        row.residual_n =
-            sim::verifyMapOnSimulatedDevice(device, std::move(map), verification).residual_force_n;
-      } catch (const Error& error) {
-        row.failure = error.what();  // a level the calibration cannot handle is a result too
+      for (const EstimationMethod method : methods) {
+        for (int seed = 1; seed <= seeds; ++seed) {
+          progress.update(
+              static_cast<int>(rows.size()), total,
+              name + " " + level + " " + toString(method) + " seed " + std::to_string(seed));
+          rows.push_back(runSweepCell(options, name, sim::parseFrictionLevel(level), method, seed));
+        }
       }
-      rows.push_back(row);
     }
   }
   progress.update(total, total, "done");
@@ -177,35 +202,97 @@ std::vector<SweepRow> runFrictionSweep(const BenchOptions& options) {
   return rows;
 }
 
-void printFrictionSweep(const std::vector<SweepRow>& rows, const BenchOptions& options,
-                        nlohmann::json& report) {
+/// The rows of one device, friction level and method over its seeds, folded into one: vertices
+/// and convergence add up, iterations and residuals take the median of the seeds' medians and the
+/// largest maximum, errors the worst vertex and the mean RMS, time the mean.
+SweepRow foldSeeds(const std::vector<const SweepRow*>& seeds) {
+  SweepRow folded = *seeds.front();
+  CalibrationFigures& f = folded.calibration;
+  f = CalibrationFigures{};
+  std::vector<double> iteration_medians, residual_medians;
+  double rms_n = 0.0, rms_rel = 0.0;
+  int ran = 0;
+  for (const SweepRow* row : seeds) {
+    if (!row->failure.empty()) {
+      folded.failure = "seed " + std::to_string(row->seed) + ": " + row->failure;
+      continue;
+    }
+    const CalibrationFigures& c = row->calibration;
+    f.converged += c.converged;
+    f.vertices += c.vertices;
+    f.iterations_max = std::max(f.iterations_max, c.iterations_max);
+    f.seconds_per_vertex += c.seconds_per_vertex;
+    if (c.accuracy.max_error_rel >= f.accuracy.max_error_rel) {
+      f.accuracy.max_error_rel = c.accuracy.max_error_rel;
+      f.accuracy.max_error_n = c.accuracy.max_error_n;
+    }
+    rms_n += c.accuracy.rms_residual_n;
+    rms_rel += c.accuracy.rms_residual_rel;
+    iteration_medians.push_back(c.iterations_median);
+    residual_medians.push_back(row->residual_n.median);
+    folded.residual_n.max = std::max(folded.residual_n.max, row->residual_n.max);
+    ++ran;
+  }
+  if (ran == 0) return folded;
+  if (ran == static_cast<int>(seeds.size())) folded.failure.clear();
+  f.seconds_per_vertex /= ran;
+  f.accuracy.rms_residual_n = rms_n / ran;
+  f.accuracy.rms_residual_rel = rms_rel / ran;
+  f.iterations_median = sim::percentiles(iteration_medians).median;
+  folded.residual_n.median = sim::percentiles(residual_medians).median;
+  return folded;
+}
+
+/// Rows of the same device, friction level and method, seeds folded (foldSeeds), in sweep order.
+std::vector<SweepRow> foldSweepSeeds(const std::vector<SweepRow>& rows) {
+  std::vector<SweepRow> folded;
+  for (std::size_t first = 0; first < rows.size();) {
+    std::vector<const SweepRow*> group;
+    std::size_t next = first;
+    while (next < rows.size() && rows[next].device == rows[first].device &&
+           rows[next].friction == rows[first].friction && rows[next].method == rows[first].method) {
+      group.push_back(&rows[next++]);
+    }
+    folded.push_back(foldSeeds(group));
+    first = next;
+  }
+  return folded;
+}
+
+void printFrictionSweep(const std::vector<SweepRow>& rows, const BenchOptions& options, int seeds,
+                        const char* key, nlohmann::json& report) {
   std::printf(
-      "\nFriction sweep: calibration on a %d^3 grid, then verify at %d points (seed 1)\n"
+      "\n%s: calibration on a %d^3 grid, then verify at %d points (seeds 1-%d)\n"
       "  error: |G_hat - G| against the simulation's ground truth, worst vertex and RMS over\n"
-      "  the grid; residual: verify's measured residual force (median / max)\n",
-      options.sweep_grid, options.sweep_points);
-  std::printf("  %-10s %-8s %9s %11s %9s %18s %18s %15s\n", "device", "friction", "converged",
-              "iter med/max", "s/vertex", "worst [mN] [%]", "RMS [mN] [%]", "residual [mN]");
+      "  the grid; residual: verify's measured residual force (median / max)%s\n",
+      options.methods ? "Methods, side by side" : "Friction sweep", options.sweep_grid,
+      options.sweep_points, seeds,
+      seeds > 1 ? ";\n  seeds folded: converged summed, medians of medians, worst of worsts" : "");
+  std::printf("  %-10s %-8s %-6s %9s %11s %9s %18s %18s %15s\n", "device", "friction", "method",
+              "converged", "iter med/max", "s/vertex", "worst [mN] [%]", "RMS [mN] [%]",
+              "residual [mN]");
   nlohmann::json list = nlohmann::json::array();
   for (const SweepRow& row : rows) {
     if (!row.failure.empty()) {
-      std::printf("  %-10s %-8s FAILED: %s\n", row.device.c_str(), sim::toString(row.friction),
-                  row.failure.c_str());
+      std::printf("  %-10s %-8s %-6s FAILED: %s\n", row.device.c_str(), sim::toString(row.friction),
+                  toString(row.method), row.failure.c_str());
       list.push_back({{"device", row.device},
                       {"friction", sim::toString(row.friction)},
+                      {"method", toString(row.method)},
                       {"failure", row.failure}});
       continue;
     }
     const CalibrationFigures& f = row.calibration;
     const sim::AccuracyReport& a = f.accuracy;
     std::printf(
-        "  %-10s %-8s %5d/%-3d %6.1f/%-4d %9.2f %10.2f %6.2f%% %10.2f %6.2f%% %7.2f/%-7.2f\n",
-        row.device.c_str(), sim::toString(row.friction), f.converged, f.vertices,
-        f.iterations_median, f.iterations_max, f.seconds_per_vertex, a.max_error_n * 1e3,
-        100.0 * a.max_error_rel, a.rms_residual_n * 1e3, 100.0 * a.rms_residual_rel,
-        row.residual_n.median * 1e3, row.residual_n.max * 1e3);
+        "  %-10s %-8s %-6s %5d/%-3d %6.1f/%-4d %9.2f %10.2f %6.2f%% %10.2f %6.2f%% %7.2f/%-7.2f\n",
+        row.device.c_str(), sim::toString(row.friction), toString(row.method), f.converged,
+        f.vertices, f.iterations_median, f.iterations_max, f.seconds_per_vertex,
+        a.max_error_n * 1e3, 100.0 * a.max_error_rel, a.rms_residual_n * 1e3,
+        100.0 * a.rms_residual_rel, row.residual_n.median * 1e3, row.residual_n.max * 1e3);
     list.push_back({{"device", row.device},
                     {"friction", sim::toString(row.friction)},
+                    {"method", toString(row.method)},
                     {"converged", f.converged},
                     {"vertices", f.vertices},
                     {"iterations_median", f.iterations_median},
@@ -218,23 +305,31 @@ void printFrictionSweep(const std::vector<SweepRow>& rows, const BenchOptions& o
                     {"residual_force_median_n", row.residual_n.median},
                     {"residual_force_max_n", row.residual_n.max}});
   }
-  report["friction_sweep"] = {
-      {"grid", options.sweep_grid}, {"verify_points", options.sweep_points}, {"rows", list}};
+  report[key] = {{"grid", options.sweep_grid},
+                 {"verify_points", options.sweep_points},
+                 {"seeds", seeds},
+                 {"rows", list}};
 }
 
-/// The sweep as four panels over the friction levels, one line per device.
-void plotFrictionSweep(const std::vector<SweepRow>& rows, const std::string& path) {
+/// The sweep as four panels over the friction levels, one line per device (and method, when the
+/// rows hold several).
+void plotFrictionSweep(const std::vector<SweepRow>& rows,
+                       const std::vector<EstimationMethod>& methods, const std::string& title,
+                       const std::string& path) {
 #ifdef AUTOGRAV_HAVE_VIZ
   const std::vector<std::string> levels = sim::frictionLevelNames();
   const auto panel = [&](const std::string& y_title, auto&& value) {
     viz::SweepPanel result{y_title, {}};
     for (const std::string& device : sim::simulatedDeviceNames()) {
-      viz::SweepSeries series{device, std::vector<double>(levels.size(), std::nan(""))};
-      for (const SweepRow& row : rows) {
-        if (row.device != device || !row.failure.empty()) continue;
-        series.values[static_cast<std::size_t>(row.friction)] = value(row);
+      for (const EstimationMethod method : methods) {
+        const std::string name = methods.size() > 1 ? device + " " + toString(method) : device;
+        viz::SweepSeries series{name, std::vector<double>(levels.size(), std::nan(""))};
+        for (const SweepRow& row : rows) {
+          if (row.device != device || row.method != method || !row.failure.empty()) continue;
+          series.values[static_cast<std::size_t>(row.friction)] = value(row);
+        }
+        result.series.push_back(series);
       }
-      result.series.push_back(series);
     }
     return result;
   };
@@ -250,21 +345,34 @@ void plotFrictionSweep(const std::vector<SweepRow>& rows, const std::string& pat
       panel("verify residual force, median [mN]",
             [](const SweepRow& row) { return row.residual_n.median * 1e3; })};
   viz::PlotOptions plot;
-  plot.title = "Friction sweep, simulated devices";
+  plot.title = title;
   viz::writePng(viz::renderSweepPlot(levels, "friction level", panels, plot), path);
   std::printf("\nwrote %s\n", path.c_str());
 #else
   (void)rows;
+  (void)methods;
+  (void)title;
   throw Error("--plot " + path + ": autograv was built without AUTOGRAV_BUILD_VIZ=ON");
 #endif
 }
 
 void runBenchCommand(const BenchOptions& options) {
   nlohmann::json report;
-  if (options.friction_sweep) {
-    const std::vector<SweepRow> rows = runFrictionSweep(options);
-    printFrictionSweep(rows, options, report);
-    if (!options.plot_path.empty()) plotFrictionSweep(rows, options.plot_path);
+  if (options.friction_sweep || options.methods) {
+    const std::vector<EstimationMethod> methods =
+        options.methods
+            ? std::vector<EstimationMethod>{EstimationMethod::kPaper, EstimationMethod::kDither}
+            : std::vector<EstimationMethod>{options.method};
+    const int seeds = options.methods ? options.seeds : 1;
+    const std::vector<SweepRow> rows = foldSweepSeeds(runFrictionSweep(options, methods, seeds));
+    printFrictionSweep(rows, options, seeds, options.methods ? "methods" : "friction_sweep",
+                       report);
+    if (!options.plot_path.empty()) {
+      plotFrictionSweep(rows, methods,
+                        options.methods ? "Paper's method against the dither method"
+                                        : "Friction sweep, simulated devices",
+                        options.plot_path);
+    }
     writeJsonReport(options.report_path, report);
     return;
   }
@@ -278,10 +386,11 @@ void runBenchCommand(const BenchOptions& options) {
   }
 
   std::printf(
-      "\nCalibration, %d^3 grid, default side, seed 1, friction %s (paper: 14 iterations at one "
-      "vertex)\n",
-      options.grid, sim::toString(options.friction));
+      "\nCalibration, %d^3 grid, default side, seed 1, friction %s, method %s (paper: 14 "
+      "iterations at one vertex)\n",
+      options.grid, sim::toString(options.friction), toString(options.method));
   report["friction"] = sim::toString(options.friction);
+  report["method"] = toString(options.method);
   std::printf("  %-10s %-12s %6s %6s %10s %10s %9s %8s\n", "device", "start", "median", "max",
               "s/vertex", "sim [s]", "wall [s]", "worst");
   std::unique_ptr<GravityMap> omni_map;
@@ -290,7 +399,8 @@ void runBenchCommand(const BenchOptions& options) {
       GravityMap map(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2), std::vector<VertexEstimate>(8),
                      MapMetadata{});
       auto device = openSimulatedDevice(name, 1, options.friction);
-      const CalibrationFigures f = calibrationFigures(*device, options.grid, extrapolate, &map);
+      const CalibrationFigures f =
+          calibrationFigures(*device, options.grid, extrapolate, options.method, &map);
       const char* start = extrapolate ? "extrapolate" : "eq. (9)";
       std::printf("  %-10s %-12s %6.1f %6d %10.2f %10.1f %9.2f %7.2f%%\n", name.c_str(), start,
                   f.iterations_median, f.iterations_max, f.seconds_per_vertex, f.simulated_s,
@@ -352,7 +462,20 @@ void addBenchCommand(CLI::App& app) {
   command->add_option("--sweep-points", options->sweep_points, "verify points in the sweep")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  command->add_option("--plot", options->plot_path, "With --friction-sweep: plot it to this PNG");
+  command->add_flag("--methods", options->methods,
+                    "Instead: the friction sweep for the paper's method and the dither method, "
+                    "side by side on the same seeds");
+  command->add_option("--seeds", options->seeds, "Seeds 1..N of every --methods cell")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  command
+      ->add_option_function<std::string>(
+          "--method",
+          [options](const std::string& name) { options->method = parseEstimationMethod(name); },
+          "Estimation method of the calibrations (default dither)")
+      ->check(CLI::IsMember({"paper", "dither"}));
+  command->add_option("--plot", options->plot_path,
+                      "With --friction-sweep or --methods: plot it to this PNG");
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->callback([options] { runBenchCommand(*options); });
 }
