@@ -107,7 +107,7 @@ void runVerifyCommand(const VerifyOptions& options) {
 
   auto meter = std::make_shared<ForceMeter>(simulated);
   CompensationOptions compensation;
-  compensation.servo_period_s = period_s;
+  compensation.clock = std::make_shared<FixedPeriodServoClock>(period_s);  // simulated time
   GravityCompensatedDevice decorated(meter, compensation);
   decorated.publishMap(map, options.allow_model_mismatch);
 
