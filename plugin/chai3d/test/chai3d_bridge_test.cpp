@@ -75,7 +75,9 @@ class ScriptedDevice : public chai3d::cGenericHapticDevice {
     return true;
   }
   bool getTransform(chai3d::cTransform& a_transform) override {
-    a_transform.set(cVector3d(7.0, 8.0, 9.0), chai3d::cMatrix3d());
+    chai3d::cMatrix3d rotation;  // CHAI3D's default constructor leaves it uninitialised
+    rotation.identity();
+    a_transform.set(cVector3d(7.0, 8.0, 9.0), rotation);
     return true;
   }
   bool getGripperAngleRad(double& a_angle) override {

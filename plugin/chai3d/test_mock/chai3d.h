@@ -47,12 +47,18 @@ struct cMatrix3d {
   double operator()(int r, int c) const { return m_data[r][c]; }
 
  private:
-  double m_data[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  // Left uninitialised by the default constructor, as in CHAI3D 3.3: code that reads a
+  // default-constructed matrix is caught here (-Wuninitialized) as against the real headers.
+  double m_data[3][3];
 };
 
 // CHAI3D's cTransform keeps a 4x4 matrix; the bridge only needs set() and the two getters.
 class cTransform {
  public:
+  cTransform() {
+    m_position = cVector3d(0.0, 0.0, 0.0);
+    m_rotation.identity();  // as CHAI3D's constructor does
+  }
   void set(const cVector3d& a_position, const cMatrix3d& a_rotation) {
     m_position = a_position;
     m_rotation = a_rotation;
