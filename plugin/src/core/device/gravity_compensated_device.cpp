@@ -260,10 +260,11 @@ Eigen::Vector3d GravityCompensatedDevice::compensation(const Eigen::Vector3d& po
 
 void GravityCompensatedDevice::learnResolution(const Eigen::Vector3d& position_m) noexcept {
   if (has_last_position_) {
-    const double step_m = (position_m - last_position_m_).norm();
-    if (step_m > 0.0 && step_m < resolution_m_) {
-      resolution_m_ = step_m;
-      resolution_status_m_.store(step_m, std::memory_order_relaxed);
+    // Squared first: the square root is paid only on the rare tick that finds a finer step.
+    const double step_m2 = (position_m - last_position_m_).squaredNorm();
+    if (step_m2 > 0.0 && step_m2 < resolution_m_ * resolution_m_) {
+      resolution_m_ = std::sqrt(step_m2);
+      resolution_status_m_.store(resolution_m_, std::memory_order_relaxed);
     }
   }
   last_position_m_ = position_m;
@@ -287,9 +288,11 @@ bool GravityCompensatedDevice::frozen(const Eigen::Vector3d& position_m,
   }
   if (frozen_detected_) return true;  // lasts while the readings stay frozen
   frozen_run_s_ += dt_s;
-  // Exact discretisation of the first-order low-pass: the same response at any rate.
+  // Bilinear (Tustin) discretisation of the first-order low-pass, 1 - exp(-x) ~ 2x / (2 + x):
+  // the same response at any rate to within 0.5 % for ticks up to 4 ms (2.7 % at the 10 ms
+  // clamp), at the cost of a division instead of an exponential on every still tick.
   const double time_constant_s = options_.frozen_filter_time_constant_s;
-  const double alpha = time_constant_s > 0.0 ? -std::expm1(-dt_s / time_constant_s) : 1.0;
+  const double alpha = time_constant_s > 0.0 ? 2.0 * dt_s / (2.0 * time_constant_s + dt_s) : 1.0;
   push_stage_n_ += alpha * (push_n - push_stage_n_);
   push_filtered_n_ += alpha * (push_stage_n_ - push_filtered_n_);
 
