@@ -123,9 +123,10 @@ struct CompensationOptions {
 ///
 /// Map publication: publishMap stores a raw pointer in an atomic and bumps a sequence number. The
 /// servo thread picks the new map up at the start of a tick (never during a fade), fades from the
-/// old map to the new one over ramp_duration_s, then acknowledges the sequence number it took.
-/// Maps published before the acknowledged one are released by publishMap or reclaimRetiredMaps on
-/// the publishing thread; the servo thread never frees, locks or allocates.
+/// old map (or from none, for the first) to the new one over ramp_duration_s, then acknowledges the
+/// sequence number it took. Maps published before the acknowledged one are released by publishMap
+/// or reclaimRetiredMaps on the publishing thread; the servo thread never frees, locks or
+/// allocates.
 class GravityCompensatedDevice final : public HapticDevice {
  public:
   /// Throws autograv::Error for a null device or unusable options. No compensation until a map
@@ -198,8 +199,8 @@ class GravityCompensatedDevice final : public HapticDevice {
   /// setForce calls so far.
   std::uint64_t tickCount() const noexcept;
   /// True when the latest tick's position was farther than outside_margin_m outside the grid of
-  /// a map in use: compensation there is the boundary's value, an extrapolation the application
-  /// may want to show. Not a fault.
+  /// a map in use: compensation there is the boundary's value, a less certain estimate the
+  /// application may want to show. Not a fault.
   bool outsideMap() const noexcept;
   /// Ticks whose position was outside the map (see outsideMap).
   std::uint64_t outsideMapTickCount() const noexcept;
