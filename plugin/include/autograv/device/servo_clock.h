@@ -22,8 +22,9 @@ class SteadyServoClock final : public ServoClock {
 
 /// A clock that advances by a fixed period on every reading: one reading per servo tick gives a
 /// loop at exactly 1 / period_s, independent of the wall clock. For loops that run in simulated
-/// time (calibration on a simulated device, tests). Throws autograv::Error for a period that is
-/// not finite and positive. Unit: [s]
+/// time (calibration on a simulated device, tests). Every reading advances it: give each
+/// decorator its own. Throws autograv::Error for a period that is not finite and positive.
+/// Unit: [s]
 class FixedPeriodServoClock final : public ServoClock {
  public:
   explicit FixedPeriodServoClock(double period_s);
