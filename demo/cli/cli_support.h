@@ -11,10 +11,11 @@
 
 namespace autograv::cli {
 
-/// Opens a simulated device by name ("sim:omega", "sim:omni") and calls open() and calibrate().
-/// Throws autograv::Error with the valid names for an unknown one.
-std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& name,
-                                                          std::uint64_t seed);
+/// Opens a simulated device by name ("sim:omega", "sim:omni") with the given friction and calls
+/// open() and calibrate(). Throws autograv::Error with the valid names for an unknown one.
+std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(
+    const std::string& name, std::uint64_t seed,
+    sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
 
 /// Writes `report` as indented JSON, atomically (temporary file, then rename). Throws
 /// autograv::Error naming the path when it cannot. An empty path writes nothing.

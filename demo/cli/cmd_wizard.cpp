@@ -18,6 +18,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 #include "wizard_auto_hand.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
@@ -37,6 +38,7 @@ struct WizardOptions {
   bool yes = false;
   bool uncalibrated = false;
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   int grid = 0;          // 0: 5 per axis, as `autograv calibrate`
   double side_mm = 0.0;  // 0: the default of `autograv calibrate`
   double speed = -1.0;   // < 0: real time on a terminal, as fast as possible otherwise
@@ -191,7 +193,7 @@ class FrontEnd {
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard& wizard,
-                          const WizardStatus& status) {
+                          const WizardStatus& status, bool initialization_end_stop_hit) {
   nlohmann::json failed = nlohmann::json::array();
   for (const ReviewRow& row : status.review.failed) {
     failed.push_back({{"vertex", row.vertex},
@@ -210,6 +212,7 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
   return {
       {"device", options.device},
       {"seed", options.seed},
+      {"friction", sim::toString(options.friction)},
       {"outcome", toString(status.step)},
       {"map", status.map_saved ? options.out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
@@ -226,6 +229,7 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
       {"lipschitz_n_per_m", status.review.lipschitz_n_per_m},
       {"peak_force_n", status.review.peak_force_n},
       {"initial_gravity_n", vectorJson(status.initial_gravity_n)},
+      {"initialization_end_stop_hit", initialization_end_stop_hit},
       {"verify", verify},
       {"max_drift_m", status.max_drift_m},
       {"simulated_seconds", status.time_s},
@@ -242,7 +246,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "saved)");
   }
   std::shared_ptr<sim::SimulatedDevice> device(
-      sim::makeSimulatedDevice(options.device, options.seed));
+      sim::makeSimulatedDevice(options.device, options.seed, options.friction));
   if (options.uncalibrated) device->setCalibrated(false);
 
   WizardConfig config;
@@ -287,6 +291,10 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
 
   WizardStatus status = wizard.status();
   if (!terminal) log.update(status);
+  // Eq. (7) assumes the end-effector settled in the k0 field alone: watch the end stops from the
+  // moment the field comes on until G_hat_0 is taken.
+  bool initialization_end_stop_hit = false;
+  WizardStep previous_step = status.step;
   while (true) {
     const Clock::time_point frame_start = Clock::now();
     const int interrupts = g_interrupts.load();
@@ -313,6 +321,17 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     }
     wizard.service();
     status = wizard.status();
+    if (status.step == WizardStep::kRelease && previous_step != WizardStep::kRelease) {
+      device->clearEndStopHit();
+    } else if (status.step != WizardStep::kRelease && previous_step == WizardStep::kRelease &&
+               device->endStopHit()) {
+      initialization_end_stop_hit = true;
+      front_end.notice =
+          "WARNING: the end-effector rested on an end stop during the initialization, so "
+          "G_hat_0 (eq. 7) is wrong there: start again nearer the workspace centre.";
+      std::fprintf(stderr, "autograv wizard: %s\n", front_end.notice.c_str());
+    }
+    previous_step = status.step;
 
     if (terminal) {
       const Clock::time_point now = Clock::now();
@@ -338,7 +357,8 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   }
   terminal.reset();  // back to the normal screen before the last words
 
-  writeJsonReport(options.report_path, reportJson(options, wizard, status));
+  writeJsonReport(options.report_path,
+                  reportJson(options, wizard, status, initialization_end_stop_hit));
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +
                 wizard.checkpointPath() + " (resume with --resume)");
@@ -371,6 +391,7 @@ void addWizardCommand(CLI::App& app) {
                     "Answer the prompts automatically on a terminal too (redo failed vertices "
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   addGridOptions(*command, options->grid, options->side_mm);
   command
       ->add_option("--speed", options->speed,

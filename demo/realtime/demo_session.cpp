@@ -28,7 +28,7 @@ DemoSession::DemoSession(const SessionOptions& options)
   if (!(options.servo_period_s > 0.0 && options.servo_period_s <= 0.01)) {
     throw Error("servo period must be in (0, 10] ms");
   }
-  simulation_ = sim::makeSimulatedDevice(options.device, options.seed);
+  simulation_ = sim::makeSimulatedDevice(options.device, options.seed, options.friction);
   if (!simulation_->open()) throw Error(options.device + ": open() failed");
   if (!simulation_->calibrate()) throw Error(options.device + ": homing (calibrate) failed");
   simulation_->resetState(simulation_->workspaceCenter_m());
