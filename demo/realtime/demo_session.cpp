@@ -36,7 +36,8 @@ DemoSession::DemoSession(const SessionOptions& options)
   // in (over ramp_duration_s) while the hand carries the weight, not while the end-effector falls.
   simulation_->hand().grab(simulation_->workspaceCenter_m());
   CompensationOptions compensation = options.compensation;
-  compensation.servo_period_s = options.servo_period_s;
+  // The simulation advances one servo period per tick, also when it runs faster than real time.
+  compensation.clock = std::make_shared<FixedPeriodServoClock>(options.servo_period_s);
   decorator_ = std::make_shared<GravityCompensatedDevice>(simulation_, compensation);
   if (!decorator_->open()) throw Error(options.device + ": open() through the decorator failed");
   options_.estimation.servo_period_s = options.servo_period_s;

@@ -180,8 +180,9 @@ void BM_DecoratedTick(benchmark::State& state) {
 }
 BENCHMARK(BM_DecoratedTick);
 
-// Where a decorated tick's time goes: the same tick with no map published (forwarding, checks,
-// ramp and clamp only), and the servo path's map lookup alone on the same positions.
+// Where a decorated tick's time goes: the same tick with no map published (forwarding, clock,
+// checks, ramp and clamp only), the clock read alone, and the servo path's map lookup alone on
+// the same positions.
 void BM_DecoratedTickWithoutMap(benchmark::State& state) {
   Setup setup = makeSetup(false);
   setup.decorated->publishMap(nullptr);
@@ -190,6 +191,14 @@ void BM_DecoratedTickWithoutMap(benchmark::State& state) {
   for (auto _ : state) tick(*setup.decorated, force_n);
 }
 BENCHMARK(BM_DecoratedTickWithoutMap);
+
+// The decorator reads the servo clock once per tick to measure its duration: its share of the
+// overhead.
+void BM_ServoClockRead(benchmark::State& state) {
+  autograv::SteadyServoClock clock;
+  for (auto _ : state) benchmark::DoNotOptimize(clock.now_s());
+}
+BENCHMARK(BM_ServoClockRead);
 
 void BM_ServoMapLookup(benchmark::State& state) {
   const std::vector<Eigen::Vector3d> positions = randomPositions(4096);

@@ -33,7 +33,7 @@ std::shared_ptr<const GravityMap> constantMap(double strength_n) {
 TEST(GravityCompensatedDeviceConcurrencyTest, MapsSwapUnderALiveServoLoop) {
   auto fake = std::make_shared<testing::RecordingDevice>();
   CompensationOptions options;
-  options.servo_period_s = 1e-3;
+  options.clock = std::make_shared<FixedPeriodServoClock>(1e-3);  // one period per tick
   options.ramp_duration_s = 3e-3;  // short fades: many swaps during the test
   GravityCompensatedDevice device(fake, options);
   ASSERT_TRUE(device.open());

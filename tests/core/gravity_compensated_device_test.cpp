@@ -25,6 +25,7 @@ namespace {
 using testing::RecordingDevice;
 
 constexpr double kPeriod = 1e-3;
+constexpr double kTwoPi = 6.283185307179586;
 
 // A map over a 0.1 m cube centred at the origin holding G(X) = offset + gradient X at its
 // vertices; trilinear interpolation reproduces an affine field exactly.
@@ -43,9 +44,11 @@ std::shared_ptr<const GravityMap> makeMap(const Eigen::Vector3d& offset,
   return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
 }
 
+// A loop at exactly 1 / kPeriod: each setForce reads the clock once and the first tick counts
+// for nothing, so a ramp of `ticks` periods is complete on the (ticks + 1)-th tick after open.
 CompensationOptions optionsWithRamp(int ticks) {
   CompensationOptions options;
-  options.servo_period_s = kPeriod;
+  options.clock = std::make_shared<FixedPeriodServoClock>(kPeriod);
   options.ramp_duration_s = ticks * kPeriod;
   return options;
 }
@@ -140,7 +143,7 @@ TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
   EXPECT_THROW(GravityCompensatedDevice(nullptr), Error);
   auto fake = std::make_shared<RecordingDevice>();
   CompensationOptions options;
-  options.servo_period_s = 0.0;
+  options.max_tick_interval_s = 0.0;
   EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
   options = CompensationOptions{};
   options.ramp_duration_s = -1.0;
@@ -149,8 +152,12 @@ TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
   options.outside_margin_m = NAN;
   EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
   options = CompensationOptions{};
-  options.stale_tick_limit = -2;
+  options.frozen_window_s = -0.1;
   EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
+  options = CompensationOptions{};
+  options.frozen_hand_stiffness_n_per_m = INFINITY;
+  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
+  EXPECT_THROW(FixedPeriodServoClock(0.0), Error);
 }
 
 // --- Compensation -----------------------------------------------------------------------------
@@ -260,7 +267,7 @@ TEST(GravityCompensatedDeviceTest, RampsInWhenEnabledAndOutWhenDisabled) {
     f.device.setForce(force);
     const double level = std::min(k, 10) / 10.0;
     EXPECT_TRUE(f.fake->last_force.isApprox(force + level * gravity, 1e-12)) << "tick " << k;
-    EXPECT_DOUBLE_EQ(f.device.compensationLevel(), level);
+    EXPECT_NEAR(f.device.compensationLevel(), level, 1e-12);
   }
   f.device.setCompensationEnabled(false);
   for (int k = 1; k <= 12; ++k) {
@@ -343,8 +350,6 @@ TEST(GravityCompensatedDeviceTest, BadPositionsSendZeroAndRaiseAFault) {
       {"NaN", [](RecordingDevice& d) { d.position.y() = NAN; }, ServoFault::kNonFinitePosition},
       {"Inf", [](RecordingDevice& d) { d.position.z() = -INFINITY; },
        ServoFault::kNonFinitePosition},
-      {"far outside", [](RecordingDevice& d) { d.position.x() = 0.05 + 0.0101; },
-       ServoFault::kOutsideMap},
       {"no force limit", [](RecordingDevice& d) { d.specs.max_linear_force_n = 0.0; },
        ServoFault::kNoForceLimit},
   };
@@ -394,14 +399,33 @@ TEST(GravityCompensatedDeviceTest, WithinTheMarginTheBoundaryValueIsUsed) {
   EXPECT_TRUE(f.fake->last_force.isApprox(Eigen::Vector3d(0.05, 0.0, 0.0), 1e-12));
 }
 
-TEST(GravityCompensatedDeviceTest, OutsideTheMapIsNoFaultWhileCompensationIsOff) {
-  CompensationOptions options = optionsWithRamp(0);
-  options.enabled = false;
-  Fixture f(options);
-  f.device.publishMap(makeMap(Eigen::Vector3d(0.0, 0.0, -2.0)));
-  f.fake->position = Eigen::Vector3d(0.5, 0.0, 0.0);
-  EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(1.0, 0.0, 0.0)));
-  EXPECT_EQ(f.fake->last_force, Eigen::Vector3d(1.0, 0.0, 0.0));
+// Outside the map the application's force passes and compensation goes on with the boundary's
+// value: continuous across the boundary, bounded, and reported as a status, never a fault.
+TEST(GravityCompensatedDeviceTest, OutsideTheMapTheForcePassesWithTheBoundaryValue) {
+  Fixture f;
+  const Eigen::Vector3d offset(0.0, 0.0, -2.0);
+  f.device.publishMap(makeMap(offset, Eigen::Matrix3d::Identity()));  // grid: +-0.05 m
+  const Eigen::Vector3d wall(-1.5, 0.0, 0.0);
+  Eigen::Vector3d previous_force = Eigen::Vector3d::Zero();
+  double largest_step_n = 0.0;
+  for (int k = 0; k <= 400; ++k) {  // from the centre to 0.35 m outside, 1 mm per tick
+    f.fake->position = Eigen::Vector3d(0.001 * k, 0.0, 0.01);
+    ASSERT_TRUE(f.device.setForce(wall)) << k;
+    const Eigen::Vector3d expected =
+        wall + offset + Eigen::Vector3d(std::min(0.001 * k, 0.05), 0.0, 0.01);
+    EXPECT_TRUE(f.fake->last_force.isApprox(expected, 1e-12)) << k;
+    EXPECT_EQ(f.device.outsideMap(), 0.001 * k > 0.05 + 0.01 + 1e-9) << k;
+    if (k > 0)
+      largest_step_n = std::max(largest_step_n, (f.fake->last_force - previous_force).norm());
+    previous_force = f.fake->last_force;
+  }
+  EXPECT_LE(largest_step_n, 0.001 + 1e-12);  // the gradient times one 1 mm step: no jump
+  EXPECT_EQ(f.device.faultCount(), 0u);
+  EXPECT_EQ(f.device.outsideMapTickCount(), 400u - 60u);
+  f.fake->position = Eigen::Vector3d(0.0, 0.0, 0.0);
+  EXPECT_TRUE(f.device.setForce(wall));
+  EXPECT_FALSE(f.device.outsideMap());
+  EXPECT_EQ(f.device.compensationLevel(), 1.0);  // never restarted
 }
 
 TEST(GravityCompensatedDeviceTest, AWriteFailureIsCountedAndRestartsTheRamp) {
@@ -419,41 +443,93 @@ TEST(GravityCompensatedDeviceTest, AWriteFailureIsCountedAndRestartsTheRamp) {
   EXPECT_TRUE(f.fake->last_force.isApprox(0.25 * gravity, 1e-12));
 }
 
-TEST(GravityCompensatedDeviceTest, AFrozenPositionUnderAChangingForceIsStale) {
+// The frozen-driver rule on a scripted device whose readings never change (see the class
+// comment): the push must swing both ways along an axis, past the threshold, for a window.
+CompensationOptions frozenOptions() {
   CompensationOptions options = optionsWithRamp(0);
-  options.stale_tick_limit = 50;
-  options.stale_force_change_n = 0.5;
-  Fixture f(options);
-  // Constant force and frozen position: a device at rest, never a fault.
-  for (int k = 0; k < 500; ++k) EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(1.0, 0.0, 0.0)));
-  // Changing force, frozen position: a fault once the run is longer than 50 ticks.
-  f.fake->position.x() += 1e-6;
+  options.frozen_window_s = 0.1;
+  options.frozen_force_floor_n = 0.2;
+  return options;
+}
+
+// Teaches the decorator a 10 um encoder (threshold max(0.2, 5000 * 3 * 1e-5 / 2) = 0.2 N), then
+// holds the reading still.
+void learnTenMicrometres(Fixture& f) {
+  f.device.setForce(Eigen::Vector3d::Zero());
+  f.fake->position.x() += 1e-5;
+  f.device.setForce(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(f.device.positionResolution_m(), 1e-5, 1e-12);
+}
+
+TEST(GravityCompensatedDeviceTest, APushSwingingBothWaysOnFrozenReadingsIsAFrozenDriver) {
+  Fixture f(frozenOptions());
+  learnTenMicrometres(f);
   int first_fault_tick = -1;
-  for (int k = 0; k < 200; ++k) {
-    const bool ok = f.device.setForce(Eigen::Vector3d(1.0 + 0.01 * k, 0.0, 0.0));
+  for (int k = 1; k <= 400; ++k) {  // +-1 N at 5 Hz
+    const bool ok = f.device.setForce(Eigen::Vector3d(std::sin(kTwoPi * 5.0 * k * kPeriod), 0, 0));
     if (!ok && first_fault_tick < 0) first_fault_tick = k;
     if (first_fault_tick >= 0) {
-      EXPECT_FALSE(ok) << k;  // stays faulted while frozen
+      EXPECT_FALSE(ok) << k;  // stays caught while frozen
       EXPECT_EQ(f.fake->last_force, Eigen::Vector3d::Zero());
     }
   }
-  EXPECT_EQ(first_fault_tick, 51);
+  // Up past 0.2 N within the first quarter period, down past -0.2 N in the second half: caught
+  // in the third quarter (filter lag included), well within 0.3 s.
+  EXPECT_GE(first_fault_tick, 100);
+  EXPECT_LE(first_fault_tick, 180);
   EXPECT_EQ(f.device.activeFault(), ServoFault::kStalePosition);
-  // The position moves: healthy again.
-  f.fake->position.x() += 1e-6;
+  f.fake->position.x() += 1e-5;  // the readings move again: healthy at once
   EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(3.0, 0.0, 0.0)));
   EXPECT_EQ(f.fake->last_force, Eigen::Vector3d(3.0, 0.0, 0.0));
-  // Small force changes (under 0.5 N) never trip it.
-  for (int k = 0; k < 500; ++k) {
-    EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(3.0 + 0.4 * std::sin(k), 0.0, 0.0)));
+}
+
+TEST(GravityCompensatedDeviceTest, APushThatOnlyChangesInSizeIsNeverAFrozenDriver) {
+  Fixture f(frozenOptions());
+  learnTenMicrometres(f);
+  // Into a stop along -z: 0.5 to 3.5 N, slowly and quickly, with a sideways wobble of 0.4 N.
+  for (int k = 1; k <= 5000; ++k) {
+    const double t_s = k * kPeriod;
+    const Eigen::Vector3d push(0.4 * std::sin(kTwoPi * 3.0 * t_s), 0.0,
+                               -2.0 - 1.5 * std::sin(kTwoPi * (k < 2500 ? 0.5 : 8.0) * t_s));
+    ASSERT_TRUE(f.device.setForce(push)) << k;
+  }
+  EXPECT_EQ(f.device.faultCount(), 0u);
+}
+
+TEST(GravityCompensatedDeviceTest, AVibrationOnFrozenReadingsIsNeverAFrozenDriver) {
+  for (const double frequency_hz : {20.0, 50.0, 120.0, 250.0}) {
+    Fixture f(frozenOptions());
+    learnTenMicrometres(f);
+    for (int k = 1; k <= 3000; ++k) {
+      const double vibration_n = 0.5 * std::sin(kTwoPi * frequency_hz * k * kPeriod);
+      ASSERT_TRUE(f.device.setForce(Eigen::Vector3d(vibration_n, 0.0, 0.0)))
+          << frequency_hz << " Hz, tick " << k;
+    }
   }
 }
 
-TEST(GravityCompensatedDeviceTest, TheStaleCheckCanBeTurnedOff) {
-  CompensationOptions options = optionsWithRamp(0);
-  options.stale_tick_limit = 0;
+TEST(GravityCompensatedDeviceTest, BeforeAnyStepTheThresholdAssumesACoarseEncoder) {
+  Fixture f(frozenOptions());
+  // Resolution unknown (1e-4 m): threshold 5000 * 3 * 1e-4 / 2 = 0.75 N. A +-0.6 N swing is no
+  // evidence yet, a +-1 N swing is.
+  for (int k = 1; k <= 1000; ++k) {
+    ASSERT_TRUE(
+        f.device.setForce(Eigen::Vector3d(0.6 * std::sin(kTwoPi * 2.0 * k * kPeriod), 0, 0)));
+  }
+  bool caught = false;
+  for (int k = 1; k <= 1000 && !caught; ++k) {
+    caught = !f.device.setForce(Eigen::Vector3d(std::sin(kTwoPi * 2.0 * k * kPeriod), 0, 0));
+  }
+  EXPECT_TRUE(caught);
+}
+
+TEST(GravityCompensatedDeviceTest, TheFrozenDriverCheckCanBeTurnedOff) {
+  CompensationOptions options = frozenOptions();
+  options.frozen_window_s = 0.0;
   Fixture f(options);
-  for (int k = 0; k < 1000; ++k) EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(0.001 * k, 0, 0)));
+  for (int k = 0; k < 1000; ++k) {
+    EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(3.0 * std::sin(0.01 * k), 0, 0)));
+  }
   EXPECT_EQ(f.device.faultCount(), 0u);
 }
 
@@ -468,6 +544,7 @@ TEST(GravityCompensatedDeviceTest, FaultNamesAreStable) {
 
 TEST(GravityCompensatedDeviceTest, OldMapsAreReleasedOnceTheServoThreadHasMovedOn) {
   Fixture f(optionsWithRamp(3));
+  f.device.setForce(Eigen::Vector3d::Zero());  // the loop runs: every later tick is one period
   auto a = makeMap(Eigen::Vector3d(0.0, 0.0, -1.0));
   const std::weak_ptr<const GravityMap> weak_a = a;
   f.device.publishMap(std::move(a));
@@ -514,6 +591,33 @@ TEST(GravityCompensatedDeviceTest, TheServoPathAllocatesNothing) {
   EXPECT_EQ(counter.count(), 0u);
   EXPECT_GT(f.device.clampCount(), 0u);
   EXPECT_EQ(f.device.faultCount(), 2u);
+}
+
+// The new paths: the wall clock, the first map fading in, positions outside the map and a frozen
+// driver being caught and healing (caught with the fixed-period clock; with the wall clock the
+// loop is too fast for the window, but runs every other path).
+TEST(GravityCompensatedDeviceTest, TheServoPathAllocatesNothingOutsideTheMapOrFrozen) {
+  for (const bool wall_clock : {true, false}) {
+    auto fake = std::make_shared<RecordingDevice>();
+    CompensationOptions options;
+    if (!wall_clock) options.clock = std::make_shared<FixedPeriodServoClock>(kPeriod);
+    options.ramp_duration_s = 0.002;
+    GravityCompensatedDevice device(fake, options);
+    device.setForce(Eigen::Vector3d::Zero());
+    device.publishMap(makeMap(Eigen::Vector3d(0.0, 0.0, -1.0), Eigen::Matrix3d::Identity()));
+    testing::AllocationCounter counter;
+    for (int k = 0; k < 20000; ++k) {
+      if (k % 4000 < 2000) {
+        fake->position = Eigen::Vector3d(0.2 * std::sin(0.001 * k), 1e-5 * (k % 7), 0.01);
+      }  // else frozen
+      device.setForce(Eigen::Vector3d(std::sin(0.05 * k), 0.0, 0.0));
+    }
+    EXPECT_EQ(counter.count(), 0u) << wall_clock;
+    EXPECT_GT(device.outsideMapTickCount(), 0u) << wall_clock;
+    if (!wall_clock) {
+      EXPECT_GT(device.faultCount(ServoFault::kStalePosition), 0u);
+    }
+  }
 }
 
 }  // namespace

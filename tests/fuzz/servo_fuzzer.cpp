@@ -117,11 +117,12 @@ double anyForceLimit(FuzzedDataProvider& input) {
 
 autograv::CompensationOptions anyOptions(FuzzedDataProvider& input) {
   autograv::CompensationOptions options;
-  options.servo_period_s = 1e-3;
+  // A fixed-period clock: a run depends on its input alone, not on how fast it ran.
+  options.clock = std::make_shared<autograv::FixedPeriodServoClock>(1e-3);
   options.ramp_duration_s = input.PickValueInArray({0.0, 0.001, 0.003, 0.02, 0.5});
   options.outside_margin_m = input.PickValueInArray({0.0, 0.01, 1.0});
-  options.stale_tick_limit = input.PickValueInArray({0, 1, 3, 200});
-  options.stale_force_change_n = input.PickValueInArray({0.0, 0.5, 1e300});
+  options.frozen_window_s = input.PickValueInArray({0.0, 0.001, 0.003, 0.2});
+  options.frozen_force_floor_n = input.PickValueInArray({0.0, 0.5, 1e300});
   options.enabled = input.ConsumeBool();
   return options;
 }

@@ -28,7 +28,7 @@ ServoSnapshot floatingSnapshot() {
   s.clamps = 3;
   s.device_saturations = 1;
   s.faults = 2;
-  s.last_fault = ServoFault::kOutsideMap;
+  s.last_fault = ServoFault::kStalePosition;
   return s;
 }
 
@@ -38,7 +38,7 @@ TEST(DemoViewTest, ReadoutShowsForceClampsFaultsAndDrift) {
   EXPECT_EQ(lines[0], "SIM:OMNI  NO MAP  COMPENSATION ON 100%");
   EXPECT_TRUE(contains(lines, "SERVO 1 KHZ ON SIMULATED TIME  T 2.00 S"));
   EXPECT_TRUE(contains(lines, "FORCE SENT +0.14 -0.00 +1.79 N  |F| 1.79 N"));
-  EXPECT_TRUE(contains(lines, "CLAMPS 3  SATURATED 1  FAULTS 2 (outside_map)"));
+  EXPECT_TRUE(contains(lines, "CLAMPS 3  SATURATED 1  FAULTS 2 (stale_position)"));
   EXPECT_TRUE(contains(lines, "DRIFT SINCE RELEASE 0.3 MM IN 1.2 S"));
 }
 

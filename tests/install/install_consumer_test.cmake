@@ -2,6 +2,7 @@
 # project that only does find_package(autograv) and links autograv::core.
 # Arguments: -DBINARY_DIR=<autograv build> -DSOURCE_DIR=<tests/install/consumer> -DWORK_DIR=<scratch>
 #            [-DCONSUMER_LINK_FLAGS=<flags the consumer links with, e.g. the sanitizers>]
+#            [-DWITH_CHAI3D=1: autograv was built with the CHAI3D bridge; build its consumer too]
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run)
@@ -12,7 +13,10 @@ function(run)
 endfunction()
 run(${CMAKE_COMMAND} --install "${BINARY_DIR}" --prefix "${WORK_DIR}/prefix" --component Unspecified)
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
-    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
+    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}" "-DCONSUMER_WITH_CHAI3D=${WITH_CHAI3D}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer")
+if(WITH_CHAI3D)
+  run("${WORK_DIR}/build/consumer_chai3d")
+endif()
 message(STATUS "consumer built against ${WORK_DIR}/prefix and ran")

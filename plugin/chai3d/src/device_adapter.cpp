@@ -16,8 +16,8 @@ Chai3dDeviceAdapter::Chai3dDeviceAdapter(::chai3d::cGenericHapticDevicePtr devic
                                          VendorGravityCompensation vendor)
     : device_(std::move(device)), vendor_(vendor) {
   if (!device_) throw Error("Chai3dDeviceAdapter: the CHAI3D device is null");
-  // Some drivers (cDeltaDevice) know their specifications before open(); others only after.
-  specifications_ = toSpecifications(device_->getSpecifications());
+  // The specifications are read in open() only: before it CHAI3D 3.3 leaves
+  // m_specifications.m_model uninitialised, and copying them reads it.
 }
 
 DeviceSpecifications Chai3dDeviceAdapter::toSpecifications(

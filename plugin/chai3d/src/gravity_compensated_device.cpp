@@ -14,28 +14,34 @@ cGravityCompensatedDevice::cGravityCompensatedDevice(::chai3d::cGenericHapticDev
   if (!device_) throw Error("cGravityCompensatedDevice: the CHAI3D device is null");
   adapter_ = std::make_shared<Chai3dDeviceAdapter>(device_, vendor);
   compensated_ = std::make_unique<GravityCompensatedDevice>(adapter_, options);
-  copyState();
+  // Our own placeholder specifications are CHAI3D's, whose constructor leaves m_model
+  // uninitialised: give it a value, so that reading ours before open() is defined.
+  m_specifications.m_model = ::chai3d::C_HAPTIC_DEVICE_VIRTUAL;
+  copyAvailability();
 }
 
 cGravityCompensatedDevice::~cGravityCompensatedDevice() = default;
 
-void cGravityCompensatedDevice::copyState() {
-  // getSpecifications(), isDeviceAvailable() and isDeviceReady() are non-virtual readers of these
-  // members: keep them equal to the wrapped device's.
-  m_specifications = device_->getSpecifications();
+void cGravityCompensatedDevice::copyAvailability() {
+  // isDeviceAvailable() and isDeviceReady() are non-virtual readers of these members: keep them
+  // equal to the wrapped device's.
   m_deviceAvailable = device_->isDeviceAvailable();
   m_deviceReady = device_->isDeviceReady();
 }
 
 bool cGravityCompensatedDevice::open() {
   const bool ok = compensated_->open();  // adapter: device open, specifications, vendor policy
-  copyState();
+  // getSpecifications() is a non-virtual reader of m_specifications: copy the wrapped device's
+  // once they are valid, after a successful open() (CHAI3D 3.3 leaves m_model uninitialised
+  // before it).
+  if (ok) m_specifications = device_->getSpecifications();
+  copyAvailability();
   return ok;
 }
 
 bool cGravityCompensatedDevice::close() {
   const bool ok = compensated_->close();
-  copyState();
+  copyAvailability();  // the specifications stay those of the device last opened
   return ok;
 }
 
@@ -123,11 +129,22 @@ bool cGravityCompensatedDevice::enableForces(bool a_value) {
 
 void cGravityCompensatedDevice::loadAndPublishMap(const std::string& path,
                                                   bool allow_model_mismatch) {
-  MapLoadOptions options;
-  options.expected_device_model = adapter_->specifications().model_name;
-  options.allow_model_mismatch = allow_model_mismatch;
-  compensated_->publishMap(std::make_shared<const GravityMap>(loadMap(path, options)),
-                           allow_model_mismatch);
+  const std::string& device_model = adapter_->specifications().model_name;
+  if (device_model.empty()) {
+    throw Error(
+        "cGravityCompensatedDevice::loadAndPublishMap: the device is not open, so the map '" +
+        path + "' cannot be checked against its model; call open() first");
+  }
+  // The model is checked here rather than by loadMap, so that the message speaks of this API.
+  auto map = std::make_shared<const GravityMap>(loadMap(path));
+  const std::string& map_model = map->metadata().device_model;
+  if (map_model != device_model && !allow_model_mismatch) {
+    throw Error("cGravityCompensatedDevice::loadAndPublishMap: the map '" + path +
+                "' was calibrated on a '" + map_model + "' but this device is a '" + device_model +
+                "'; calibrate this device, or pass allow_model_mismatch = true if both are the "
+                "same hardware");
+  }
+  compensated_->publishMap(std::move(map), allow_model_mismatch);
 }
 
 }  // namespace autograv::chai3d

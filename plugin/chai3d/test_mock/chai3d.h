@@ -47,12 +47,18 @@ struct cMatrix3d {
   double operator()(int r, int c) const { return m_data[r][c]; }
 
  private:
-  double m_data[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  // Left uninitialised by the default constructor, as in CHAI3D 3.3: code that reads a
+  // default-constructed matrix is caught here (-Wuninitialized) as against the real headers.
+  double m_data[3][3];
 };
 
 // CHAI3D's cTransform keeps a 4x4 matrix; the bridge only needs set() and the two getters.
 class cTransform {
  public:
+  cTransform() {
+    m_position = cVector3d(0.0, 0.0, 0.0);
+    m_rotation.identity();  // as CHAI3D's constructor does
+  }
   void set(const cVector3d& a_position, const cMatrix3d& a_rotation) {
     m_position = a_position;
     m_rotation = a_rotation;
@@ -95,6 +101,10 @@ enum cHapticDeviceModel {
 };
 
 struct cHapticDeviceInfo {
+  // CHAI3D 3.3 leaves m_model uninitialised until a driver's open() (or its constructor) sets
+  // it, so copying the specifications of a device that is not open yet loads an indeterminate
+  // enum. A stand-in cannot hold an indeterminate value; it counts such copies instead (see
+  // cGenericHapticDevice::getSpecifications below).
   cHapticDeviceModel m_model = C_HAPTIC_DEVICE_VIRTUAL;
   std::string m_modelName;
   std::string m_manufacturerName;
@@ -226,7 +236,16 @@ class cGenericHapticDevice : public cGenericDevice {
     return m_deviceReady;
   }
   // Non-virtual, returns a copy of the public member: a wrapper must copy m_specifications.
-  cHapticDeviceInfo getSpecifications() { return m_specifications; }
+  cHapticDeviceInfo getSpecifications() {
+    if (!m_deviceReady) ++mockSpecificationCopiesBeforeOpen();
+    return m_specifications;
+  }
+  /// Stand-in only: copies of the specifications taken while the device was not open, each of
+  /// which reads CHAI3D 3.3's uninitialised m_model.
+  static int& mockSpecificationCopiesBeforeOpen() {
+    static int copies = 0;
+    return copies;
+  }
   virtual void setEnableGripperUserSwitch(const bool a_status) {
     m_gripperUserSwitchEnabled = a_status;
   }

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <utility>
 
+#include "autograv/device/servo_clock.h"
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
-#include "autograv/device/servo_sample.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
@@ -22,7 +23,7 @@ constexpr double kReadyTimeout_s = 5.0;
 constexpr double kSettleTolerance_m = 1e-4;
 // Force change the probe may make against friction without the decorator calling the position
 // stale: the hold at its stiffest times its approach distance, with room. Unit: [N]
-constexpr double kProbeStaleForceChange_n = 2.0;
+constexpr double kProbeFrozenForceFloor_n = 2.0;
 // How far outside the map's grid the residual probe may take the end-effector. Unit: [m]
 constexpr double kProbeOutsideGrid_m = 0.003;
 
@@ -270,11 +271,11 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
 
   auto meter = std::make_shared<ForceMeter>(simulated);
   CompensationOptions compensation = options.compensation;
-  compensation.servo_period_s = report.servo_period_s;
-  // The probe raises its force on purpose while friction may hold the end-effector still: the
-  // stale-position check must not take that for a frozen driver (its own test covers it).
-  compensation.stale_force_change_n =
-      std::max(compensation.stale_force_change_n, kProbeStaleForceChange_n);
+  compensation.clock = std::make_shared<FixedPeriodServoClock>(report.servo_period_s);
+  // The probe pushes both ways on purpose while friction may hold the end-effector still: the
+  // frozen-driver check must not take that for a frozen driver (its own tests cover it).
+  compensation.frozen_force_floor_n =
+      std::max(compensation.frozen_force_floor_n, kProbeFrozenForceFloor_n);
   GravityCompensatedDevice decorated(meter, compensation);
   decorated.publishMap(map, allow_model_mismatch);
   SimulatedTickSource ticks(device, report.servo_period_s,

@@ -10,44 +10,55 @@
 #include <Eigen/Core>
 
 #include "autograv/device/haptic_device.h"
+#include "autograv/device/servo_clock.h"
 #include "autograv/map/gravity_map.h"
 
 namespace autograv {
 
 /// Why the decorator did not send the application's force plus compensation on a servo tick.
+/// Only a position that cannot be trusted, a force that cannot be sent or a device without a
+/// force limit is a fault; being outside the map is not (see GravityCompensatedDevice::outsideMap).
 enum class ServoFault : std::uint8_t {
   kNone,               ///< The tick was normal.
   kReadFailed,         ///< The inner getPosition returned false.
   kNonFinitePosition,  ///< The position had a NaN or Inf component.
-  kStalePosition,      ///< Bit-identical positions while the commanded force kept changing.
-  kOutsideMap,         ///< Farther than the margin outside the grid of the map in use.
+  kStalePosition,      ///< The driver's readings froze (see the class comment for the rule).
   kNonFiniteForce,     ///< The application asked for a NaN or Inf force.
   kNoForceLimit,       ///< specifications().max_linear_force_n is not a positive number.
   kWriteFailed,        ///< The inner setForce returned false.
 };
-inline constexpr int kServoFaultKinds = 8;
+inline constexpr int kServoFaultKinds = 7;
 
 /// Stable lower-case name ("none", "read_failed", "stale_position", ...).
 const char* toString(ServoFault fault) noexcept;
 
-/// Settings of GravityCompensatedDevice, fixed at construction.
+/// Settings of GravityCompensatedDevice, fixed at construction. Durations are in seconds of the
+/// clock, whatever the loop's rate.
 struct CompensationOptions {
-  /// Period of the servo loop that calls setForce, once per tick. Ramps are counted in ticks of
-  /// this period (deterministic, no clock read in the servo path). Unit: [s]
-  double servo_period_s = 1.0e-3;
+  /// Read once per setForce to measure the tick's duration. Null: a SteadyServoClock (wall
+  /// time). Loops that run in simulated time give a FixedPeriodServoClock or their own.
+  std::shared_ptr<ServoClock> clock;
+  /// A tick counts for at most this long: the first tick counts for nothing, and a loop that
+  /// paused (debugger, swapped out) resumes its ramps where they were. Unit: [s]
+  double max_tick_interval_s = 0.01;
   /// Time over which compensation fades in after enable, a fault or open(), out after disable,
-  /// and from one map to the next after publishMap. 0 switches at once. Unit: [s]
+  /// and from one map to the next after publishMap (the first map fades in from none).
+  /// 0 switches at once. Unit: [s]
   double ramp_duration_s = 0.5;
-  /// Positions up to this far outside the map's grid get the boundary value (interpolation
-  /// clamps); farther out is a kOutsideMap fault. Checked only while compensation is enabled.
+  /// How far outside the map's grid a position must be to be reported by outsideMap(). Only a
+  /// status: compensation and the application's force go on there (see the class comment).
   /// Unit: [m]
   double outside_margin_m = 0.01;
-  /// A position identical bit for bit on more than this many consecutive ticks while the
-  /// commanded force moved by more than stale_force_change_n is a kStalePosition fault (a frozen
-  /// driver). 0 disables the check.
-  int stale_tick_limit = 200;
-  /// See stale_tick_limit. Unit: [N]
-  double stale_force_change_n = 0.5;
+  /// The frozen-driver check raises kStalePosition no earlier than this long into a run of
+  /// bit-identical readings. 0 disables the check. Unit: [s]
+  double frozen_window_s = 0.1;
+  /// Smallest push that counts as evidence of a frozen driver. Unit: [N]
+  double frozen_force_floor_n = 0.2;
+  /// The stiffest grip a hand holding the end-effector still can have. Unit: [N/m]
+  double frozen_hand_stiffness_n_per_m = 5000.0;
+  /// Time constant of each of the two low-pass stages the push is filtered by, so that a
+  /// vibration the application plays is not taken for a sustained push. Unit: [s]
+  double frozen_filter_time_constant_s = 0.015;
   /// Whether compensation starts enabled (it still ramps in).
   bool enabled = true;
 };
@@ -69,24 +80,53 @@ struct CompensationOptions {
 /// extra driver call; otherwise setForce reads the inner device itself. Readings by other threads
 /// are forwarded but never used for compensation.
 ///
-/// Faults: on a failed read, a NaN/Inf or stale position, a position far outside the map, a
-/// NaN/Inf application force or a missing force limit, the wrapper sends ZERO force (not the last
-/// force) and returns false. Zero is what an unpowered device does and every device tolerates;
-/// a held force on an end-effector whose position is unknown can push it into its stops or the
-/// user's hand. After the fault clears, the application force passes at once and compensation
-/// ramps in again from zero, so recovery does not jolt either.
+/// Faults: only when the position cannot be trusted (a failed read, NaN/Inf, a frozen driver),
+/// the application's force is NaN/Inf or the device has no force limit, the wrapper sends ZERO
+/// force (not the last force) and returns false. Zero is what an unpowered device does and every
+/// device tolerates; a held force on an end-effector whose position is unknown can push it into
+/// its stops or the user's hand. After the fault clears, the application force passes at once
+/// and compensation ramps in again from zero, so recovery does not jolt either.
 ///
-/// Stale position: bit-identical readings on more than stale_tick_limit consecutive ticks while
-/// the commanded force (F + G_hat, before clamping) moved by more than stale_force_change_n from
-/// its value at the start of the run. A free end-effector moves by at least an encoder count when
-/// its force changes that much; a device held rigidly or pushed against its stops can fool the
-/// check, which is why both thresholds are options.
+/// Outside the map: the application's force always passes, and compensation goes on with the
+/// map's value at the nearest point of its grid (trilinear interpolation clamped to the
+/// boundary). That value is continuous across the boundary (no step when the hand leaves or
+/// re-enters the map), bounded by the measured estimates (an extrapolation grows without bound
+/// with the distance and would push the end-effector off), and the closest measurement there is;
+/// fading compensation out over a band would drop the stylus, the very jolt a user notices.
+/// outsideMap() and outsideMapTickCount() tell the application, which may show it.
+///
+/// Frozen driver (kStalePosition). Bit-identical readings alone prove nothing: an encoder at
+/// rest reads the same count forever, in a dock, on a stop or in a still hand. The check uses the
+/// physics of what can hold an end-effector still. The push P = (force sent) - G_hat(X), the net
+/// force on the end-effector once the map's gravity is accounted for, is low-passed (two stages
+/// of frozen_filter_time_constant_s, so a vibration the application plays is not a push). Over a
+/// run of bit-identical readings the check notes, for each axis, whether the filtered push
+/// pointed within 45 degrees of +axis with a component >= D, and of -axis likewise. Both on one
+/// axis, after frozen_window_s of the run, is a frozen driver:
+///  - a single end stop (or dock floor) resists only pushes into a friction cone around its
+///    normal: with a friction coefficient below 1 that cone is narrower than 90 degrees, and the
+///    two pushes are at least 90 degrees apart;
+///  - a hand is a spring of at most frozen_hand_stiffness_n_per_m (k): the push changed by at
+///    least 2 D, and D = max(frozen_force_floor_n, k * 3 counts * resolution / 2) moves the hand
+///    by 3 encoder counts at least, and some count would have changed.
+/// The encoder resolution is learned online, as the smallest nonzero step between two
+/// successive readings (1e-4 m, coarser than any supported device, until a step is seen).
+/// Bounds: a free end-effector whose push swings both ways by D is caught frozen_window_s after
+/// the readings froze at the earliest, as soon as the filtered push has swung (e.g. within
+/// 0.3 s for a +-1 N push at 5 Hz); a push that only changes in size, or a constant one, is never
+/// evidence. It can fire on an end-effector clamped both ways (a vice, a two-sided dock) while
+/// the application pushes it back and forth, and, without a map, the device's own weight is
+/// counted in the push.
+///
+/// Timing: every ramp and window is in seconds of options().clock, read once per setForce; a
+/// tick counts for the time since the previous one, clamped to max_tick_interval_s.
 ///
 /// Map publication: publishMap stores a raw pointer in an atomic and bumps a sequence number. The
 /// servo thread picks the new map up at the start of a tick (never during a fade), fades from the
-/// old map to the new one over ramp_duration_s, then acknowledges the sequence number it took.
-/// Maps published before the acknowledged one are released by publishMap or reclaimRetiredMaps on
-/// the publishing thread; the servo thread never frees, locks or allocates.
+/// old map (or from none, for the first) to the new one over ramp_duration_s, then acknowledges the
+/// sequence number it took. Maps published before the acknowledged one are released by publishMap
+/// or reclaimRetiredMaps on the publishing thread; the servo thread never frees, locks or
+/// allocates.
 class GravityCompensatedDevice final : public HapticDevice {
  public:
   /// Throws autograv::Error for a null device or unusable options. No compensation until a map
@@ -158,6 +198,14 @@ class GravityCompensatedDevice final : public HapticDevice {
   std::uint64_t clampCount() const noexcept;
   /// setForce calls so far.
   std::uint64_t tickCount() const noexcept;
+  /// True when the latest tick's position was farther than outside_margin_m outside the grid of
+  /// a map in use: compensation there is the boundary's value, a less certain estimate the
+  /// application may want to show. Not a fault.
+  bool outsideMap() const noexcept;
+  /// Ticks whose position was outside the map (see outsideMap).
+  std::uint64_t outsideMapTickCount() const noexcept;
+  /// The encoder resolution the frozen-driver check has learned so far. Unit: [m]
+  double positionResolution_m() const noexcept;
 
   const CompensationOptions& options() const noexcept { return options_; }
   /// The wrapped device. Not real-time safe to use from a thread other than the servo thread.
@@ -169,11 +217,15 @@ class GravityCompensatedDevice final : public HapticDevice {
     std::shared_ptr<const GravityMap> map;  // null when null was published
   };
 
-  void takeNewMap() noexcept;
-  /// The maps' gravity at `position_m`, blended during a fade; `inside` is false when the
-  /// position is beyond the outside margin of a map in use.
+  /// Measured duration of this tick, clamped to [0, max_tick_interval_s]. Unit: [s]
+  double tickInterval() noexcept;
+  void takeNewMap(double dt_s) noexcept;
+  /// The maps' gravity at `position_m`, blended during a fade (from or to no map as well);
+  /// `inside` is false when the position is beyond the outside margin of a map in use.
   Eigen::Vector3d compensation(const Eigen::Vector3d& position_m, bool& inside) const noexcept;
-  bool stale(const Eigen::Vector3d& position_m, const Eigen::Vector3d& commanded_n) noexcept;
+  void learnResolution(const Eigen::Vector3d& position_m) noexcept;
+  bool frozen(const Eigen::Vector3d& position_m, const Eigen::Vector3d& push_n,
+              double dt_s) noexcept;
   bool fault(ServoFault fault) noexcept;
   void countTick(ServoFault fault) noexcept;
   void resetServoState() noexcept;
@@ -181,7 +233,7 @@ class GravityCompensatedDevice final : public HapticDevice {
 
   std::shared_ptr<HapticDevice> inner_;
   CompensationOptions options_;
-  int ramp_ticks_;
+  std::shared_ptr<ServoClock> clock_;
 
   // Publication (written by publishers under publish_mutex_, read by the servo thread).
   mutable std::mutex publish_mutex_;  // never taken by the servo thread
@@ -196,12 +248,21 @@ class GravityCompensatedDevice final : public HapticDevice {
   const GravityMap* previous_ = nullptr;
   std::uint64_t taken_sequence_ = 0;
   std::uint64_t acknowledged_local_ = 0;
-  int blend_ticks_ = 0;
-  int stale_ticks_ = 0;
-  Eigen::Vector3d stale_position_m_ = Eigen::Vector3d::Constant(0.0);
-  Eigen::Vector3d stale_start_force_n_ = Eigen::Vector3d::Zero();
-  bool stale_tracking_ = false;
-  bool stale_force_moved_ = false;
+  double blend_ = 1.0;  ///< Weight of current_ against previous_ in a fade, in [0, 1].
+  double last_time_s_ = 0.0;
+  bool has_last_time_ = false;
+  // Frozen-driver check (see the class comment).
+  double resolution_m_;
+  Eigen::Vector3d last_position_m_ = Eigen::Vector3d::Zero();
+  bool has_last_position_ = false;
+  bool frozen_tracking_ = false;
+  bool frozen_detected_ = false;
+  double frozen_run_s_ = 0.0;
+  Eigen::Vector3d frozen_position_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d push_stage_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d push_filtered_n_ = Eigen::Vector3d::Zero();
+  std::uint8_t pushed_up_axes_ = 0;    ///< Bit a: the filtered push pointed along +axis a.
+  std::uint8_t pushed_down_axes_ = 0;  ///< Bit a: the filtered push pointed along -axis a.
   Eigen::Vector3d cached_position_m_ = Eigen::Vector3d::Zero();
   bool cached_ok_ = false;
   bool cached_fresh_ = false;
@@ -211,7 +272,12 @@ class GravityCompensatedDevice final : public HapticDevice {
 
   // Shared status (servo thread writes, anyone reads).
   std::atomic<bool> enabled_;
-  std::atomic<int> level_ticks_{0};
+  std::atomic<double> level_{0.0};
+  static_assert(std::atomic<double>::is_always_lock_free,
+                "the servo path needs a lock-free compensation level");
+  std::atomic<bool> outside_map_{false};
+  std::atomic<std::uint64_t> outside_map_ticks_{0};
+  std::atomic<double> resolution_status_m_;
   std::atomic<ServoFault> active_fault_{ServoFault::kNone};
   std::atomic<ServoFault> last_fault_{ServoFault::kNone};
   std::array<std::atomic<std::uint64_t>, kServoFaultKinds> fault_counts_{};

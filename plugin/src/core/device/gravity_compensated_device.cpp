@@ -13,8 +13,16 @@ namespace autograv {
 namespace {
 
 constexpr std::array<const char*, kServoFaultKinds> kFaultNames{
-    "none",        "read_failed",      "non_finite_position", "stale_position",
-    "outside_map", "non_finite_force", "no_force_limit",      "write_failed"};
+    "none",           "read_failed", "non_finite_position", "stale_position", "non_finite_force",
+    "no_force_limit", "write_failed"};
+
+// The frozen-driver check's assumptions (see the class comment). Resolution assumed until the
+// first step between two readings is seen: coarser than any supported device's. Unit: [m]
+constexpr double kUnknownResolution_m = 1e-4;
+// Encoder counts a hand must move by before a push can be blamed on a frozen driver.
+constexpr double kHandCounts = 3.0;
+// cos^2(45 degrees): a push counts along an axis when within 45 degrees of it.
+constexpr double kAxisConeCos2 = 0.5;
 
 bool bitwiseEqual(const Eigen::Vector3d& a, const Eigen::Vector3d& b) noexcept {
   return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
@@ -42,7 +50,12 @@ const char* toString(ServoFault fault) noexcept {
 
 GravityCompensatedDevice::GravityCompensatedDevice(std::shared_ptr<HapticDevice> inner,
                                                    const CompensationOptions& options)
-    : inner_(std::move(inner)), options_(options), ramp_ticks_(1), enabled_(options.enabled) {
+    : inner_(std::move(inner)),
+      options_(options),
+      clock_(options.clock ? options.clock : std::make_shared<SteadyServoClock>()),
+      resolution_m_(kUnknownResolution_m),
+      enabled_(options.enabled),
+      resolution_status_m_(kUnknownResolution_m) {
   if (!inner_) throw Error("GravityCompensatedDevice: the inner device is null");
   const auto check = [](bool ok, const char* field, double value, const char* expected) {
     if (ok) return;
@@ -51,22 +64,22 @@ GravityCompensatedDevice::GravityCompensatedDevice(std::shared_ptr<HapticDevice>
             << ", got " << value;
     throw Error(message.str());
   };
-  check(std::isfinite(options.servo_period_s) && options.servo_period_s > 0.0, "servo_period_s",
-        options.servo_period_s, "a positive time in seconds");
-  check(std::isfinite(options.ramp_duration_s) && options.ramp_duration_s >= 0.0 &&
-            options.ramp_duration_s / options.servo_period_s < 1e9,
-        "ramp_duration_s", options.ramp_duration_s,
-        "a time >= 0 in seconds, under 1e9 servo periods");
-  check(std::isfinite(options.outside_margin_m) && options.outside_margin_m >= 0.0,
-        "outside_margin_m", options.outside_margin_m, "a length >= 0 in metres");
-  check(options.stale_tick_limit >= 0, "stale_tick_limit", options.stale_tick_limit,
-        "a tick count >= 0 (0 disables the check)");
-  check(std::isfinite(options.stale_force_change_n) && options.stale_force_change_n >= 0.0,
-        "stale_force_change_n", options.stale_force_change_n, "a force >= 0 in newtons");
-  // One tick at least, so that "ramp over zero time" means "full on the first tick".
-  ramp_ticks_ =
-      std::max(1, static_cast<int>(std::lround(options.ramp_duration_s / options.servo_period_s)));
-  blend_ticks_ = ramp_ticks_;
+  const auto nonNegative = [](double value) { return std::isfinite(value) && value >= 0.0; };
+  check(std::isfinite(options.max_tick_interval_s) && options.max_tick_interval_s > 0.0,
+        "max_tick_interval_s", options.max_tick_interval_s, "a positive time in seconds");
+  check(nonNegative(options.ramp_duration_s), "ramp_duration_s", options.ramp_duration_s,
+        "a time >= 0 in seconds");
+  check(nonNegative(options.outside_margin_m), "outside_margin_m", options.outside_margin_m,
+        "a length >= 0 in metres");
+  check(nonNegative(options.frozen_window_s), "frozen_window_s", options.frozen_window_s,
+        "a time >= 0 in seconds (0 disables the check)");
+  check(nonNegative(options.frozen_force_floor_n), "frozen_force_floor_n",
+        options.frozen_force_floor_n, "a force >= 0 in newtons");
+  check(nonNegative(options.frozen_hand_stiffness_n_per_m), "frozen_hand_stiffness_n_per_m",
+        options.frozen_hand_stiffness_n_per_m, "a stiffness >= 0 in N/m");
+  check(nonNegative(options.frozen_filter_time_constant_s), "frozen_filter_time_constant_s",
+        options.frozen_filter_time_constant_s, "a time >= 0 in seconds");
+  options_.clock = clock_;
 }
 
 GravityCompensatedDevice::~GravityCompensatedDevice() = default;
@@ -120,10 +133,10 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
     cached_fresh_ = false;  // a reading from before this thread became the servo thread
   }
   increment(tick_count_);
+  const double dt_s = tickInterval();
   // Out of line only when there is something to do: a new publication or a fade in progress.
-  if (blend_ticks_ < ramp_ticks_ ||
-      published_sequence_.load(std::memory_order_acquire) != taken_sequence_) {
-    takeNewMap();
+  if (blend_ < 1.0 || published_sequence_.load(std::memory_order_acquire) != taken_sequence_) {
+    takeNewMap(dt_s);
   }
 
   Eigen::Vector3d position_m;
@@ -141,43 +154,49 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   if (!force_n.allFinite()) return fault(ServoFault::kNonFiniteForce);
   const double max_force_n = inner_->specifications().max_linear_force_n;
   if (!(std::isfinite(max_force_n) && max_force_n > 0.0)) return fault(ServoFault::kNoForceLimit);
+  learnResolution(position_m);
+
   const bool enabled = enabled_.load(std::memory_order_relaxed);
-
-  int level = level_ticks_.load(std::memory_order_relaxed);
-  if (enabled && level < ramp_ticks_) {
-    ++level;
-  } else if (!enabled && level > 0) {
-    --level;
+  double level = level_.load(std::memory_order_relaxed);
+  const double ramp_s = options_.ramp_duration_s;
+  if (enabled && level < 1.0) {
+    level = ramp_s > 0.0 ? std::min(1.0, level + dt_s / ramp_s) : 1.0;
+  } else if (!enabled && level > 0.0) {
+    level = ramp_s > 0.0 ? std::max(0.0, level - dt_s / ramp_s) : 0.0;
   }
-  level_ticks_.store(level, std::memory_order_relaxed);
+  level_.store(level, std::memory_order_relaxed);
 
-  Eigen::Vector3d commanded_n = force_n;
-  if (level > 0) {  // always the case while enabled
-    bool inside = true;
-    // The usual case inline: one map and no fade in progress.
-    const Eigen::Vector3d gravity_n =
-        previous_ == nullptr && current_ != nullptr
-            ? current_->gravityAt(position_m, options_.outside_margin_m, inside)
-            : compensation(position_m, inside);
-    // Beyond the map, the clamped boundary value is a guess: refuse it, except while fading out.
-    if (enabled && !inside) return fault(ServoFault::kOutsideMap);
-    commanded_n += (static_cast<double>(level) / ramp_ticks_) * gravity_n;
+  // The map is looked up even while compensation is off: the frozen-driver check weighs the push
+  // against the full gravity, and outsideMap() reports the position either way.
+  bool inside = true;
+  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();
+  if (blend_ >= 1.0) {  // the usual case inline: no fade in progress
+    if (current_ != nullptr) {
+      gravity_n = current_->gravityAt(position_m, options_.outside_margin_m, inside);
+    }
+  } else {
+    gravity_n = compensation(position_m, inside);
   }
-  if (stale(position_m, commanded_n)) return fault(ServoFault::kStalePosition);
+  outside_map_.store(!inside, std::memory_order_relaxed);
+  if (!inside) increment(outside_map_ticks_);
 
+  Eigen::Vector3d commanded_n = force_n + level * gravity_n;
   // Squared norms first: the square root is paid only when the force is actually clamped.
   const double squared_n2 = commanded_n.squaredNorm();
+  bool clamped = false;
   if (squared_n2 > max_force_n * max_force_n) {
     // Divided by its largest component first: a finite force whose square overflows (1e200 N)
     // is clamped along its own direction too, instead of being scaled by max / inf = 0.
     const Eigen::Vector3d direction = commanded_n / commanded_n.cwiseAbs().maxCoeff();
     commanded_n = direction * (max_force_n / direction.norm());
-    increment(clamp_count_);
+    clamped = true;
   }
+  if (frozen(position_m, commanded_n - gravity_n, dt_s)) return fault(ServoFault::kStalePosition);
+  if (clamped) increment(clamp_count_);
   if (!inner_->setForce(commanded_n)) {
     // The force did not reach the actuators: whatever they do now, restart the ramp so that the
     // compensation does not arrive as a step when writes work again.
-    level_ticks_.store(0, std::memory_order_relaxed);
+    level_.store(0.0, std::memory_order_relaxed);
     countTick(ServoFault::kWriteFailed);
     return false;
   }
@@ -185,9 +204,20 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   return true;
 }
 
-void GravityCompensatedDevice::takeNewMap() noexcept {
-  // A new map is taken only between fades, so at most two maps are ever in use.
-  if (blend_ticks_ >= ramp_ticks_) {
+double GravityCompensatedDevice::tickInterval() noexcept {
+  const double now_s = clock_->now_s();
+  // The first tick has nothing to measure from; a clock going backwards (or NaN) counts as 0.
+  double dt_s = has_last_time_ ? now_s - last_time_s_ : 0.0;
+  last_time_s_ = now_s;
+  has_last_time_ = true;
+  if (!(dt_s >= 0.0)) dt_s = 0.0;
+  return std::min(dt_s, options_.max_tick_interval_s);
+}
+
+void GravityCompensatedDevice::takeNewMap(double dt_s) noexcept {
+  // A new map is taken only between fades, so at most two maps are ever in use. The first map
+  // fades in from none, and a null map fades the last one out, like any other swap.
+  if (blend_ >= 1.0) {
     const std::uint64_t sequence = published_sequence_.load(std::memory_order_acquire);
     if (sequence != taken_sequence_) {
       // Read after the sequence number: this is the map of that publication or a newer one.
@@ -196,12 +226,15 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
       if (map != current_) {
         previous_ = current_;
         current_ = map;
-        blend_ticks_ = 0;
+        blend_ = 0.0;
       }
     }
   }
-  if (blend_ticks_ < ramp_ticks_) ++blend_ticks_;
-  if (blend_ticks_ >= ramp_ticks_) {
+  if (blend_ < 1.0) {
+    const double ramp_s = options_.ramp_duration_s;
+    blend_ = ramp_s > 0.0 ? std::min(1.0, blend_ + dt_s / ramp_s) : 1.0;
+  }
+  if (blend_ >= 1.0) {
     previous_ = nullptr;
     if (acknowledged_local_ != taken_sequence_) {
       // Release: every read of the older maps happened before this store.
@@ -214,46 +247,79 @@ void GravityCompensatedDevice::takeNewMap() noexcept {
 Eigen::Vector3d GravityCompensatedDevice::compensation(const Eigen::Vector3d& position_m,
                                                        bool& inside) const noexcept {
   inside = true;
-  if (previous_ == nullptr) {
-    return current_ != nullptr ? current_->gravityAt(position_m, options_.outside_margin_m, inside)
-                               : Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();
+  if (previous_ != nullptr) {
+    gravity_n =
+        (1.0 - blend_) * previous_->gravityAt(position_m, options_.outside_margin_m, inside);
   }
-  const double weight = static_cast<double>(blend_ticks_) / ramp_ticks_;
-  Eigen::Vector3d gravity_n =
-      (1.0 - weight) * previous_->gravityAt(position_m, options_.outside_margin_m, inside);
   if (current_ != nullptr) {
     bool inside_current = true;
     gravity_n +=
-        weight * current_->gravityAt(position_m, options_.outside_margin_m, inside_current);
+        blend_ * current_->gravityAt(position_m, options_.outside_margin_m, inside_current);
     inside = inside && inside_current;
   }
   return gravity_n;
 }
 
-bool GravityCompensatedDevice::stale(const Eigen::Vector3d& position_m,
-                                     const Eigen::Vector3d& commanded_n) noexcept {
-  if (options_.stale_tick_limit <= 0) return false;
-  if (!stale_tracking_ || !bitwiseEqual(position_m, stale_position_m_)) {
-    stale_tracking_ = true;
-    stale_position_m_ = position_m;
-    stale_start_force_n_ = commanded_n;
-    stale_ticks_ = 0;
-    stale_force_moved_ = false;
+void GravityCompensatedDevice::learnResolution(const Eigen::Vector3d& position_m) noexcept {
+  if (has_last_position_) {
+    // Squared first: the square root is paid only on the rare tick that finds a finer step.
+    const double step_m2 = (position_m - last_position_m_).squaredNorm();
+    if (step_m2 > 0.0 && step_m2 < resolution_m_ * resolution_m_) {
+      resolution_m_ = std::sqrt(step_m2);
+      resolution_status_m_.store(resolution_m_, std::memory_order_relaxed);
+    }
+  }
+  last_position_m_ = position_m;
+  has_last_position_ = true;
+}
+
+bool GravityCompensatedDevice::frozen(const Eigen::Vector3d& position_m,
+                                      const Eigen::Vector3d& push_n, double dt_s) noexcept {
+  if (options_.frozen_window_s <= 0.0) return false;
+  if (!frozen_tracking_ || !bitwiseEqual(position_m, frozen_position_m_)) {
+    // A new run of identical readings starts: the filter starts from the push of its first tick.
+    frozen_tracking_ = true;
+    frozen_detected_ = false;
+    frozen_position_m_ = position_m;
+    frozen_run_s_ = 0.0;
+    push_stage_n_ = push_n;
+    push_filtered_n_ = push_n;
+    pushed_up_axes_ = 0;
+    pushed_down_axes_ = 0;
     return false;
   }
-  if (stale_ticks_ < options_.stale_tick_limit + 1) ++stale_ticks_;
-  const double threshold_n = options_.stale_force_change_n;
-  if ((commanded_n - stale_start_force_n_).squaredNorm() > threshold_n * threshold_n) {
-    stale_force_moved_ = true;
+  if (frozen_detected_) return true;  // lasts while the readings stay frozen
+  frozen_run_s_ += dt_s;
+  // Bilinear (Tustin) discretisation of the first-order low-pass, 1 - exp(-x) ~ 2x / (2 + x):
+  // the same response at any rate to within 0.5 % for ticks up to 4 ms (2.7 % at the 10 ms
+  // clamp), at the cost of a division instead of an exponential on every still tick.
+  const double time_constant_s = options_.frozen_filter_time_constant_s;
+  const double alpha = time_constant_s > 0.0 ? 2.0 * dt_s / (2.0 * time_constant_s + dt_s) : 1.0;
+  push_stage_n_ += alpha * (push_n - push_stage_n_);
+  push_filtered_n_ += alpha * (push_stage_n_ - push_filtered_n_);
+
+  const double threshold_n =
+      std::max(options_.frozen_force_floor_n,
+               0.5 * options_.frozen_hand_stiffness_n_per_m * kHandCounts * resolution_m_);
+  const double cone_n2 = kAxisConeCos2 * push_filtered_n_.squaredNorm();
+  for (int axis = 0; axis < 3; ++axis) {
+    const double component_n = push_filtered_n_[axis];
+    if (component_n * component_n < cone_n2) continue;
+    if (component_n >= threshold_n) pushed_up_axes_ |= static_cast<std::uint8_t>(1U << axis);
+    if (component_n <= -threshold_n) pushed_down_axes_ |= static_cast<std::uint8_t>(1U << axis);
   }
-  return stale_force_moved_ && stale_ticks_ > options_.stale_tick_limit;
+  frozen_detected_ =
+      (pushed_up_axes_ & pushed_down_axes_) != 0 && frozen_run_s_ >= options_.frozen_window_s;
+  return frozen_detected_;
 }
 
 bool GravityCompensatedDevice::fault(ServoFault kind) noexcept {
   inner_->setForce(Eigen::Vector3d::Zero());
-  level_ticks_.store(0, std::memory_order_relaxed);
-  // A stale fault lasts while the position stays frozen; any other fault restarts the tracking.
-  if (kind != ServoFault::kStalePosition) stale_tracking_ = false;
+  level_.store(0.0, std::memory_order_relaxed);
+  // A frozen driver stays caught while its readings stay frozen; any other fault restarts the
+  // tracking, since the readings in between were not usable.
+  if (kind != ServoFault::kStalePosition) frozen_tracking_ = false;
   countTick(kind);
   return false;
 }
@@ -266,8 +332,11 @@ void GravityCompensatedDevice::countTick(ServoFault kind) noexcept {
 }
 
 void GravityCompensatedDevice::resetServoState() noexcept {
-  level_ticks_.store(0, std::memory_order_relaxed);
-  stale_tracking_ = false;
+  level_.store(0.0, std::memory_order_relaxed);
+  frozen_tracking_ = false;
+  has_last_time_ = false;
+  has_last_position_ = false;
+  outside_map_.store(false, std::memory_order_relaxed);
   cached_fresh_ = false;
 }
 
@@ -348,7 +417,7 @@ bool GravityCompensatedDevice::compensationEnabled() const noexcept {
 }
 
 double GravityCompensatedDevice::compensationLevel() const noexcept {
-  return static_cast<double>(level_ticks_.load(std::memory_order_relaxed)) / ramp_ticks_;
+  return level_.load(std::memory_order_relaxed);
 }
 
 ServoFault GravityCompensatedDevice::activeFault() const noexcept {
@@ -378,6 +447,18 @@ std::uint64_t GravityCompensatedDevice::clampCount() const noexcept {
 
 std::uint64_t GravityCompensatedDevice::tickCount() const noexcept {
   return tick_count_.load(std::memory_order_relaxed);
+}
+
+bool GravityCompensatedDevice::outsideMap() const noexcept {
+  return outside_map_.load(std::memory_order_relaxed);
+}
+
+std::uint64_t GravityCompensatedDevice::outsideMapTickCount() const noexcept {
+  return outside_map_ticks_.load(std::memory_order_relaxed);
+}
+
+double GravityCompensatedDevice::positionResolution_m() const noexcept {
+  return resolution_status_m_.load(std::memory_order_relaxed);
 }
 
 }  // namespace autograv

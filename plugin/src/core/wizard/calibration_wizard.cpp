@@ -91,12 +91,11 @@ CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, Wizar
                 std::to_string(kMaxVerifyPoints));
   }
   CompensationOptions compensation;
-  compensation.servo_period_s = config_.parameters.servo_period_s;
+  // The wizard runs in servo ticks of the calibration parameters, also on a simulated device that
+  // runs faster than real time.
+  compensation.clock = std::make_shared<FixedPeriodServoClock>(config_.parameters.servo_period_s);
   compensation.ramp_duration_s = config_.compensation_ramp_s;
   compensation.enabled = false;  // the calibration itself must run uncompensated
-  // A release test at a boundary vertex may drift up to the limit outside the grid: that is not
-  // a fault of the device.
-  compensation.outside_margin_m = std::max(0.02, 2.0 * config_.verify_drift_limit_m);
   device_ = std::make_shared<GravityCompensatedDevice>(std::move(device), compensation);
 
   const auto count = static_cast<std::size_t>(grid_.vertexCount());

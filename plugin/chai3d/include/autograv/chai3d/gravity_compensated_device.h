@@ -16,21 +16,25 @@ namespace autograv::chai3d {
 ///   chai3d::cGenericHapticDevicePtr raw;
 ///   handler->getDevice(raw, 0);
 ///   auto device = autograv::chai3d::cGravityCompensatedDevice::create(raw);
-///   device->open();                          // also copies m_specifications, see below
+///   device->open();                          // then copies m_specifications, see below
 ///   device->loadAndPublishMap("omega.json"); // checked against the device's model name
 ///   tool->setHapticDevice(device);           // or call device->setForce(...) yourself
 ///
 /// CHAI3D's setForce and setForceAndTorque are non-virtual and funnel into the virtual
 /// setForceAndTorqueAndGripperForce, which this class overrides: every way of commanding a force
 /// is compensated. getSpecifications() is non-virtual and returns the member m_specifications, so
-/// open() (and the constructor) copy the wrapped device's into it. Every other virtual method is
-/// forwarded to the wrapped device (CHAI3D's base class would otherwise answer with quiet
-/// defaults).
+/// a successful open() copies the wrapped device's into it (not the constructor: before open()
+/// CHAI3D 3.3 leaves their m_model uninitialised); before open() it reports CHAI3D's placeholder.
+/// Every other virtual method is forwarded to the wrapped device (CHAI3D's base class would
+/// otherwise answer with quiet defaults).
 ///
 /// The compensation itself is autograv::GravityCompensatedDevice (ramps, clamping to
-/// m_maxLinearForce, faults, lock-free map swaps): reach it with compensation(). On a fault the
-/// linear force is zero; the torque and gripper force pass unchanged, since they do not depend on
-/// the position that failed the checks.
+/// m_maxLinearForce, faults, lock-free map swaps): reach it with compensation(). The linear force
+/// is zero only when the position cannot be trusted (failed read, NaN/Inf, frozen driver);
+/// outside the map the application's force passes and compensation continues with the map's
+/// boundary value (compensation().outsideMap() says so). The torque and gripper force always
+/// pass unchanged, since they do not depend on the position. Ramps and windows are in seconds of
+/// a steady clock, so they last as long on a free-running haptic loop at any rate.
 class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
  public:
   /// Throws autograv::Error for a null device or unusable options. Not real-time safe.
@@ -77,15 +81,17 @@ class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
   /// Publish maps, switch compensation, read faults and counters. Any thread, see
   /// GravityCompensatedDevice.
   GravityCompensatedDevice& compensation() noexcept { return *compensated_; }
-  /// Loads a map file (refused for another device model unless allowed) and publishes it.
-  /// Throws autograv::Error; the previous map stays in use on failure. Not real-time safe.
+  /// Loads a map file and publishes it; the first map fades in like every later one. Call after
+  /// open(). Throws autograv::Error (unreadable file, device not open, a map made for another
+  /// device model unless `allow_model_mismatch`); the previous map stays in use on failure.
+  /// Not real-time safe.
   void loadAndPublishMap(const std::string& path, bool allow_model_mismatch = false);
   /// Why the last open() failed (empty when it did not). Not real-time safe.
   const std::string& lastError() const { return adapter_->lastError(); }
   const ::chai3d::cGenericHapticDevicePtr& wrappedDevice() const { return device_; }
 
  private:
-  void copyState();
+  void copyAvailability();
 
   ::chai3d::cGenericHapticDevicePtr device_;
   std::shared_ptr<Chai3dDeviceAdapter> adapter_;
