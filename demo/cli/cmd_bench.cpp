@@ -91,11 +91,13 @@ struct CalibrationFigures {
 CalibrationFigures calibrationFigures(const std::string& name, int resolution, bool extrapolate,
                                       GravityMap* map_out) {
   auto device = openSimulatedDevice(name, 1);
-  const double side_m = defaultGridSide_m(device->specifications().workspace_radius_m);
+  // The default grid of `autograv calibrate`: a box fitted to the reachable workspace.
+  const WorkspaceFit fit = sim::fitGridToDevice(*device);
+  const WorkspaceGrid grid(fit.center_m, fit.size_m, Eigen::Vector3i::Constant(resolution));
   sim::CalibrationRunOptions options;
-  options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = side_m;
-  options.grid_resolution = resolution;
+  options.grid_center_m = grid.center_m();
+  options.grid_size_m = grid.size_m();
+  options.grid_resolution = grid.resolution();
   options.calibrator.extrapolate_initial_estimate = extrapolate;
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
   const auto start = Clock::now();
@@ -116,7 +118,7 @@ CalibrationFigures calibrationFigures(const std::string& name, int resolution, b
   figures.iterations_median =
       n % 2 ? iterations[n / 2] : 0.5 * (iterations[n / 2 - 1] + iterations[n / 2]);
   figures.iterations_max = iterations.back();
-  const GravityMap map(WorkspaceGrid(options.grid_center_m, side_m, resolution), result.vertices,
+  const GravityMap map(grid, result.vertices,
                        MapMetadata{device->specifications().model_name, "", "", {}});
   figures.max_error_rel = sim::measureAccuracy(map, *device, 0).max_error_rel;
   if (map_out != nullptr) *map_out = map;
@@ -135,7 +137,7 @@ void runBenchCommand(const BenchOptions& options) {
   }
 
   std::printf(
-      "\nCalibration, %d^3 grid, default side, seed 1 (paper: 14 iterations at one vertex)\n",
+      "\nCalibration, %d^3 grid, default fitted box, seed 1 (paper: 14 iterations at one vertex)\n",
       options.grid);
   std::printf("  %-10s %-12s %6s %6s %10s %10s %9s %8s\n", "device", "start", "median", "max",
               "s/vertex", "sim [s]", "wall [s]", "worst");

@@ -111,13 +111,22 @@ void runVerifyCommand(const VerifyOptions& options) {
   GravityCompensatedDevice decorated(meter, compensation);
   decorated.publishMap(map, options.allow_model_mismatch);
 
-  // Seeded points inside the grid (sim::Random: the same points on every platform).
+  // Seeded points inside the grid that the device can reach: a fitted box pokes out of the
+  // workspace (sim::Random: the same points on every platform).
   sim::Random random(options.seed);
   std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(options.points));
+  constexpr int kMaxDrawsPerPoint = 1000;
   for (auto& point : points) {
-    for (int axis = 0; axis < 3; ++axis) {
-      point[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.side_m();
-    }
+    int draws = 0;
+    do {
+      if (++draws > kMaxDrawsPerPoint) {
+        throw Error("verify: the map's grid hardly overlaps the reachable workspace of " +
+                    specs.model_name);
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        point[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.size_m()[axis];
+      }
+    } while (!simulated->isReachable(point));
   }
 
   std::printf("verify %s on %s: %d points inside the grid, released for %.2f s, seed %llu\n",

@@ -89,10 +89,11 @@ void DemoSession::setScript(const HandScript* script) { script_player_ = HandScr
 
 WorkspaceGrid DemoSession::calibrationGrid() const {
   if (const auto map = decorator_->publishedMap()) return map->grid();
-  const DeviceSpecifications& specs = simulation_->specifications();
-  const double side_m =
-      std::round(0.8 * 2.0 * specs.workspace_radius_m / std::sqrt(3.0) * 1e3) * 1e-3;
-  return WorkspaceGrid(simulation_->workspaceCenter_m(), side_m, options_.calibration_resolution);
+  // The default grid of `autograv calibrate` and `autograv wizard`: fitted to the reachable
+  // workspace.
+  const WorkspaceFit fit = sim::fitGridToDevice(*simulation_);
+  return WorkspaceGrid(fit.center_m, fit.size_m,
+                       Eigen::Vector3i::Constant(options_.calibration_resolution));
 }
 
 std::string DemoSession::startCalibration() {
@@ -100,7 +101,7 @@ std::string DemoSession::startCalibration() {
   const WorkspaceGrid grid = calibrationGrid();
   WizardConfig config;
   config.grid_center_m = grid.center_m();
-  config.grid_side_m = grid.side_m();
+  config.grid_size_m = grid.size_m();
   config.grid_resolution = grid.resolution();
   config.parameters = options_.estimation;
   config.map_path = options_.calibration_map_path;

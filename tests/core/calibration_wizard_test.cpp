@@ -151,8 +151,8 @@ struct Rig {
 
 WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double side_m = 0.04) {
   WizardConfig config;
-  config.grid_side_m = side_m;
-  config.grid_resolution = resolution;
+  config.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  config.grid_resolution = Eigen::Vector3i::Constant(resolution);
   config.map_path = map_path;
   config.verify_points = 1;  // one release test keeps the runs short; the full run tests three
   return config;

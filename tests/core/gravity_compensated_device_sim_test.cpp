@@ -82,7 +82,7 @@ TEST_P(ReleaseTest, ATruthMapHoldsTheEndEffectorTenTimesBetterThanNothing) {
   for (int i = 0; i < 20; ++i) {
     Eigen::Vector3d start;
     for (int axis = 0; axis < 3; ++axis) {
-      start[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.side_m();
+      start[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.size_m()[axis];
     }
     on.push_back(drift_m(*simulated, decorated, start, max_force_on_n));
     off.push_back(drift_m(*simulated, *simulated, start, max_force_off_n));

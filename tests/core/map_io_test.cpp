@@ -94,7 +94,7 @@ std::string errorOf(const std::function<void()>& load) {
 
 void expectSameMap(const GravityMap& a, const GravityMap& b) {
   EXPECT_EQ(a.grid().center_m(), b.grid().center_m());
-  EXPECT_EQ(a.grid().side_m(), b.grid().side_m());
+  EXPECT_EQ(a.grid().size_m(), b.grid().size_m());
   EXPECT_EQ(a.grid().resolution(), b.grid().resolution());
   EXPECT_EQ(a.metadata().device_model, b.metadata().device_model);
   EXPECT_EQ(a.metadata().device_serial, b.metadata().device_serial);

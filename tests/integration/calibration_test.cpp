@@ -23,8 +23,8 @@ sim::CalibrationRunOptions optionsFor(const sim::SimulatedDevice& device, double
                                       int resolution) {
   sim::CalibrationRunOptions options;
   options.grid_center_m = device.workspaceCenter_m();
-  options.grid_side_m = side_m;
-  options.grid_resolution = resolution;
+  options.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  options.grid_resolution = Eigen::Vector3i::Constant(resolution);
   return options;
 }
 
@@ -34,8 +34,8 @@ Outcome calibrate(const std::string& name, int resolution, double side_m, std::u
   EXPECT_TRUE(device->open());
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = side_m;
-  options.grid_resolution = resolution;
+  options.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  options.grid_resolution = Eigen::Vector3i::Constant(resolution);
   options.parameters = parameters;
   Outcome outcome;
   outcome.run = sim::runSimulatedCalibration(*device, options);
@@ -61,8 +61,8 @@ TEST(CalibrationTest, ParametersThatWouldSaturateAreRefusedBeforeTheDeviceMoves)
   ASSERT_TRUE(device->open());
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = 0.069;
-  options.grid_resolution = 2;  // one 69 mm cell
+  options.grid_size_m = Eigen::Vector3d::Constant(0.069);
+  options.grid_resolution = Eigen::Vector3i::Constant(2);  // one 69 mm cell
   options.parameters.beta_per_s2 = 2500.0;
   try {
     sim::runSimulatedCalibration(*device, options);
