@@ -168,7 +168,7 @@ TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
   ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
   WizardStatus status = rig.wizard->status();
   EXPECT_NE(status.summary.find("sim:omega"), std::string::npos) << status.summary;
-  EXPECT_NE(status.summary.find("8 vertices"), std::string::npos) << status.summary;
+  EXPECT_NE(status.summary.find("2x2x2 vertices"), std::string::npos) << status.summary;
 
   // Centre: the live distance falls as the hand carries the end-effector to the centre.
   rig.frame();
@@ -339,7 +339,7 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
   Rig rig("sim:omega", smallConfig(path, 3, 0.2));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
-  EXPECT_NE(rig.wizard->status().message.find("--side-mm"), std::string::npos)
+  EXPECT_NE(rig.wizard->status().message.find("--box-mm"), std::string::npos)
       << rig.wizard->status().message;
 }
 

@@ -107,10 +107,15 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
 
   if (!detector_.update(sample.position_m, sample.velocity_m_per_s)) {
     if (detector_.elapsed_s() > parameters_.max_step_duration_s) {
-      // The hold failed: a device that cannot come to rest at X_i (bouncing on a rubber end
-      // stop, buzzing at a joint limit) cannot be calibrated there either.
-      finish(VertexOutcome::kUnreachable);
-      return Status::kUnreachable;
+      // Far from X_i the hold failed because the device cannot get there (bouncing on a rubber
+      // end stop, buzzing at a joint limit); close to it, the estimator merely missed its steady
+      // state (encoder dither) and a second visit may settle.
+      if ((sample.position_m - vertex_m_).norm() > kUnreachableGap_m) {
+        finish(VertexOutcome::kUnreachable);
+        return Status::kUnreachable;
+      }
+      finish(VertexOutcome::kNoSteadyState);
+      return Status::kNoSteadyState;
     }
     return Status::kSettling;
   }
@@ -134,8 +139,8 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
 
   const double update_n = (updated_n - previous_n).norm();
   small_updates_ = update_n <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
-  const bool stalled = estimate_.iterations > 1 &&
-                       update_n > kStallUpdateFloor * parameters_.eps_g_n &&
+  const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
+  const bool stalled = estimate_.iterations > 1 && update_n > stall_floor_n &&
                        update_n >= kStallRatio * last_update_n_;
   stalled_updates_ = stalled ? stalled_updates_ + 1 : 0;
   last_update_n_ = update_n;
@@ -164,6 +169,8 @@ const char* toString(VertexEstimator::Status status) noexcept {
       return "converged";
     case VertexEstimator::Status::kIterationCap:
       return "iteration_cap";
+    case VertexEstimator::Status::kNoSteadyState:
+      return "no_steady_state";
     case VertexEstimator::Status::kUnreachable:
       return "unreachable";
     case VertexEstimator::Status::kDeviceFault:
