@@ -7,6 +7,8 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/map/workspace_fit.h"
+#include "autograv/sim/procedures.h"
 
 namespace autograv::demo {
 
