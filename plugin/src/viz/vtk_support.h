@@ -30,8 +30,8 @@ struct Palette {
   Rgb failed;
   Rgb not_visited;
   Rgb device;
-  Rgb filled;      ///< Vertices out of reach whose values were filled from their neighbours.
   Rgb grid_lines;  ///< Chart grid.
+  Rgb filled;      ///< Vertices out of reach whose values were filled from their neighbours.
 };
 
 Palette paletteFor(Background background) noexcept;
