@@ -30,8 +30,7 @@ extern "C" void requestStop(int) { g_stop_requested.store(true); }
 
 struct CalibrateOptions {
   std::string device = "sim:omega";
-  int grid = 0;          // 0: the device's default
-  double side_mm = 0.0;  // 0: the device's default
+  GridOptions grid;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   std::string out_path;
@@ -54,17 +53,17 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
-  // Default grid: the cube inscribed in the workspace sphere, shrunk to 80 % to stay clear of the
-  // end stops; 5 vertices per axis.
-  const double default_side_m = defaultGridSide_m(specs.workspace_radius_m);
+  // Default grid: a box fitted to the device's reachable workspace (at least 90 % of it inside);
+  // vertices beyond the end stops are found unreachable and filled.
+  double workspace_coverage = 0.0;
+  const WorkspaceGrid grid = resolveGrid(options.grid, *device, workspace_coverage);
   sim::CalibrationRunOptions run;
-  run.grid_center_m = device->workspaceCenter_m();
-  run.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : default_side_m;
-  run.grid_resolution = options.grid > 0 ? options.grid : 5;
+  run.grid_center_m = grid.center_m();
+  run.grid_size_m = grid.size_m();
+  run.grid_resolution = grid.resolution();
   run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
   run.redo_passes = options.redo_failed;
-  const WorkspaceGrid grid(run.grid_center_m, run.grid_side_m, run.grid_resolution);
 
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
@@ -82,11 +81,10 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   }
 
   std::printf(
-      "Calibrating %s: grid %d^3 = %d vertices, side %.1f mm (cell %.1f mm), seed %llu, "
-      "friction %s\n",
-      specs.model_name.c_str(), grid.resolution(), grid.vertexCount(), grid.side_m() * 1e3,
-      grid.spacing_m() * 1e3, static_cast<unsigned long long>(options.seed),
-      sim::toString(options.friction));
+      "Calibrating %s: grid %s, %.1f %% of the reachable workspace inside, seed %llu, friction "
+      "%s\n",
+      specs.model_name.c_str(), grid.describe().c_str(), 100.0 * workspace_coverage,
+      static_cast<unsigned long long>(options.seed), sim::toString(options.friction));
   std::fflush(stdout);
   ProgressBar progress("vertex");
   run.on_progress = [&](const AutoCalibrator& calibrator) {
@@ -137,13 +135,18 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
     iterations.push_back(v.iterations);
     vertex_seconds += v.seconds;
-    if (v.outcome != VertexOutcome::kConverged) failed.push_back(i);
+    if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
+      failed.push_back(i);
+    }
   }
   const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
   const int iterations_max = *std::max_element(iterations.begin(), iterations.end());
 
   std::printf("\n%-34s %s\n", "map", options.out_path.c_str());
   std::printf("%-34s %d / %d\n", "vertices converged", map.convergedCount(), grid.vertexCount());
+  std::printf("%-34s %d (filled from measured neighbours: %d)\n", "vertices unreachable",
+              map.unreachableCount(), map.filledCount());
+  std::printf("%-34s %.1f %%\n", "reachable workspace inside the grid", 100.0 * workspace_coverage);
   std::printf("%-34s %.1f / %d (paper: 14 at one vertex)\n", "iterations per vertex (median/max)",
               median(iterations), iterations_max);
   std::printf("%-34s %.1f s (%.2f s per vertex), wall %.1f s\n", "simulated time",
@@ -189,11 +192,15 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       {"coulomb_force_n", friction.coulomb_force_n},
       {"map", options.out_path},
       {"grid",
-       {{"resolution", grid.resolution()},
-        {"side_m", grid.side_m()},
+       {{"resolution", {grid.resolution().x(), grid.resolution().y(), grid.resolution().z()}},
+        {"size_m", {grid.size_m().x(), grid.size_m().y(), grid.size_m().z()}},
         {"center_m", {grid.center_m().x(), grid.center_m().y(), grid.center_m().z()}}}},
       {"vertices", grid.vertexCount()},
       {"converged", map.convergedCount()},
+      {"unreachable", map.unreachableCount()},
+      {"filled", map.filledCount()},
+      {"complete", map.isComplete()},
+      {"workspace_coverage", workspace_coverage},
       {"failed", failed_json},
       {"iterations_median", median(iterations)},
       {"iterations_max", iterations_max},
@@ -225,7 +232,7 @@ void addCalibrateCommand(CLI::App& app) {
   command->add_option("--device", options->device, "Simulated device")
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
       ->capture_default_str();
-  addGridOptions(*command, options->grid, options->side_mm);
+  addGridOptions(*command, options->grid);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();

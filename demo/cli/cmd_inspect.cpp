@@ -51,7 +51,9 @@ void runInspectCommand(const InspectOptions& options) {
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
     ++outcomes[toString(v.outcome)];
-    if (v.outcome != VertexOutcome::kConverged) not_converged.push_back(i);
+    if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
+      not_converged.push_back(i);
+    }
     if (v.outcome == VertexOutcome::kPending) continue;
     norms_n.push_back(v.gravity_n.norm());
     iterations.push_back(v.iterations);
@@ -65,11 +67,8 @@ void runInspectCommand(const InspectOptions& options) {
                (metadata.device_serial.empty() ? "" : ", serial " + metadata.device_serial));
   printRow("created", metadata.created_utc);
   const Eigen::Vector3d c = grid.center_m() * 1e3;
-  printRow("grid", std::to_string(grid.resolution()) +
-                       "^3 = " + std::to_string(grid.vertexCount()) + " vertices, " +
-                       format("side %.1f mm (cell %.2f mm), centre [%.1f, ", grid.side_m() * 1e3,
-                              grid.spacing_m() * 1e3, c.x()) +
-                       format("%.1f, %.1f] mm", c.y(), c.z()));
+  printRow("grid", std::string(grid.isCube() ? "cube " : "box ") + grid.describe() +
+                       format(", centre [%.1f, %.1f, %.1f] mm", c.x(), c.y(), c.z()));
   std::string outcome_text = std::to_string(map.convergedCount()) + " converged, " +
                              std::to_string(grid.vertexCount() - map.convergedCount()) + " not";
   std::string details;
@@ -79,6 +78,9 @@ void runInspectCommand(const InspectOptions& options) {
   }
   if (!details.empty()) outcome_text += " (" + details + ")";
   printRow("vertices", outcome_text);
+  printRow("values", std::to_string(grid.vertexCount() - map.filledCount()) + " measured, " +
+                         std::to_string(map.filledCount()) +
+                         " filled from measured neighbours (unreachable vertices)");
   if (!norms_n.empty()) {
     const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
     printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,
@@ -117,14 +119,14 @@ void runInspectCommand(const InspectOptions& options) {
     }
   }
   if (options.list_vertices) {
-    std::printf("\n%6s  %-26s  %-30s  %5s  %7s  %s\n", "vertex", "position [mm]", "G_hat [N]",
-                "iter", "time[s]", "outcome");
+    std::printf("\n%6s  %-26s  %-30s  %5s  %7s  %-15s  %s\n", "vertex", "position [mm]",
+                "G_hat [N]", "iter", "time[s]", "outcome", "value");
     for (int i = 0; i < grid.vertexCount(); ++i) {
       const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
       const Eigen::Vector3d x = grid.vertexPosition(i) * 1e3;
-      std::printf("%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %s\n", i, x.x(),
-                  x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(), v.iterations,
-                  v.seconds, toString(v.outcome));
+      std::printf("%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %-15s  %s\n", i,
+                  x.x(), x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(),
+                  v.iterations, v.seconds, toString(v.outcome), toString(v.provenance));
     }
   }
 }

@@ -121,6 +121,7 @@ viz::Background parseBackgroundOption(const std::string& text) {
 // The ground truth of a simulated device; the device stays alive inside the function.
 struct Truth {
   viz::GroundTruth gravity;
+  viz::Reachability reachable;
   double workspace_radius_m = 0.0;
   Eigen::Vector3d workspace_center_m = Eigen::Vector3d::Zero();
 };
@@ -133,6 +134,9 @@ std::optional<Truth> makeTruth(const TruthOptions& options) {
   truth.workspace_center_m = device->workspaceCenter_m();
   truth.gravity = [device](const Eigen::Vector3d& position_m) {
     return device->trueGravity(position_m);
+  };
+  truth.reachable = [device](const Eigen::Vector3d& position_m) {
+    return device->isReachable(position_m);
   };
   return truth;
 }
@@ -185,6 +189,7 @@ void runRender(const RenderOptions& options) {
   warnModelMismatch(map, options.truth);
   if (truth) {
     scene.ground_truth = truth->gravity;
+    scene.reachable = truth->reachable;
     scene.workspace_radius_m = truth->workspace_radius_m;
     scene.workspace_center_m = truth->workspace_center_m;
   }

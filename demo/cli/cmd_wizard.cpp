@@ -39,9 +39,8 @@ struct WizardOptions {
   bool uncalibrated = false;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
-  int grid = 0;          // 0: 5 per axis, as `autograv calibrate`
-  double side_mm = 0.0;  // 0: the default of `autograv calibrate`
-  double speed = -1.0;   // < 0: real time on a terminal, as fast as possible otherwise
+  GridOptions grid;     // the options and defaults of `autograv calibrate`
+  double speed = -1.0;  // < 0: real time on a terminal, as fast as possible otherwise
   double frame_ms = 20.0;
   double tolerance_mm = 10.0;
   int verify_points = 3;
@@ -217,12 +216,13 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
       {"map", status.map_saved ? options.out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
       {"grid",
-       {{"resolution", grid.resolution()},
-        {"side_m", grid.side_m()},
+       {{"resolution", {grid.resolution().x(), grid.resolution().y(), grid.resolution().z()}},
+        {"size_m", vectorJson(grid.size_m())},
         {"center_m", vectorJson(grid.center_m())}}},
       {"vertices", status.vertex_count},
       {"converged", status.converged},
       {"restored", status.review.restored},
+      {"unreachable", status.review.unreachable},
       {"failed", failed},
       {"iterations_median", status.review.iterations_median},
       {"iterations_max", status.review.iterations_max},
@@ -250,11 +250,12 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   if (options.uncalibrated) device->setCalibrated(false);
 
   WizardConfig config;
-  config.grid_center_m = device->workspaceCenter_m();
   // The default grid of `autograv calibrate`, so that either command resumes the other's run.
-  const double radius_m = device->specifications().workspace_radius_m;
-  config.grid_side_m = options.side_mm > 0.0 ? options.side_mm * 1e-3 : defaultGridSide_m(radius_m);
-  config.grid_resolution = options.grid > 0 ? options.grid : 5;
+  double workspace_coverage = 0.0;
+  const WorkspaceGrid grid = resolveGrid(options.grid, *device, workspace_coverage);
+  config.grid_center_m = grid.center_m();
+  config.grid_size_m = grid.size_m();
+  config.grid_resolution = grid.resolution();
   config.parameters = options.parameters;
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
@@ -392,7 +393,7 @@ void addWizardCommand(CLI::App& app) {
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
-  addGridOptions(*command, options->grid, options->side_mm);
+  addGridOptions(*command, options->grid);
   command
       ->add_option("--speed", options->speed,
                    "Simulated seconds per wall second; 0 runs as fast as possible (default: 1 "

@@ -1,7 +1,14 @@
 #include "estimation_options.h"
 
+#include <cmath>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_io.h"
+#include "autograv/sim/procedures.h"
 
 namespace autograv::cli {
 
@@ -55,12 +62,83 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p,
       ->capture_default_str();
 }
 
-void addGridOptions(CLI::App& command, int& grid, double& side_mm) {
-  command.add_option("--grid", grid, "Vertices per axis (default 5)")->check(CLI::Range(2, 16));
+namespace {
+
+/// "A" or "AxBxC" into three positive numbers (A repeated for a single one). False on anything
+/// else.
+bool parseTriple(const std::string& text, Eigen::Vector3d& values) {
+  std::vector<std::string> parts;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto x = text.find_first_of("xX", start);
+    parts.push_back(text.substr(start, x == std::string::npos ? std::string::npos : x - start));
+    if (x == std::string::npos) break;
+    start = x + 1;
+  }
+  if (parts.size() != 1 && parts.size() != 3) return false;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(parts[i], &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (used != parts[i].size() || !std::isfinite(value) || !(value > 0.0)) return false;
+    values[static_cast<int>(i)] = value;
+  }
+  if (parts.size() == 1) values.setConstant(values[0]);
+  return true;
+}
+
+}  // namespace
+
+void addGridOptions(CLI::App& command, GridOptions& options) {
+  command.add_option("--grid", options.grid,
+                     "Vertices per axis: 5, or 7x5x4 along x, y, z (default 5; 2-16 each)");
+  auto* box = command.add_option(
+      "--box-mm", options.box_mm,
+      "Grid box extents [mm]: 160x120x70 along x, y, z, or one number for a cube (default: "
+      "fitted to the device's reachable workspace, at least 90 % of it inside)");
   command
-      .add_option("--side-mm", side_mm,
-                  "Grid edge [mm] (default: 80 % of the cube inscribed in the workspace)")
-      ->check(CLI::PositiveNumber);
+      .add_option("--side-mm", options.side_mm, "Grid edge of a cubic grid [mm] (as --box-mm N)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(box);
+}
+
+WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice& device,
+                          double& workspace_coverage) {
+  Eigen::Vector3i resolution = Eigen::Vector3i::Constant(5);
+  if (!options.grid.empty()) {
+    Eigen::Vector3d counts;
+    if (!parseTriple(options.grid, counts) || (counts.array() != counts.array().round()).any() ||
+        (counts.array() < 2.0).any() || (counts.array() > 16.0).any()) {
+      throw Error(
+          "--grid: expected vertices per axis, 2 to 16, as N or NxNxN (e.g. 7x5x4), got \"" +
+          options.grid + "\"");
+    }
+    resolution = counts.cast<int>();
+  }
+  Eigen::Vector3d size_m;
+  Eigen::Vector3d center_m = device.workspaceCenter_m();
+  if (!options.box_mm.empty()) {
+    Eigen::Vector3d size_mm;
+    if (!parseTriple(options.box_mm, size_mm)) {
+      throw Error(
+          "--box-mm: expected positive extents in mm as N or XxYxZ (e.g. 160x120x70), got \"" +
+          options.box_mm + "\"");
+    }
+    size_m = size_mm * 1e-3;
+  } else if (options.side_mm > 0.0) {
+    size_m.setConstant(options.side_mm * 1e-3);
+  } else {
+    const WorkspaceFit fit = sim::fitGridToDevice(device);
+    workspace_coverage = fit.workspace_coverage;
+    return WorkspaceGrid(fit.center_m, fit.size_m, resolution);
+  }
+  const WorkspaceGrid grid(center_m, size_m, resolution);
+  workspace_coverage = sim::deviceWorkspaceCoverage(device, grid);
+  return grid;
 }
 
 void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,

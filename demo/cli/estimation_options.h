@@ -1,10 +1,14 @@
 #pragma once
 
+#include <string>
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "autograv/device/device_specifications.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/workspace_grid.h"
+#include "autograv/sim/simulated_device.h"
 
 namespace autograv::cli {
 
@@ -15,9 +19,22 @@ namespace autograv::cli {
 void addEstimationOptions(CLI::App& command, EstimationParameters& parameters,
                           EstimationMethod default_method = EstimationMethod::kDither);
 
-/// Adds --grid (vertices per axis, 2-16) and --side-mm (grid edge) to `command`; 0 in either
-/// stands for the default: 5 per axis, and defaultGridSide_m of the device's workspace.
-void addGridOptions(CLI::App& command, int& grid, double& side_mm);
+/// The calibration grid as given on the command line.
+struct GridOptions {
+  std::string grid;    ///< "--grid": "5" (per axis) or "7x5x4"; empty: 5 per axis.
+  std::string box_mm;  ///< "--box-mm": "160x120x70" or "100" (a cube); empty: see side_mm.
+  double side_mm = 0;  ///< "--side-mm": cube edge; 0 (and no box): fitted to the device.
+};
+
+/// Adds --grid, --box-mm and --side-mm to `command`.
+void addGridOptions(CLI::App& command, GridOptions& options);
+
+/// The grid `options` describe for `device`: an explicit box or cube centred on the workspace
+/// centre, or by default the box fitted to the device's reachable workspace (at least 90 % of it
+/// inside). `workspace_coverage` receives the fraction of the reachable workspace inside the
+/// grid either way. Throws autograv::Error naming the option on a malformed value.
+WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice& device,
+                          double& workspace_coverage);
 
 /// Fills in what depends on the device or the method and was not given on the command line: k0
 /// (see defaultInitializationStiffness) and n_G (5 for the paper's method, 3 for the dither

@@ -75,8 +75,9 @@ std::vector<std::string> DemoView::readout(const ServoSnapshot& s, const Gravity
   std::vector<std::string> lines;
   std::string first = device_name_;
   if (map != nullptr) {
-    const int n = map->grid().resolution();
-    first += format("  MAP %dX%dX%d", n, n, n);
+    const Eigen::Vector3i& n = map->grid().resolution();
+    first += format("  MAP %dX%dX%d", n.x(), n.y(), n.z());
+    if (map->filledCount() > 0) first += format(" %d FILLED", map->filledCount());
   } else {
     first += "  NO MAP";
   }

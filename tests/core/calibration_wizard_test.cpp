@@ -151,8 +151,8 @@ struct Rig {
 
 WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double side_m = 0.04) {
   WizardConfig config;
-  config.grid_side_m = side_m;
-  config.grid_resolution = resolution;
+  config.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  config.grid_resolution = Eigen::Vector3i::Constant(resolution);
   config.map_path = map_path;
   config.verify_points = 1;  // one release test keeps the runs short; the full run tests three
   return config;
@@ -170,7 +170,7 @@ TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
   ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
   WizardStatus status = rig.wizard->status();
   EXPECT_NE(status.summary.find("sim:omega"), std::string::npos) << status.summary;
-  EXPECT_NE(status.summary.find("8 vertices"), std::string::npos) << status.summary;
+  EXPECT_NE(status.summary.find("2x2x2 vertices"), std::string::npos) << status.summary;
 
   // Centre: the live distance falls as the hand carries the end-effector to the centre.
   rig.frame();
@@ -341,7 +341,7 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
   Rig rig("sim:omega", smallConfig(path, 3, 0.2));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
-  EXPECT_NE(rig.wizard->status().message.find("--side-mm"), std::string::npos)
+  EXPECT_NE(rig.wizard->status().message.find("--box-mm"), std::string::npos)
       << rig.wizard->status().message;
 }
 

@@ -98,7 +98,7 @@ TEST_P(ReleaseTest, ATruthMapHoldsTheEndEffectorTenTimesBetterThanNothing) {
   for (int i = 0; i < 20; ++i) {
     Eigen::Vector3d start;
     for (int axis = 0; axis < 3; ++axis) {
-      start[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.side_m();
+      start[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.size_m()[axis];
     }
     on.push_back(drift_m(*simulated, decorated, start, max_force_on_n));
     off.push_back(drift_m(*simulated, *simulated, start, max_force_off_n));
@@ -249,7 +249,7 @@ TEST_P(SimulatedDeviceTest, AWallOutsideTheMapReachesTheDeviceOnEveryTick) {
   ASSERT_TRUE(run(0.2, [](double) { return Eigen::Vector3d::Zero(); }));  // the map fades in
   ASSERT_TRUE(decorated_->latestMapInUse());
   const WorkspaceGrid& grid = map_->grid();
-  const double wall_x_m = grid.minCorner_m().x() + grid.side_m();  // the map's +x face
+  const double wall_x_m = grid.minCorner_m().x() + grid.size_m().x();  // the map's +x face
   Eigen::Vector3d goal_m = grid.center_m();
   goal_m.x() = wall_x_m + 0.027;  // the hand's spring gives ~2 mm to the wall's 1.5 N
   simulated_->hand().moveTo(goal_m, 0.05);

@@ -49,11 +49,11 @@ TEST(GravityMapTest, PointsOutsideAreClampedToTheBoundary) {
 // The textbook form of trilinear interpolation, eight weighted corners, for comparison.
 Eigen::Vector3d referenceTrilinear(const GravityMap& map, const Eigen::Vector3d& position_m) {
   const WorkspaceGrid& grid = map.grid();
-  const int last = grid.resolution() - 1;
-  const Eigen::Vector3d cells = (position_m - grid.minCorner_m()) / grid.spacing_m();
+  const Eigen::Vector3d cells = (position_m - grid.minCorner_m()).cwiseQuotient(grid.spacing_m());
   int cell[3];
   double t[3];
   for (int axis = 0; axis < 3; ++axis) {
+    const int last = grid.resolution()[axis] - 1;
     const double clamped = std::clamp(cells[axis], 0.0, static_cast<double>(last));
     cell[axis] = std::min(static_cast<int>(std::floor(clamped)), last - 1);
     t[axis] = clamped - cell[axis];

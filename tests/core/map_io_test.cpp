@@ -94,7 +94,7 @@ std::string errorOf(const std::function<void()>& load) {
 
 void expectSameMap(const GravityMap& a, const GravityMap& b) {
   EXPECT_EQ(a.grid().center_m(), b.grid().center_m());
-  EXPECT_EQ(a.grid().side_m(), b.grid().side_m());
+  EXPECT_EQ(a.grid().size_m(), b.grid().size_m());
   EXPECT_EQ(a.grid().resolution(), b.grid().resolution());
   EXPECT_EQ(a.metadata().device_model, b.metadata().device_model);
   EXPECT_EQ(a.metadata().device_serial, b.metadata().device_serial);
@@ -121,6 +121,7 @@ void expectSameMap(const GravityMap& a, const GravityMap& b) {
     EXPECT_EQ(u.iterations, v.iterations);
     EXPECT_EQ(u.seconds, v.seconds);
     EXPECT_EQ(u.outcome, v.outcome);
+    EXPECT_EQ(u.provenance, v.provenance);
     ASSERT_EQ(u.history.size(), v.history.size());
     for (std::size_t j = 0; j < u.history.size(); ++j) {
       EXPECT_EQ(u.history[j].position_error_m, v.history[j].position_error_m);
@@ -156,7 +157,8 @@ TEST(MapIoTest, FileHoldsTheDocumentedFieldsAndChecksum) {
   EXPECT_EQ(document.at("schema_version"), kMapSchemaVersion);
   EXPECT_EQ(document.at("units").at("force"), "N");
   EXPECT_EQ(document.at("device").at("model"), "sim:omni");
-  EXPECT_EQ(document.at("grid").at("resolution"), 5);
+  EXPECT_EQ(document.at("grid").at("resolution"), json::array({5, 5, 5}));
+  EXPECT_EQ(document.at("vertices").at(17).at("provenance"), "measured");
   EXPECT_EQ(document.at("parameters").at("n_s"), 23);
   EXPECT_EQ(document.at("vertices").size(), 125u);
   EXPECT_EQ(document.at("vertices").at(17).at("outcome"), "device_fault");
@@ -193,12 +195,18 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
        "field /vertices/3/gravity_n:", "array of 3"},
       {"gravity component null", [](json& d) { d["vertices"][4]["gravity_n"][1] = nullptr; },
        "field /vertices/4/gravity_n/1:", "finite number"},
-      {"resolution 1", [](json& d) { d["grid"]["resolution"] = 1; },
-       "field /grid/resolution:", "integer in [2, 64]"},
-      {"resolution float", [](json& d) { d["grid"]["resolution"] = 5.0; },
-       "field /grid/resolution:", "integer"},
-      {"negative side", [](json& d) { d["grid"]["side_m"] = -0.09; },
-       "field /grid/side_m:", "> 0 (unit: m)"},
+      {"resolution 1", [](json& d) { d["grid"]["resolution"][1] = 1; },
+       "field /grid/resolution/1:", "integer in [2, 64]"},
+      {"resolution float", [](json& d) { d["grid"]["resolution"][0] = 5.0; },
+       "field /grid/resolution/0:", "integer"},
+      {"resolution scalar", [](json& d) { d["grid"]["resolution"] = 5; },
+       "field /grid/resolution:", "array of 3 integers"},
+      {"negative extent", [](json& d) { d["grid"]["size_m"][2] = -0.09; },
+       "field /grid/size_m/2:", "> 0 (unit: m)"},
+      {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
+       "field /vertices/4/provenance:", "one of measured, filled"},
+      {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
+       "field /vertices/4/provenance:", "missing (required by schema version 2)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -223,12 +231,12 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
        "field /vertices/13/history/1/note:", "unexpected field"},
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
-      {"newer schema", [](json& d) { d["schema_version"] = 2; },
-       "field /schema_version:", "reads schema version 1 only"},
+      {"newer schema", [](json& d) { d["schema_version"] = 3; },
+       "field /schema_version:", "reads schema versions 1 to 2 only"},
       {"not a map", [](json& d) { d.erase("format"); },
        "field /format:", "not an autograv map file"},
-      {"misspelt member", [](json& d) { d["grid"]["sides_m"] = 0.1; },
-       "field /grid/sides_m:", "unexpected field"},
+      {"misspelt member", [](json& d) { d["grid"]["sizes_m"] = 0.1; },
+       "field /grid/sizes_m:", "unexpected field"},
       {"missing parameter", [](json& d) { d["parameters"].erase("n_g"); },
        "field /parameters/n_g:", "missing"},
       {"zero alpha", [](json& d) { d["parameters"]["alpha_per_s"] = 0.0; },
@@ -425,6 +433,98 @@ TEST(MapIoTest, AnEmptyCreationTimeIsStampedWithTheCurrentTime) {
   EXPECT_EQ(created[10], 'T');
   EXPECT_EQ(created.back(), 'Z');
   EXPECT_GE(created.substr(0, 4), "2024");
+}
+
+// A box grid whose far corner vertices were unreachable and filled: schema 2 keeps the box and
+// says which values were measured.
+GravityMap makeBoxMap() {
+  const WorkspaceGrid grid(Eigen::Vector3d(0.0, 0.002, -0.01), Eigen::Vector3d(0.16, 0.12, 0.07),
+                           Eigen::Vector3i(7, 5, 4));
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    v.gravity_n = Eigen::Vector3d(0.001 * i, 0.5, 2.0 + 1.0 / (i + 1));
+    const bool far = grid.vertexPosition(i).norm() > 0.085;
+    v.outcome = far ? VertexOutcome::kUnreachable : VertexOutcome::kConverged;
+    v.provenance = far ? VertexProvenance::kFilled : VertexProvenance::kMeasured;
+    v.iterations = far ? 3 : 5;
+  }
+  MapMetadata metadata;
+  metadata.device_model = "sim:omni";
+  metadata.created_utc = "2026-11-30T12:00:00Z";
+  return GravityMap(grid, std::move(vertices), metadata);
+}
+
+TEST(MapIoTest, BoxGridAndProvenanceRoundTripInSchema2) {
+  TemporaryFolder folder;
+  const GravityMap original = makeBoxMap();
+  ASSERT_GT(original.filledCount(), 0);
+  ASSERT_TRUE(original.isComplete());
+  saveMap(original, folder.file("box.json"));
+  const json document = json::parse(readText(folder.file("box.json")));
+  EXPECT_EQ(document.at("schema_version"), 2);
+  EXPECT_EQ(document.at("grid").at("size_m"), json::array({0.16, 0.12, 0.07}));
+  EXPECT_EQ(document.at("grid").at("resolution"), json::array({7, 5, 4}));
+  EXPECT_EQ(document.at("vertices").at(0).at("outcome"), "unreachable");
+  EXPECT_EQ(document.at("vertices").at(0).at("provenance"), "filled");
+  const GravityMap loaded = loadMap(folder.file("box.json"));
+  expectSameMap(original, loaded);
+  EXPECT_EQ(loaded.filledCount(), original.filledCount());
+  EXPECT_EQ(loaded.unreachableCount(), original.unreachableCount());
+  EXPECT_TRUE(loaded.isComplete());
+}
+
+/// The schema 1 form of a cubic map's document: a cube {side_m, resolution} and no provenance.
+json schema1Document(const GravityMap& map) {
+  json document = json::parse(mapToJson(map));
+  document["schema_version"] = 1;
+  json& grid = document["grid"];
+  grid["side_m"] = grid["size_m"][0];
+  grid["resolution"] = grid["resolution"][0];
+  grid.erase("size_m");
+  for (json& vertex : document["vertices"]) vertex.erase("provenance");
+  detail::stampChecksum(document);
+  return document;
+}
+
+TEST(MapIoTest, Schema1FilesStillLoad) {
+  const GravityMap original = makeMap();
+  const GravityMap loaded = mapFromJson(schema1Document(original).dump(), "old.json");
+  expectSameMap(original, loaded);
+  // The maps committed with the visual tests were written in schema 1.
+  for (const char* name : {"omega_map.json", "omni_map.json"}) {
+    const std::string path = std::string(AUTOGRAV_SOURCE_DIR) + "/tests/visual/golden/" + name;
+    const GravityMap golden = loadMap(path);
+    EXPECT_TRUE(golden.grid().isCube()) << path;
+    EXPECT_EQ(golden.filledCount(), 0) << path;
+  }
+}
+
+TEST(MapIoTest, Schema1FieldsAreCheckedAsSchema1) {
+  const GravityMap original = makeMap();
+  json document = schema1Document(original);
+  document["vertices"][3]["outcome"] = "unreachable";
+  detail::stampChecksum(document);
+  std::string message = errorOf([&] { mapFromJson(document.dump(), "old.json"); });
+  EXPECT_NE(message.find("field /vertices/3/outcome:"), std::string::npos) << message;
+  EXPECT_NE(message.find("(schema version 1)"), std::string::npos) << message;
+
+  document = schema1Document(original);
+  document["vertices"][3]["provenance"] = "measured";
+  detail::stampChecksum(document);
+  message = errorOf([&] { mapFromJson(document.dump(), "old.json"); });
+  EXPECT_NE(message.find("field /vertices/3/provenance: unexpected field (not part of schema "
+                         "version 1"),
+            std::string::npos)
+      << message;
+
+  document = schema1Document(original);
+  document["grid"]["resolution"] = json::array({5, 5, 5});
+  detail::stampChecksum(document);
+  message = errorOf([&] { mapFromJson(document.dump(), "old.json"); });
+  EXPECT_NE(message.find("map file 'old.json': field /grid/resolution: expected an integer"),
+            std::string::npos)
+      << message;
 }
 
 }  // namespace

@@ -110,7 +110,8 @@ TEST(VertexEstimatorTest, PersistentSaturationIsReported) {
   device.gravity_at_origin_n = Eigen::Vector3d(0, 0, -5.0);
   VertexEstimator estimator(EstimationParameters{}, 3.0);  // cannot hold 5 N
   estimator.start(Eigen::Vector3d::Zero(), device.gravity(Eigen::Vector3d::Zero()));
-  EXPECT_EQ(runToEnd(estimator, device, 5000), VertexEstimator::Status::kSaturated);
+  EXPECT_EQ(runToEnd(estimator, device, 5000), VertexEstimator::Status::kUnreachable);
+  EXPECT_EQ(estimator.estimate().outcome, VertexOutcome::kUnreachable);
 }
 
 TEST(VertexEstimatorTest, ZeroInitialEstimateStillGivesAControllableLoop) {

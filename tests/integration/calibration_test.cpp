@@ -6,6 +6,7 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/map/workspace_fit.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/sim/point_mass_device.h"
 #include "autograv/sim/procedures.h"
@@ -24,8 +25,8 @@ sim::CalibrationRunOptions optionsFor(const sim::SimulatedDevice& device, double
                                       int resolution) {
   sim::CalibrationRunOptions options;
   options.grid_center_m = device.workspaceCenter_m();
-  options.grid_side_m = side_m;
-  options.grid_resolution = resolution;
+  options.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  options.grid_resolution = Eigen::Vector3i::Constant(resolution);
   return options;
 }
 
@@ -36,8 +37,8 @@ Outcome calibrate(const std::string& name, int resolution, double side_m, std::u
   EXPECT_TRUE(device->open());
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = side_m;
-  options.grid_resolution = resolution;
+  options.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  options.grid_resolution = Eigen::Vector3i::Constant(resolution);
   options.parameters = parameters;
   Outcome outcome;
   outcome.run = sim::runSimulatedCalibration(*device, options);
@@ -66,8 +67,8 @@ TEST(CalibrationTest, ParametersThatWouldSaturateAreRefusedBeforeTheDeviceMoves)
   ASSERT_TRUE(device->open());
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
-  options.grid_side_m = 0.05;
-  options.grid_resolution = 2;  // one 50 mm cell
+  options.grid_size_m = Eigen::Vector3d::Constant(0.05);
+  options.grid_resolution = Eigen::Vector3i::Constant(2);  // one 50 mm cell
   options.parameters.beta_per_s2 = 2500.0;
   try {
     sim::runSimulatedCalibration(*device, options);
@@ -199,6 +200,79 @@ TEST(CalibrationTest, ADeviceThatStopsAnsweringEndsTheRunAndKeepsTheFinishedVert
     converged += vertex.outcome == VertexOutcome::kConverged;
   EXPECT_EQ(converged, 5);
 }
+
+// A 5x5x5 box larger than the workspace sphere (edge 1.7 radii): its corners and edges lie
+// beyond the end stops, none of its vertices within 4 % of the sphere (a vertex a millimetre
+// into a rubber stop is held there, and the stop's push is indistinguishable from gravity). The
+// calibration must find exactly the vertices it cannot reach from what the driver reports, and
+// fill them.
+class EndStopCalibrationTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EndStopCalibrationTest, VerticesBeyondTheEndStopsAreUnreachableAndFilled) {
+  auto device = sim::makeSimulatedDevice(GetParam(), 3);
+  ASSERT_TRUE(device->open());
+  const double radius_m = device->specifications().workspace_radius_m;
+  sim::CalibrationRunOptions options = optionsFor(*device, 1.7 * radius_m, 5);
+  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+  EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
+  const WorkspaceGrid grid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
+  const GravityMap map(grid, run.vertices, MapMetadata{});
+  EXPECT_TRUE(map.isComplete());
+  EXPECT_GT(map.unreachableCount(), 20);
+  EXPECT_EQ(map.filledCount(), map.unreachableCount());
+  EXPECT_EQ(map.convergedCount() + map.unreachableCount(), grid.vertexCount());
+  const double centre_gravity_n =
+      map.vertices()[static_cast<std::size_t>(grid.vertexIndex(2, 2, 2))].gravity_n.norm();
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d x = grid.vertexPosition(i);
+    // Ground truth only to judge: the estimator never saw it.
+    EXPECT_EQ(v.outcome == VertexOutcome::kUnreachable, !device->isReachable(x)) << "vertex " << i;
+    if (v.outcome == VertexOutcome::kUnreachable) {
+      EXPECT_EQ(v.provenance, VertexProvenance::kFilled);
+      // Filled by extrapolation from the measured cross: the size of the field, not the garbage
+      // an estimate grows to against a stop.
+      EXPECT_LT(v.gravity_n.norm(), 3.0 * centre_gravity_n) << "vertex " << i;
+    }
+  }
+  // Where the hand can go, the map is close to the truth.
+  EXPECT_LT(sim::measureAccuracy(map, *device, 500, 3).rms_residual_rel, 0.08);
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySimulatedDevice, EndStopCalibrationTest,
+                         ::testing::ValuesIn(sim::simulatedDeviceNames()));
+
+// The default grid of `autograv calibrate`: a 5x5x5 box fitted to the reachable workspace.
+class FittedBoxCalibrationTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FittedBoxCalibrationTest, EveryVertexConvergesOrIsUnreachableAndFilled) {
+  auto device = sim::makeSimulatedDevice(GetParam(), 1);
+  ASSERT_TRUE(device->open());
+  const WorkspaceFit fit = sim::fitGridToDevice(*device);
+  EXPECT_GE(fit.workspace_coverage, 0.9);
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = fit.center_m;
+  options.grid_size_m = fit.size_m;
+  options.grid_resolution = Eigen::Vector3i::Constant(5);
+  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+  const WorkspaceGrid grid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
+  const GravityMap map(grid, run.vertices, MapMetadata{});
+  EXPECT_TRUE(map.isComplete());
+  EXPECT_GT(map.unreachableCount(), 0);
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].outcome == VertexOutcome::kUnreachable,
+              !device->isReachable(grid.vertexPosition(i)))
+        << "vertex " << i;
+  }
+  const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, 1);
+  EXPECT_LT(accuracy.max_error_rel, 0.03);
+  EXPECT_LT(accuracy.rms_residual_rel, 0.04);
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySimulatedDevice, FittedBoxCalibrationTest,
+                         ::testing::ValuesIn(sim::simulatedDeviceNames()));
 
 }  // namespace
 }  // namespace autograv

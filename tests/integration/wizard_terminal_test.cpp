@@ -170,8 +170,8 @@ TEST_F(WizardTerminalTest, AutoHandRunInATerminalWaitsForEnterAtReviewAndSavesTh
 
   const GravityMap map = loadMap(map_path);
   EXPECT_EQ(map.grid().vertexCount(), 8);
-  EXPECT_EQ(map.grid().resolution(), 2);
-  EXPECT_NEAR(map.grid().side_m(), 0.040, 1e-12);
+  EXPECT_EQ(map.grid().resolution(), Eigen::Vector3i::Constant(2));
+  EXPECT_TRUE(map.grid().size_m().isApprox(Eigen::Vector3d::Constant(0.040), 1e-12));
   EXPECT_TRUE(map.isComplete());
   EXPECT_EQ(map.metadata().device_model, "sim:omni");
   for (const auto& vertex : map.vertices()) {

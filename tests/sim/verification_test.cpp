@@ -116,7 +116,7 @@ TEST(VerificationHistoryTest, AReleaseThatLeavesTheGridDoesNotSpoilTheNextPoint)
   for (const PointVerification& point : report.points) {
     farthest_m = std::max(farthest_m, point.release.max_excursion_m);
   }
-  EXPECT_GT(farthest_m, 0.5 * truthMap(*device, bias_n)->grid().side_m())
+  EXPECT_GT(farthest_m, 0.5 * truthMap(*device, bias_n)->grid().size_m().minCoeff())
       << "the releases should have left the grid";
   ASSERT_EQ(report.ready_points, 3);
   for (const PointVerification& point : report.points) {

@@ -223,7 +223,7 @@ TEST_F(VisualRegressionTest, MissingArrowFails) {
   // One vertex without an estimate: its arrow is gone (it stays "converged", so no marker). The
   // vertex is on the top layer, near the camera: its arrow is in plain view and does not set the
   // bounds that frame the camera.
-  const int n = omegaMap().grid().resolution();
+  const int n = omegaMap().grid().resolution().x();  // a cube
   const int vertex = omegaMap().grid().vertexIndex(n - 1, 1, n - 1);
   const RgbImage image = omegaIso(nullptr, [vertex](std::vector<VertexEstimate>& vertices) {
     vertices[static_cast<std::size_t>(vertex)].gravity_n.setZero();

@@ -19,8 +19,9 @@ OrbitCamera OrbitCamera::framing(const WorkspaceGrid& grid) {
   camera.azimuth_rad = 0.55;
   camera.elevation_rad = 0.42;
   camera.fov_y_rad = 0.7;
-  // Far enough that the cube's circumscribed sphere fits the vertical field of view.
-  const double radius_m = 0.5 * std::sqrt(3.0) * grid.side_m();
+  // Far enough that the box's circumscribed sphere fits the vertical field of view (for a cube,
+  // half its diagonal: sqrt(3) / 2 of its side, as before).
+  const double radius_m = 0.5 * grid.size_m().norm();
   camera.distance_m = 1.08 * radius_m / std::sin(0.5 * camera.fov_y_rad);
   return camera;
 }

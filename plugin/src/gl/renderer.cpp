@@ -60,6 +60,7 @@ constexpr Rgba kLatticeColor{0.52f, 0.58f, 0.68f, 0.30f};
 constexpr Rgba kEdgeColor{0.70f, 0.76f, 0.86f, 0.75f};
 constexpr Rgba kTrailColor{1.00f, 0.86f, 0.35f, 0.95f};
 constexpr Rgba kSpringColor{0.55f, 0.95f, 0.55f, 0.90f};
+constexpr Rgba kFilledVertexColor{0.78f, 0.45f, 0.98f, 1.0f};
 constexpr Rgba kCursorFree{1.00f, 0.84f, 0.25f, 1.0f};
 constexpr Rgba kCursorHeld{0.40f, 0.95f, 0.45f, 1.0f};
 constexpr Rgba kForceColor{0.95f, 0.35f, 0.95f, 1.0f};
@@ -396,7 +397,7 @@ void Renderer::render(const Scene& scene) {
   const WorkspaceGrid* lattice = map != nullptr ? &map->grid()
                                  : scene.grid   ? &*scene.grid
                                                 : nullptr;
-  if (lattice != nullptr) cell_m = lattice->spacing_m();
+  if (lattice != nullptr) cell_m = lattice->spacing_m().minCoeff();
   if (map != nullptr) {
     const WorkspaceGrid& grid = map->grid();
     min_magnitude = std::numeric_limits<double>::infinity();
@@ -418,23 +419,32 @@ void Renderer::render(const Scene& scene) {
                                                           static_cast<float>(value)));
       }
     }
+    // Vertices out of reach, filled from their measured neighbours: a purple bead, so that a
+    // filled value is never mistaken for a measured one.
+    for (int i = 0; i < grid.vertexCount(); ++i) {
+      if (map->vertices()[static_cast<std::size_t>(i)].provenance == VertexProvenance::kFilled) {
+        s.sphere_instances.push_back(makeInstance(grid.vertexPosition(i), Eigen::Vector3d::Zero(),
+                                                  0.06 * cell_m, kFilledVertexColor, 0.0f));
+      }
+    }
   }
   if (lattice != nullptr && scene.show_grid) {
     const WorkspaceGrid& grid = *lattice;
-    const int n = grid.resolution();
+    const Eigen::Vector3i& n = grid.resolution();
+    const Eigen::Vector3d spacing_m = grid.spacing_m();
     const Eigen::Vector3d lo = grid.minCorner_m();
     const Eigen::Vector3d hi = grid.maxCorner_m();
     for (int axis = 0; axis < 3; ++axis) {
       const int a1 = (axis + 1) % 3;
       const int a2 = (axis + 2) % 3;
-      for (int j = 0; j < n; ++j) {
-        for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < n[a1]; ++j) {
+        for (int k = 0; k < n[a2]; ++k) {
           Eigen::Vector3d from = lo;
-          from[a1] += j * cell_m;
-          from[a2] += k * cell_m;
+          from[a1] += j * spacing_m[a1];
+          from[a2] += k * spacing_m[a2];
           Eigen::Vector3d to = from;
           to[axis] = hi[axis];
-          const bool edge = (j == 0 || j == n - 1) && (k == 0 || k == n - 1);
+          const bool edge = (j == 0 || j == n[a1] - 1) && (k == 0 || k == n[a2] - 1);
           const Rgba color = edge ? kEdgeColor : kLatticeColor;
           pushLine(s.line_vertices, from, to, color, color);
         }

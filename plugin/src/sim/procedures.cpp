@@ -133,7 +133,7 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
 
 CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
                                              const CalibrationRunOptions& options) {
-  const WorkspaceGrid grid(options.grid_center_m, options.grid_side_m, options.grid_resolution);
+  const WorkspaceGrid grid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
   const EstimationParameters& parameters = options.parameters;
   const double max_force_n = device.specifications().max_linear_force_n;
   const double start_s = device.time_s();
@@ -143,7 +143,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   if (!result.initialization.ok) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
-  const auto problems = checkCalibrationPlan(parameters, grid.spacing_m(), max_force_n,
+  const auto problems = checkCalibrationPlan(parameters, grid.maxSpacing_m(), max_force_n,
                                              result.initialization.gravity_n);
   if (!problems.empty()) {
     std::string message = "calibration refused before the device moves by itself:";
@@ -182,7 +182,9 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       std::vector<int> failed;
       const std::vector<VertexEstimate>& vertices = calibrator.vertices();
       for (int i = 0; i < grid.vertexCount(); ++i) {
-        if (vertices[static_cast<std::size_t>(i)].outcome != VertexOutcome::kConverged) {
+        const VertexOutcome outcome = vertices[static_cast<std::size_t>(i)].outcome;
+        // An unreachable vertex would hit the same stop again: it is filled, not redone.
+        if (outcome != VertexOutcome::kConverged && outcome != VertexOutcome::kUnreachable) {
           failed.push_back(i);
         }
       }
@@ -192,7 +194,9 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
         ++result.redo_passes;
         result.redone_vertices += static_cast<int>(failed.size());
         const int last = calibrator.lastFinishedVertex();
-        const Eigen::Vector3d estimate_n = last >= 0
+        const bool last_converged = last >= 0 && vertices[static_cast<std::size_t>(last)].outcome ==
+                                                     VertexOutcome::kConverged;
+        const Eigen::Vector3d estimate_n = last_converged
                                                ? vertices[static_cast<std::size_t>(last)].gravity_n
                                                : result.initialization.gravity_n;
         calibrator.visitOnly(failed);
@@ -210,7 +214,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   if (options.on_progress) options.on_progress(calibrator);
   device.setForce(Eigen::Vector3d::Zero());
   result.status = status;
-  result.vertices = calibrator.vertices();
+  result.vertices = calibrator.makeMap(MapMetadata{}).vertices();  // unreachable ones filled
   result.simulated_seconds = device.time_s() - start_s;
   result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
   result.peak_force_n = calibrator.peakForce_n();
@@ -238,20 +242,45 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double sum_squared = 0.0;
   double sum_norm = 0.0;
+  int reachable_samples = 0;
   for (int k = 0; k < samples; ++k) {
     const Eigen::Vector3d fraction(unit(random), unit(random), unit(random));
-    const Eigen::Vector3d point = grid.minCorner_m() + grid.side_m() * fraction;
+    const Eigen::Vector3d point = grid.minCorner_m() + grid.size_m().cwiseProduct(fraction);
+    // A box fitted to the workspace pokes out of it; the map is judged where the hand can go.
+    if (!device.isReachable(point)) continue;
+    ++reachable_samples;
     const Eigen::Vector3d truth = device.trueGravity(point);
     sum_squared += (map.gravityAt(point) - truth).squaredNorm();
     sum_norm += truth.norm();
   }
-  report.samples = samples;
-  if (samples > 0) {
-    report.mean_true_norm_n = sum_norm / samples;
-    report.rms_residual_n = std::sqrt(sum_squared / samples);
+  report.samples = reachable_samples;
+  if (reachable_samples > 0) {
+    report.mean_true_norm_n = sum_norm / reachable_samples;
+    report.rms_residual_n = std::sqrt(sum_squared / reachable_samples);
     report.rms_residual_rel = report.rms_residual_n / report.mean_true_norm_n;
   }
   return report;
+}
+
+namespace {
+// The reachable set of a simulated device lies in its workspace sphere (end stops beyond it);
+// the bound is a little larger so that a device whose reach differs is not cut.
+constexpr double kReachBoundFactor = 1.05;
+
+ReachabilityTest reachabilityOf(const SimulatedDevice& device) {
+  return [&device](const Eigen::Vector3d& position_m) { return device.isReachable(position_m); };
+}
+}  // namespace
+
+WorkspaceFit fitGridToDevice(const SimulatedDevice& device, double target_coverage) {
+  return fitWorkspaceBox(reachabilityOf(device), device.workspaceCenter_m(),
+                         kReachBoundFactor * device.specifications().workspace_radius_m,
+                         target_coverage);
+}
+
+double deviceWorkspaceCoverage(const SimulatedDevice& device, const WorkspaceGrid& grid) {
+  return workspaceCoverage(grid, reachabilityOf(device), device.workspaceCenter_m(),
+                           kReachBoundFactor * device.specifications().workspace_radius_m);
 }
 
 }  // namespace autograv::sim

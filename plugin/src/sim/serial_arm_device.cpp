@@ -422,6 +422,13 @@ Eigen::Vector3d SerialArmDevice::readEncoders(const Eigen::Vector3d& noise_count
   return forwardKinematics(measured_q);
 }
 
+bool SerialArmDevice::isReachable(const Eigen::Vector3d& position_m) const noexcept {
+  Eigen::Vector3d q;
+  return position_m.norm() <= parameters_.specifications.workspace_radius_m &&
+         inverseKinematics(position_m, q) &&
+         std::abs(q[2] - q[1]) <= parameters_.max_elbow_offset_rad;
+}
+
 void SerialArmDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   Eigen::Vector3d q;
   if (position_m.norm() > parameters_.specifications.workspace_radius_m * 1.05 ||

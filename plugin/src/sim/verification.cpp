@@ -281,13 +281,22 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
   SimulatedTickSource ticks(device, report.servo_period_s,
                             SimulatedTickSource::Mode::kAsFastAsPossible);
 
-  // Seeded points inside the grid (sim::Random: the same points on every platform).
+  // Seeded points inside the grid that the device can reach: a fitted box pokes out of the
+  // workspace (sim::Random: the same points on every platform).
   Random random(options.seed);
   report.points.resize(static_cast<std::size_t>(options.points));
+  constexpr int kMaxDrawsPerPoint = 1000;
   for (PointVerification& point : report.points) {
-    for (int axis = 0; axis < 3; ++axis) {
-      point.point_m[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.side_m();
-    }
+    int draws = 0;
+    do {
+      if (++draws > kMaxDrawsPerPoint) {
+        throw Error("verify: the map's grid hardly overlaps the reachable workspace of " +
+                    device.specifications().model_name);
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        point.point_m[axis] = grid.minCorner_m()[axis] + random.uniform() * grid.size_m()[axis];
+      }
+    } while (!device.isReachable(point.point_m));
   }
 
   const int total = options.points * (options.compare_uncompensated ? 2 : 1);
@@ -309,7 +318,8 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
     // a negative spring against the soft hold: the probe keeps close to the grid.
     ResidualProbeOptions probe = options.probe;
     probe.keep_within_min_m = grid.minCorner_m().array() - kProbeOutsideGrid_m;
-    probe.keep_within_max_m = grid.minCorner_m().array() + grid.side_m() + kProbeOutsideGrid_m;
+    probe.keep_within_max_m =
+        grid.minCorner_m() + grid.size_m() + Eigen::Vector3d::Constant(kProbeOutsideGrid_m);
     device.hand().release();
     if (point.ready) {
       point.residual = measureResidualForce(decorated, ticks, point.point_m,

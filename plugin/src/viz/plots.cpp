@@ -182,7 +182,8 @@ Histogram relativeErrorHistogram(const GravityMap& map, const GroundTruth& groun
   std::vector<double> errors_percent;
   for (int i = 0; i < map.grid().vertexCount(); ++i) {
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
-    if (!visited(vertex)) continue;
+    // A filled vertex was not measured (and may lie where the device has no truth).
+    if (!visited(vertex) || vertex.provenance == VertexProvenance::kFilled) continue;
     const Eigen::Vector3d truth_n = ground_truth(map.grid().vertexPosition(i));
     if (!truth_n.allFinite() || truth_n.norm() <= 0.0) {
       throw Error("relative error histogram: the ground truth is zero or not finite at vertex " +

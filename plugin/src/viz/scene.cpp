@@ -70,37 +70,44 @@ CameraPreset presetFor(CameraView view) noexcept {
   return {40.0, 28.0};
 }
 
-bool isFailed(VertexOutcome outcome) noexcept {
-  return outcome != VertexOutcome::kConverged && outcome != VertexOutcome::kPending;
+bool isFilled(const VertexEstimate& vertex) noexcept {
+  return vertex.provenance == VertexProvenance::kFilled;
+}
+
+bool isFailed(const VertexEstimate& vertex) noexcept {
+  return vertex.outcome != VertexOutcome::kConverged && vertex.outcome != VertexOutcome::kPending &&
+         !isFilled(vertex);
 }
 
 int residualSubdivisions(const WorkspaceGrid& grid) noexcept {
-  const int cells = grid.resolution() - 1;
+  const int cells = grid.resolution().maxCoeff() - 1;
   return std::clamp((kResidualMaxSamples - 1) / cells, 1, kResidualSubdivisions);
 }
 
-int residualSamplesPerAxis(const WorkspaceGrid& grid) noexcept {
-  return (grid.resolution() - 1) * residualSubdivisions(grid) + 1;
+Eigen::Vector3i residualSamplesPerAxis(const WorkspaceGrid& grid) noexcept {
+  return (grid.resolution().array() - 1) * residualSubdivisions(grid) + 1;
 }
 
 // Calls visit(ix, iy, iz, residual_n) on a regular sampling of the grid's box. The residual is
 // NaN ("no data") where the interpolation uses a vertex that was never visited: its zero estimate
 // says nothing about the method and would swamp the colour range.
 template <typename Visit>
-void sampleResidual(const GravityMap& map, const GroundTruth& truth, Visit visit) {
+void sampleResidual(const GravityMap& map, const GroundTruth& truth, const Reachability& reachable,
+                    Visit visit) {
   const WorkspaceGrid& grid = map.grid();
   const int subdivisions = residualSubdivisions(grid);
-  const int samples = residualSamplesPerAxis(grid);
-  const double step_m = grid.side_m() / (samples - 1);
+  const Eigen::Vector3i samples = residualSamplesPerAxis(grid);
+  const Eigen::Vector3d step_m =
+      grid.size_m().cwiseQuotient((samples.array() - 1).cast<double>().matrix());
   const Eigen::Vector3d origin_m = grid.minCorner_m();
   // The vertex range [first, last] along one axis that a sample index interpolates from.
   const auto span = [&](int sample, int& first, int& last) {
     first = sample / subdivisions;
     last = sample % subdivisions == 0 ? first : first + 1;
   };
-  for (int iz = 0; iz < samples; ++iz) {
-    for (int iy = 0; iy < samples; ++iy) {
-      for (int ix = 0; ix < samples; ++ix) {
+  for (int iz = 0; iz < samples.z(); ++iz) {
+    for (int iy = 0; iy < samples.y(); ++iy) {
+      for (int ix = 0; ix < samples.x(); ++ix) {
         int x0, x1, y0, y1, z0, z1;
         span(ix, x0, x1);
         span(iy, y0, y1);
@@ -118,7 +125,13 @@ void sampleResidual(const GravityMap& map, const GroundTruth& truth, Visit visit
           visit(ix, iy, iz, std::numeric_limits<double>::quiet_NaN());
           continue;
         }
-        const Eigen::Vector3d position_m = origin_m + step_m * Eigen::Vector3d(ix, iy, iz);
+        const Eigen::Vector3d position_m =
+            origin_m + step_m.cwiseProduct(Eigen::Vector3d(ix, iy, iz));
+        if (reachable && !reachable(position_m)) {
+          // A box fitted to the workspace pokes out of it: no truth there, and no hand either.
+          visit(ix, iy, iz, std::numeric_limits<double>::quiet_NaN());
+          continue;
+        }
         const Eigen::Vector3d truth_n = truth(position_m);
         if (!truth_n.allFinite()) {
           throw Error("scene: the ground-truth gravity is not finite at a point of the grid");
@@ -141,20 +154,31 @@ vtkSmartPointer<vtkActor> makeActor(vtkPolyData* data, const detail::Rgb& color)
 
 // The lattice: one straight line per row of vertices along each axis.
 vtkSmartPointer<vtkPolyData> latticeLines(const WorkspaceGrid& grid) {
-  const int n = grid.resolution();
+  const Eigen::Vector3i n = grid.resolution();
   vtkNew<vtkPoints> points;
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const Eigen::Vector3d p = grid.vertexPosition(i) * kMmPerM;
     points->InsertNextPoint(p.x(), p.y(), p.z());
   }
   vtkNew<vtkCellArray> lines;
-  for (int a = 0; a < n; ++a) {
-    for (int b = 0; b < n; ++b) {
-      const vtkIdType along_x[2] = {grid.vertexIndex(0, a, b), grid.vertexIndex(n - 1, a, b)};
-      const vtkIdType along_y[2] = {grid.vertexIndex(a, 0, b), grid.vertexIndex(a, n - 1, b)};
-      const vtkIdType along_z[2] = {grid.vertexIndex(a, b, 0), grid.vertexIndex(a, b, n - 1)};
+  for (int iz = 0; iz < n.z(); ++iz) {
+    for (int iy = 0; iy < n.y(); ++iy) {
+      const vtkIdType along_x[2] = {grid.vertexIndex(0, iy, iz),
+                                    grid.vertexIndex(n.x() - 1, iy, iz)};
       lines->InsertNextCell(2, along_x);
+    }
+  }
+  for (int iz = 0; iz < n.z(); ++iz) {
+    for (int ix = 0; ix < n.x(); ++ix) {
+      const vtkIdType along_y[2] = {grid.vertexIndex(ix, 0, iz),
+                                    grid.vertexIndex(ix, n.y() - 1, iz)};
       lines->InsertNextCell(2, along_y);
+    }
+  }
+  for (int iy = 0; iy < n.y(); ++iy) {
+    for (int ix = 0; ix < n.x(); ++ix) {
+      const vtkIdType along_z[2] = {grid.vertexIndex(ix, iy, 0),
+                                    grid.vertexIndex(ix, iy, n.z() - 1)};
       lines->InsertNextCell(2, along_z);
     }
   }
@@ -351,10 +375,19 @@ void validate(const SceneOptions& options) {
 std::string defaultTitle(const GravityMap& map, const SceneSummary& summary) {
   std::ostringstream title;
   const std::string& model = map.metadata().device_model;
-  title << (model.empty() ? std::string("gravity map") : model) << "   " << map.grid().resolution()
-        << "x" << map.grid().resolution() << "x" << map.grid().resolution() << " vertices, "
-        << std::lround(map.grid().spacing_m() * kMmPerM) << " mm apart   " << summary.converged
-        << "/" << summary.vertices << " converged";
+  const WorkspaceGrid& grid = map.grid();
+  const Eigen::Vector3i& n = grid.resolution();
+  title << (model.empty() ? std::string("gravity map") : model) << "   " << n.x() << "x" << n.y()
+        << "x" << n.z() << " vertices, ";
+  if (grid.isCube()) {
+    title << std::lround(grid.maxSpacing_m() * kMmPerM) << " mm apart";
+  } else {
+    const Eigen::Vector3d size_mm = grid.size_m() * kMmPerM;
+    title << std::lround(size_mm.x()) << "x" << std::lround(size_mm.y()) << "x"
+          << std::lround(size_mm.z()) << " mm box";
+  }
+  title << "   " << summary.converged << "/" << summary.vertices << " converged";
+  if (summary.filled > 0) title << ", " << summary.filled << " filled";
   return title.str();
 }
 
@@ -410,13 +443,15 @@ bool parseCameraView(const std::string& name, CameraView& view) noexcept {
   return false;
 }
 
-SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth) {
+SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth,
+                            const Reachability& reachable) {
   SceneSummary summary;
   summary.vertices = map.grid().vertexCount();
   bool any_gravity = false;
   for (const VertexEstimate& vertex : map.vertices()) {
     if (vertex.outcome == VertexOutcome::kConverged) ++summary.converged;
-    if (isFailed(vertex.outcome)) ++summary.failed;
+    if (isFailed(vertex)) ++summary.failed;
+    if (isFilled(vertex)) ++summary.filled;
     if (vertex.outcome == VertexOutcome::kPending) ++summary.not_visited;
     const double magnitude = vertex.gravity_n.norm();
     if (magnitude <= 0.0) continue;
@@ -425,7 +460,7 @@ SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_tru
     any_gravity = true;
   }
   if (ground_truth) {
-    sampleResidual(map, ground_truth, [&](int, int, int, double residual_n) {
+    sampleResidual(map, ground_truth, reachable, [&](int, int, int, double residual_n) {
       if (std::isfinite(residual_n)) {
         summary.max_residual_n = std::max(summary.max_residual_n, residual_n);
       }
@@ -441,7 +476,7 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   const detail::Palette palette = detail::paletteFor(options.background);
   const WorkspaceGrid& grid = map.grid();
   const SceneSummary summary = summarizeScene(map);
-  const double spacing_mm = grid.spacing_m() * kMmPerM;
+  const double spacing_mm = grid.spacing_m().minCoeff() * kMmPerM;
   const Eigen::Vector3d center_mm = grid.center_m() * kMmPerM;
   const int font_px = detail::baseFontPx(options.height_px);
 
@@ -533,8 +568,18 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   cube->SetYLength(1.4 * marker_mm);
   cube->SetZLength(1.4 * marker_mm);
   if (summary.failed > 0) {
-    auto failed = vertexPoints(map, [](const VertexEstimate& v) { return isFailed(v.outcome); });
+    auto failed = vertexPoints(map, [](const VertexEstimate& v) { return isFailed(v); });
     renderer->AddActor(markerActor(failed, sphere, palette.failed));
+  }
+  // Filled vertices (out of reach): a purple diamond, so that measured and filled values are
+  // told apart at a glance; their arrows are drawn like the others.
+  vtkNew<vtkSphereSource> diamond;
+  diamond->SetRadius(0.9 * marker_mm);
+  diamond->SetThetaResolution(4);
+  diamond->SetPhiResolution(3);
+  if (summary.filled > 0) {
+    auto filled = vertexPoints(map, isFilled);
+    renderer->AddActor(markerActor(filled, diamond, palette.filled));
   }
   if (summary.not_visited > 0) {
     auto pending = vertexPoints(
@@ -559,9 +604,9 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   } else {
     vtkNew<vtkCubeSource> workspace;
     workspace->SetCenter(center_mm.data());
-    workspace->SetXLength(grid.side_m() * kMmPerM);
-    workspace->SetYLength(grid.side_m() * kMmPerM);
-    workspace->SetZLength(grid.side_m() * kMmPerM);
+    workspace->SetXLength(grid.size_m().x() * kMmPerM);
+    workspace->SetYLength(grid.size_m().y() * kMmPerM);
+    workspace->SetZLength(grid.size_m().z() * kMmPerM);
     workspace_mapper->SetInputConnection(workspace->GetOutputPort());
   }
   vtkNew<vtkActor> workspace_actor;
@@ -587,20 +632,25 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   // The residual against ground truth, on the faces of the grid's box.
   double max_residual_n = 0.0;
   if (options.ground_truth) {
-    const int samples = residualSamplesPerAxis(grid);
+    const Eigen::Vector3i samples = residualSamplesPerAxis(grid);
     vtkNew<vtkImageData> field;
-    field->SetDimensions(samples, samples, samples);
+    field->SetDimensions(samples.x(), samples.y(), samples.z());
     const Eigen::Vector3d origin_mm = grid.minCorner_m() * kMmPerM;
     field->SetOrigin(origin_mm.data());
-    const double step_mm = grid.side_m() * kMmPerM / (samples - 1);
-    field->SetSpacing(step_mm, step_mm, step_mm);
+    const Eigen::Vector3d step_mm =
+        (grid.size_m() * kMmPerM).cwiseQuotient((samples.array() - 1).cast<double>().matrix());
+    field->SetSpacing(step_mm.x(), step_mm.y(), step_mm.z());
     vtkNew<vtkDoubleArray> residual;
     residual->SetName("residual_N");
-    residual->SetNumberOfValues(static_cast<vtkIdType>(samples) * samples * samples);
-    sampleResidual(map, options.ground_truth, [&](int ix, int iy, int iz, double residual_n) {
-      residual->SetValue((static_cast<vtkIdType>(iz) * samples + iy) * samples + ix, residual_n);
-      if (std::isfinite(residual_n)) max_residual_n = std::max(max_residual_n, residual_n);
-    });
+    residual->SetNumberOfValues(static_cast<vtkIdType>(samples.x()) * samples.y() * samples.z());
+    sampleResidual(map, options.ground_truth, options.reachable,
+                   [&](int ix, int iy, int iz, double residual_n) {
+                     residual->SetValue(
+                         (static_cast<vtkIdType>(iz) * samples.y() + iy) * samples.x() + ix,
+                         residual_n);
+                     if (std::isfinite(residual_n))
+                       max_residual_n = std::max(max_residual_n, residual_n);
+                   });
     field->GetPointData()->SetScalars(residual);
     vtkNew<vtkDataSetSurfaceFilter> surface;
     surface->SetInputData(field);
@@ -666,6 +716,12 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
     if (summary.not_visited > 0) {
       entries.push_back({cube->GetOutput(), "unvisited: " + std::to_string(summary.not_visited),
                          palette.not_visited});
+    }
+    if (summary.filled > 0) {
+      diamond->Update();
+      entries.push_back({diamond->GetOutput(),
+                         "filled (unreachable): " + std::to_string(summary.filled),
+                         palette.filled});
     }
     if (options.device_position_m) {
       entries.push_back({sphere->GetOutput(), "device", palette.device});

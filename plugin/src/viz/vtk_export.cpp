@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <limits>
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
@@ -52,6 +53,9 @@ void addPointArrays(const GravityMap& map, const ExportOptions& options, vtkPoin
   vtkNew<vtkIntArray> outcome;
   outcome->SetName("outcome");
   outcome->SetNumberOfValues(count);
+  vtkNew<vtkIntArray> filled;  // 1 where the value was filled from measured neighbours
+  filled->SetName("filled");
+  filled->SetNumberOfValues(count);
   vtkNew<vtkIntArray> iterations;
   iterations->SetName("iterations");
   iterations->SetNumberOfValues(count);
@@ -74,9 +78,15 @@ void addPointArrays(const GravityMap& map, const ExportOptions& options, vtkPoin
     magnitude->SetValue(i, g.norm());
     mass->SetValue(i, g.norm() / kStandardGravity);
     outcome->SetValue(i, static_cast<int>(vertex.outcome));
+    filled->SetValue(i, vertex.provenance == VertexProvenance::kFilled ? 1 : 0);
     iterations->SetValue(i, vertex.iterations);
     seconds->SetValue(i, vertex.seconds);
-    if (options.ground_truth) {
+    if (options.ground_truth && vertex.provenance == VertexProvenance::kFilled) {
+      // Out of the device's reach: no truth to compare with ("no data" in ParaView).
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      truth->SetTuple3(i, nan, nan, nan);
+      residual->SetValue(i, nan);
+    } else if (options.ground_truth) {
       const Eigen::Vector3d t = options.ground_truth(map.grid().vertexPosition(i));
       if (!t.allFinite()) {
         throw Error("export: the ground truth is not finite at vertex " + std::to_string(i));
@@ -91,6 +101,7 @@ void addPointArrays(const GravityMap& map, const ExportOptions& options, vtkPoin
   data->SetActiveScalars("gravity_magnitude_N");
   data->AddArray(mass);
   data->AddArray(outcome);
+  data->AddArray(filled);
   data->AddArray(iterations);
   data->AddArray(seconds);
   if (options.ground_truth) {
@@ -111,7 +122,8 @@ void addFieldData(const GravityMap& map, vtkFieldData* field) {
   names->SetName("outcome_names");
   for (const VertexOutcome o :
        {VertexOutcome::kPending, VertexOutcome::kConverged, VertexOutcome::kIterationCap,
-        VertexOutcome::kNoSteadyState, VertexOutcome::kSaturated, VertexOutcome::kDeviceFault}) {
+        VertexOutcome::kNoSteadyState, VertexOutcome::kSaturated, VertexOutcome::kDeviceFault,
+        VertexOutcome::kUnreachable}) {
     names->InsertNextValue(toString(o));
   }
   field->AddArray(model);
@@ -142,13 +154,14 @@ void exportMap(const GravityMap& map, const std::string& path, const ExportOptio
                 "'; use .vti (image data) or .vtu (unstructured grid)");
   }
   const WorkspaceGrid& grid = map.grid();
-  const int n = grid.resolution();
+  const Eigen::Vector3i& n = grid.resolution();
   if (extension == ".vti") {
     vtkNew<vtkImageData> image;
-    image->SetDimensions(n, n, n);
+    image->SetDimensions(n.x(), n.y(), n.z());
     const Eigen::Vector3d origin = grid.minCorner_m();
     image->SetOrigin(origin.x(), origin.y(), origin.z());
-    image->SetSpacing(grid.spacing_m(), grid.spacing_m(), grid.spacing_m());
+    const Eigen::Vector3d spacing = grid.spacing_m();
+    image->SetSpacing(spacing.x(), spacing.y(), spacing.z());
     addPointArrays(map, options, image->GetPointData());
     addFieldData(map, image->GetFieldData());
     vtkNew<vtkXMLImageDataWriter> writer;
@@ -164,10 +177,10 @@ void exportMap(const GravityMap& map, const std::string& path, const ExportOptio
     points->SetPoint(i, p.x(), p.y(), p.z());
   }
   mesh->SetPoints(points);
-  mesh->Allocate(static_cast<vtkIdType>(n - 1) * (n - 1) * (n - 1));
-  for (int iz = 0; iz + 1 < n; ++iz) {
-    for (int iy = 0; iy + 1 < n; ++iy) {
-      for (int ix = 0; ix + 1 < n; ++ix) {
+  mesh->Allocate(static_cast<vtkIdType>(n.x() - 1) * (n.y() - 1) * (n.z() - 1));
+  for (int iz = 0; iz + 1 < n.z(); ++iz) {
+    for (int iy = 0; iy + 1 < n.y(); ++iy) {
+      for (int ix = 0; ix + 1 < n.x(); ++ix) {
         // VTK's hexahedron order: the bottom face counter-clockwise, then the top face.
         const std::array<vtkIdType, 8> corners = {grid.vertexIndex(ix, iy, iz),
                                                   grid.vertexIndex(ix + 1, iy, iz),

@@ -31,6 +31,7 @@ struct Palette {
   Rgb not_visited;
   Rgb device;
   Rgb grid_lines;  ///< Chart grid.
+  Rgb filled;      ///< Vertices out of reach whose values were filled from their neighbours.
 };
 
 Palette paletteFor(Background background) noexcept;

@@ -48,7 +48,8 @@ class AutoCalibrator {
                  double max_force_n)
       : AutoCalibrator(grid, parameters, max_force_n, Options()) {}
 
-  /// Keeps the finished vertices of an earlier run (a checkpoint) and visits only the others.
+  /// Keeps the finished vertices of an earlier run (a checkpoint: converged or unreachable) and
+  /// visits only the others.
   /// Throws autograv::Error when the count does not match the grid. Not real-time safe.
   void restore(const std::vector<VertexEstimate>& vertices);
   /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order.
@@ -89,7 +90,8 @@ class AutoCalibrator {
   /// Largest commanded force so far, after clamping. Unit: [N]
   double peakForce_n() const noexcept { return peak_force_n_; }
 
-  /// The map of everything estimated so far. Not real-time safe.
+  /// The map of everything estimated so far, unreachable vertices filled from the converged ones
+  /// (fillUnreachableVertices). Not real-time safe.
   GravityMap makeMap(const MapMetadata& metadata) const;
 
  private:

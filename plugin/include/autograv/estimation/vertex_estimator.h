@@ -27,8 +27,13 @@ class VertexEstimator {
     kUpdated,        ///< This tick ended iteration j with an update (eq. 12).
     kConverged,      ///< Done: n_G consecutive small updates.
     kIterationCap,   ///< Done: max_iterations reached; the last estimate is kept.
-    kNoSteadyState,  ///< Done: an iteration did not settle within max_step_duration_s.
-    kSaturated,      ///< Done: the holding force stayed at the actuator limit.
+    kNoSteadyState,  ///< Done: an iteration did not settle within max_step_duration_s, close
+                     ///< to X_i.
+    kUnreachable,    ///< Done: the device cannot be held at X_i: the holding force stayed at
+                     ///< the actuator limit, an iteration never settled while more than
+                     ///< kUnreachableGap_m away from X_i, or the steady state stalled away from
+                     ///< X_i (an end stop, a joint limit, a singular pose) while the estimate
+                     ///< kept growing.
     kDeviceFault,    ///< Done: the device stopped answering.
   };
 
@@ -57,6 +62,18 @@ class VertexEstimator {
 
   /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6). Unit: [N]
   static constexpr double kMinGravityN = 0.01;
+  /// Consecutive updates that do not shrink (each at least kStallRatio of the one before and
+  /// larger than kStallUpdateFloor_n and 4 eps_G) after which the vertex is unreachable. Near a
+  /// reachable vertex eq. (12) contracts the update by about |dG/dX| / K_P (a tenth to a third
+  /// on the simulated devices) per iteration and friction leaves updates of a few mN; against an
+  /// end stop the steady state stays put and every update is K_P times the same gap.
+  static constexpr int kStalledUpdates = 3;
+  static constexpr double kStallRatio = 0.6;
+  static constexpr double kStallUpdateFloor_n = 0.02;
+  /// Distance from X_i beyond which a hold that never settles means the vertex is out of reach:
+  /// well above the steady-state offsets friction leaves (0.1 mm on the simulated devices).
+  /// Unit: [m]
+  static constexpr double kUnreachableGap_m = 2e-3;
 
  private:
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
@@ -75,6 +92,8 @@ class VertexEstimator {
   double last_error_m_ = 0.0;
   long ticks_ = 0;
   int small_updates_ = 0;
+  int stalled_updates_ = 0;
+  double last_update_n_ = 0.0;  // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
   int saturated_ticks_ = 0;
   int invalid_samples_ = 0;
   bool finished_ = true;

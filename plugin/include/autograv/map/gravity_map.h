@@ -28,15 +28,28 @@ enum class VertexOutcome : std::uint8_t {
   kPending,        ///< Not visited yet.
   kConverged,      ///< n_G consecutive updates within eps_G.
   kIterationCap,   ///< max_iterations reached first; the last estimate is kept.
-  kNoSteadyState,  ///< An iteration never settled within max_step_duration_s.
-  kSaturated,      ///< The actuators saturated while holding the vertex.
+  kNoSteadyState,  ///< An iteration never settled (maps written before kUnreachable existed).
+  kSaturated,      ///< The actuators saturated while holding the vertex (maps written before
+                   ///< kUnreachable existed; the estimator now reports kUnreachable).
   kDeviceFault,    ///< The device stopped answering or sent non-finite samples.
+  kUnreachable,    ///< The device could not be held at the vertex (end stop, saturation,
+                   ///< singular pose); its value is filled from measured neighbours.
+};
+
+/// Where a vertex's value comes from.
+enum class VertexProvenance : std::uint8_t {
+  kMeasured,  ///< Estimated at the vertex itself (or not yet: see the outcome).
+  kFilled,    ///< Interpolated or extrapolated from measured vertices (fillUnmeasuredVertices).
 };
 
 /// Stable lower-case name used in files and reports ("converged", "iteration_cap", ...).
 const char* toString(VertexOutcome outcome) noexcept;
 /// Inverse of toString; returns false for an unknown name.
 bool parseVertexOutcome(const std::string& name, VertexOutcome& outcome) noexcept;
+/// "measured" or "filled".
+const char* toString(VertexProvenance provenance) noexcept;
+/// Inverse of toString; returns false for an unknown name.
+bool parseVertexProvenance(const std::string& name, VertexProvenance& provenance) noexcept;
 
 /// The result of the inner loop at one vertex.
 struct VertexEstimate {
@@ -44,6 +57,7 @@ struct VertexEstimate {
   int iterations = 0;
   double seconds = 0.0;  ///< Servo time spent at the vertex, move excluded. Unit: [s]
   VertexOutcome outcome = VertexOutcome::kPending;
+  VertexProvenance provenance = VertexProvenance::kMeasured;
   std::vector<IterationRecord> history;  ///< One record per iteration, oldest first.
 };
 
@@ -85,8 +99,13 @@ class GravityMap {
 
   /// Vertices whose outcome is kConverged.
   int convergedCount() const noexcept;
-  /// True when every vertex has converged.
-  bool isComplete() const noexcept { return convergedCount() == grid_.vertexCount(); }
+  /// Vertices whose outcome is kUnreachable.
+  int unreachableCount() const noexcept;
+  /// Vertices whose value was filled from neighbours.
+  int filledCount() const noexcept;
+  /// True when every vertex has converged, or was found unreachable and filled from measured
+  /// neighbours: the map has no holes.
+  bool isComplete() const noexcept;
 
  private:
   WorkspaceGrid grid_;
@@ -94,8 +113,8 @@ class GravityMap {
   MapMetadata metadata_;
   // The lookup's view of the grid, computed once: no division per query.
   Eigen::Vector3d min_corner_m_;
-  double inverse_spacing_per_m_;  ///< Unit: [1/m]
-  double last_cell_;              ///< resolution - 1. Unit: [cells]
+  Eigen::Vector3d inverse_spacing_per_m_;  ///< Per axis. Unit: [1/m]
+  Eigen::Vector3d last_cell_;              ///< resolution - 1 per axis. Unit: [cells]
   /// The estimates again, zero-padded to four components in one aligned array: the lookup reads
   /// eight neighbours from it on whole SIMD packets. Unit: [N]
   std::vector<Eigen::Vector4d> packed_gravity_n_;

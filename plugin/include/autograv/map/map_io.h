@@ -7,8 +7,11 @@
 
 namespace autograv {
 
-/// Current map file schema version; files with another major version are refused.
-inline constexpr int kMapSchemaVersion = 1;
+/// Map file schema version written by saveMap. Schema 2 stores box grids and where each vertex's
+/// value came from; schema 1 files (cubic grids) still load. Other versions are refused.
+inline constexpr int kMapSchemaVersion = 2;
+/// Oldest schema version loadMap reads.
+inline constexpr int kOldestMapSchemaVersion = 1;
 
 struct MapLoadOptions {
   /// When non-empty, a map whose device_model differs is refused.
@@ -37,13 +40,19 @@ void writeFileAtomically(const std::string& path, const std::string& text,
 
 // --- In-memory form and checksum (additions for tools and tests) ---------------------------
 //
-// File format (schema version 1), one JSON object:
+// File format (schema version 2), one JSON object:
 //   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
-//   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], side_m,
-//   resolution}, parameters {every EstimationParameters field under its C++ name}, vertices[]
-//   (one object per grid vertex, in vertex-index order: index, position_m[3], gravity_n[3],
-//   iterations, seconds, outcome, history[] of {position_error_m, mass_estimate_kg,
-//   gravity_estimate_n[3], duration_s}), and checksum {algorithm "fnv1a-64", value}.
+//   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], size_m[3],
+//   resolution[3]} (extents and vertex counts along x, y, z), parameters {every
+//   EstimationParameters field under its C++ name}, vertices[] (one object per grid vertex, in
+//   vertex-index order ix + nx (iy + ny iz): index, position_m[3], gravity_n[3], iterations,
+//   seconds, outcome (pending, converged, iteration_cap, no_steady_state, saturated,
+//   device_fault, unreachable), provenance ("measured": estimated at the vertex; "filled":
+//   filled from measured vertices because the device could not reach it), history[] of
+//   {position_error_m, mass_estimate_kg, gravity_estimate_n[3], duration_s}), and checksum
+//   {algorithm "fnv1a-64", value}.
+// Schema version 1 differs only in its grid, a cube {center_m[3], side_m, resolution}, and in
+// its vertices, which have no provenance (all measured) and no "unreachable" outcome.
 // The checksum is FNV-1a 64 over the UTF-8 bytes of the compact canonical dump of the whole
 // document WITHOUT its "checksum" member (nlohmann::json::dump() with no indent: keys sorted,
 // no spaces, doubles in shortest round-trip form), written as 16 lower-case hex digits.

@@ -11,6 +11,7 @@
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/gravity_map.h"
+#include "autograv/map/workspace_fit.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::sim {
@@ -55,8 +56,10 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
 
 struct CalibrationRunOptions {
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
-  double grid_side_m = 0.06;
-  int grid_resolution = 4;
+  /// Extent of the grid's box along x, y, z. Unit: [m]
+  Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
+  /// Vertices along x, y, z.
+  Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(4);
   EstimationParameters parameters;
   AutoCalibrator::Options calibrator;
   /// Finished vertices of an earlier, interrupted run (empty: start afresh).
@@ -79,6 +82,7 @@ struct CalibrationRunOptions {
 struct CalibrationRunResult {
   AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
   InitializationResult initialization;
+  /// Every vertex; the unreachable ones filled from the converged ones (AutoCalibrator::makeMap).
   std::vector<VertexEstimate> vertices;
   double simulated_seconds = 0.0;      ///< Initialization included. Unit: [s]
   double lipschitz_n_per_m = 0.0;      ///< Paper's c, measured. Unit: [N/m]
@@ -96,6 +100,15 @@ struct CalibrationRunResult {
 CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
                                              const CalibrationRunOptions& options);
 
+/// The default calibration box of `device`: fitted to its reachable workspace (isReachable) so
+/// that at least `target_coverage` of it lies inside, with the coverage measured on other
+/// samples. Deterministic. Not real-time safe.
+WorkspaceFit fitGridToDevice(const SimulatedDevice& device, double target_coverage = 0.9);
+
+/// Fraction of `device`'s reachable workspace inside `grid` (Monte Carlo, seeded).
+/// Not real-time safe.
+double deviceWorkspaceCoverage(const SimulatedDevice& device, const WorkspaceGrid& grid);
+
 /// Accuracy of a map against the device's ground truth.
 struct AccuracyReport {
   double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
@@ -104,11 +117,12 @@ struct AccuracyReport {
   double rms_residual_n = 0.0;    ///< RMS of |G_hat(X) - G(X)| at random points. Unit: [N]
   double rms_residual_rel = 0.0;  ///< rms_residual_n / mean |G|.
   double mean_true_norm_n = 0.0;  ///< Unit: [N]
-  int samples = 0;
+  int samples = 0;                ///< Random points that were reachable (the RMS is over these).
 };
 
-/// Compares `map` with `device.trueGravity` at every vertex and at `samples` seeded random points
-/// inside the grid. Not real-time safe.
+/// Compares `map` with `device.trueGravity` at every converged vertex and at those of `samples`
+/// seeded random points inside the grid that the device can reach (isReachable).
+/// Not real-time safe.
 AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& device,
                                int samples = 1000, std::uint64_t seed = 1);
 

@@ -112,6 +112,9 @@ class SerialArmDevice final : public SimulatedDriver {
   Eigen::Vector3d truePosition_m() const noexcept override { return tip_m_; }
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override;
   Eigen::Vector3d workspaceCenter_m() const noexcept override { return Eigen::Vector3d::Zero(); }
+  /// Inside the workspace sphere, on the arm's inverse-kinematics branch, and with the elbow
+  /// offset |q3 - q2| within its joint stop. Real-time safe.
+  bool isReachable(const Eigen::Vector3d& position_m) const noexcept override;
 
   // The model, for tests and reports. All real-time safe.
   /// Tip position. Unit: [m]

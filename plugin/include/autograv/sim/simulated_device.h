@@ -68,6 +68,12 @@ class SimulatedDevice : public HapticDevice {
   virtual void clearEndStopHit() noexcept = 0;
   /// Centre of the workspace sphere of radius specifications().workspace_radius_m. Unit: [m]
   virtual Eigen::Vector3d workspaceCenter_m() const noexcept = 0;
+  /// Ground truth: whether the mechanism can hold the end-effector at `position_m` without
+  /// touching an end stop or a joint limit. By default: inside the workspace sphere. For fitting
+  /// grids and judging maps, never for an estimator. Real-time safe. Unit: [m]
+  virtual bool isReachable(const Eigen::Vector3d& position_m) const noexcept {
+    return (position_m - workspaceCenter_m()).norm() <= specifications().workspace_radius_m;
+  }
   /// Step of the fixed-step integration inside advance(). Unit: [s]
   virtual double internalStep_s() const noexcept = 0;
   /// setCalibrated(false) makes the device behave as one fresh from power-up that was never

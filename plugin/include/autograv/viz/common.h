@@ -12,6 +12,10 @@ namespace autograv::viz {
 /// Argument unit: [m]; result unit: [N].
 using GroundTruth = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 
+/// Whether a device can reach a position, e.g. a simulated device's isReachable: where the
+/// ground truth may be asked. Argument unit: [m].
+using Reachability = std::function<bool(const Eigen::Vector3d&)>;
+
 /// Background of rendered scenes and plots; text and lines take the contrasting colour.
 enum class Background : std::uint8_t { kWhite, kDark };
 

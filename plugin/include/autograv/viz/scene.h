@@ -47,6 +47,9 @@ struct SceneOptions {
   /// When set, the residual |G_hat(X) - G_true(X)| of the interpolated map is drawn as a colour
   /// field on the faces of the grid's box, with its own scalar bar. Unit: [N]
   GroundTruth ground_truth;
+  /// Where the ground truth exists: the residual is left blank ("no data") elsewhere, e.g. at
+  /// the corners of a box fitted to the workspace. Unset = everywhere in the grid.
+  Reachability reachable;
   /// Overlay title; empty makes one from the map (device model, grid, converged vertices).
   std::string title;
 };
@@ -55,8 +58,9 @@ struct SceneOptions {
 struct SceneSummary {
   int vertices = 0;
   int converged = 0;
-  int failed = 0;              ///< Visited but not converged (iteration cap, no steady state, ...).
+  int failed = 0;  ///< Visited, not converged and not filled (iteration cap, no steady state...).
   int not_visited = 0;         ///< Outcome kPending.
+  int filled = 0;              ///< Out of reach; value filled from measured neighbours.
   double min_gravity_n = 0.0;  ///< Smallest |G_hat| over vertices with an estimate. Unit: [N]
   double max_gravity_n = 0.0;  ///< Largest |G_hat|. Unit: [N]
   /// Largest |G_hat(X) - G_true(X)| over the sampled residual field; 0 without ground truth.
@@ -66,10 +70,12 @@ struct SceneSummary {
 
 /// Counts and ranges of `map` as the scene shows them (residual sampled like the scene does).
 /// Not real-time safe.
-SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth = {});
+SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth = {},
+                            const Reachability& reachable = {});
 
 /// Renders the workspace, the grid lattice, one arrow per vertex estimate (length and colour by
-/// magnitude, scalar bar in N), axes in mm, marked failed and unvisited vertices with a legend
+/// magnitude, scalar bar in N), axes in mm, marked failed, unvisited and filled (out of reach)
+/// vertices with a legend
 /// and, optionally, the device position and the residual against ground truth. Renders offscreen;
 /// needs an X display (see requireDisplay). Throws autograv::Error on a bad size (16..8192 px),
 /// a non-finite option or when no display can be opened. Not real-time safe.

@@ -64,8 +64,8 @@ enum class CheckIssue : std::uint8_t {
 struct WizardConfig {
   /// Calibration grid (paper Sec. I). Units: [m]
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
-  double grid_side_m = 0.06;
-  int grid_resolution = 5;
+  Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);   ///< Box extents x, y, z.
+  Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(5);  ///< Vertices along x, y, z.
   EstimationParameters parameters;
   AutoCalibrator::Options calibrator;
   /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
@@ -136,10 +136,14 @@ struct WizardReview {
   double lipschitz_n_per_m = 0.0;
   /// Largest force commanded by the calibration. Unit: [N]
   double peak_force_n = 0.0;
-  /// Vertices that saturated, hit the iteration cap, never settled or faulted (not kPending).
+  /// Vertices that hit the iteration cap, never settled or faulted (not kPending, not
+  /// kUnreachable).
   std::vector<ReviewRow> failed;
   /// Vertices never visited (a run aborted before them).
   int pending = 0;
+  /// Vertices the device could not be held at (end stop, saturation, singular pose): not redone;
+  /// the saved map fills them from their converged neighbours.
+  int unreachable = 0;
   /// Converged vertices that came from the checkpoint of an earlier run.
   int restored = 0;
 };

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "autograv/error.h"
+#include "autograv/map/vertex_fill.h"
 
 namespace autograv {
 
@@ -13,6 +14,11 @@ constexpr int kMaxInvalidSamples = 20;  // 20 ms at 1 kHz, as in the vertex esti
 
 bool isDone(const VertexEstimate& vertex) noexcept {
   return vertex.outcome == VertexOutcome::kConverged;
+}
+
+/// A vertex a resumed run need not visit again: converged, or found unreachable.
+bool isSettled(const VertexEstimate& vertex) noexcept {
+  return isDone(vertex) || vertex.outcome == VertexOutcome::kUnreachable;
 }
 }  // namespace
 
@@ -47,7 +53,7 @@ void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
   }
   std::vector<int> pending;
   for (int index : grid_.visitOrder(grid_.center_m())) {
-    if (!isDone(vertices_[static_cast<std::size_t>(index)])) pending.push_back(index);
+    if (!isSettled(vertices_[static_cast<std::size_t>(index)])) pending.push_back(index);
   }
   order_ = std::move(pending);
   next_in_order_ = 0;
@@ -117,7 +123,7 @@ Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
       grid_.vertexCoordinates(vertex) - grid_.vertexCoordinates(previous_vertex_);
   if (step.cwiseAbs().sum() != 1) return gravity_n_;
   const Eigen::Vector3i behind = grid_.vertexCoordinates(previous_vertex_) - step;
-  if ((behind.array() < 0).any() || (behind.array() >= grid_.resolution()).any()) return gravity_n_;
+  if (!grid_.hasVertex(behind)) return gravity_n_;
   const auto& before =
       vertices_[static_cast<std::size_t>(grid_.vertexIndex(behind.x(), behind.y(), behind.z()))];
   if (!isDone(before)) return gravity_n_;
@@ -154,12 +160,13 @@ void AutoCalibrator::recordFinished() noexcept {
       for (int sign : {-1, 1}) {
         Eigen::Vector3i other = here;
         other[axis] += sign;
-        if (other[axis] < 0 || other[axis] >= grid_.resolution()) continue;
+        if (!grid_.hasVertex(other)) continue;
         const auto& neighbour =
             vertices_[static_cast<std::size_t>(grid_.vertexIndex(other.x(), other.y(), other.z()))];
         if (!isDone(neighbour)) continue;
-        lipschitz_n_per_m_ = std::max(
-            lipschitz_n_per_m_, (slot.gravity_n - neighbour.gravity_n).norm() / grid_.spacing_m());
+        lipschitz_n_per_m_ =
+            std::max(lipschitz_n_per_m_,
+                     (slot.gravity_n - neighbour.gravity_n).norm() / grid_.spacing_m()[axis]);
       }
     }
     previous_vertex_ = index;
@@ -262,7 +269,9 @@ void AutoCalibrator::abort() noexcept {
 }
 
 GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
-  return GravityMap(grid_, vertices_, metadata);
+  std::vector<VertexEstimate> vertices = vertices_;
+  fillUnreachableVertices(grid_, vertices);
+  return GravityMap(grid_, std::move(vertices), metadata);
 }
 
 const char* toString(AutoCalibrator::Status status) noexcept {

@@ -11,8 +11,9 @@ namespace autograv {
 namespace {
 // Consecutive bad samples tolerated (holding the last force) before the vertex is given up.
 constexpr int kMaxInvalidSamples = 20;
-// Holding force at the actuator limit for this long (at 1 kHz: 50 ms) means the estimate is
-// corrupted by saturation (paper Sec. IV: the proofs hold only without saturation).
+// Holding force at the actuator limit for this long (at 1 kHz: 50 ms) means the device cannot be
+// held at the vertex with the force it has, and the estimate is corrupted by saturation (paper
+// Sec. IV: the proofs hold only without saturation).
 constexpr int kMaxSaturatedTicks = 50;
 
 void validate(const EstimationParameters& p, double max_force_n) {
@@ -78,6 +79,8 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   last_force_n_.setZero();
   ticks_ = 0;
   small_updates_ = 0;
+  stalled_updates_ = 0;
+  last_update_n_ = 0.0;
   saturated_ticks_ = 0;
   invalid_samples_ = 0;
   finished_ = false;
@@ -132,12 +135,19 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   saturated_ticks_ = clampForce(force_n, max_force_n_) ? saturated_ticks_ + 1 : 0;
   last_force_n_ = force_n;
   if (saturated_ticks_ > kMaxSaturatedTicks) {
-    finish(VertexOutcome::kSaturated);
-    return Status::kSaturated;
+    finish(VertexOutcome::kUnreachable);
+    return Status::kUnreachable;
   }
 
   if (!detector_.update(sample.position_m, sample.velocity_m_per_s)) {
     if (detector_.elapsed_s() > parameters_.max_step_duration_s) {
+      // Far from X_i the hold failed because the device cannot get there (bouncing on a rubber
+      // end stop, buzzing at a joint limit); close to it, the estimator merely missed its steady
+      // state (encoder dither) and a second visit may settle.
+      if ((sample.position_m - vertex_m_).norm() > kUnreachableGap_m) {
+        finish(VertexOutcome::kUnreachable);
+        return Status::kUnreachable;
+      }
       finish(VertexOutcome::kNoSteadyState);
       return Status::kNoSteadyState;
     }
@@ -162,7 +172,17 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   detector_.reset();
   dither_ticks_ = 0;  // the next window starts at phase 0 again
 
-  small_updates_ = (updated_n - previous_n).norm() <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
+  const double update_n = (updated_n - previous_n).norm();
+  small_updates_ = update_n <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
+  const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
+  const bool stalled = estimate_.iterations > 1 && update_n > stall_floor_n &&
+                       update_n >= kStallRatio * last_update_n_;
+  stalled_updates_ = stalled ? stalled_updates_ + 1 : 0;
+  last_update_n_ = update_n;
+  if (stalled_updates_ >= kStalledUpdates) {
+    finish(VertexOutcome::kUnreachable);
+    return Status::kUnreachable;
+  }
   if (small_updates_ >= parameters_.n_g) {
     finish(VertexOutcome::kConverged);
     return Status::kConverged;
@@ -203,8 +223,8 @@ const char* toString(VertexEstimator::Status status) noexcept {
       return "iteration_cap";
     case VertexEstimator::Status::kNoSteadyState:
       return "no_steady_state";
-    case VertexEstimator::Status::kSaturated:
-      return "saturated";
+    case VertexEstimator::Status::kUnreachable:
+      return "unreachable";
     case VertexEstimator::Status::kDeviceFault:
       return "device_fault";
   }

@@ -19,13 +19,14 @@ struct OutcomeName {
   const char* name;
 };
 
-constexpr std::array<OutcomeName, 6> kOutcomeNames{{
+constexpr std::array<OutcomeName, 7> kOutcomeNames{{
     {VertexOutcome::kPending, "pending"},
     {VertexOutcome::kConverged, "converged"},
     {VertexOutcome::kIterationCap, "iteration_cap"},
     {VertexOutcome::kNoSteadyState, "no_steady_state"},
     {VertexOutcome::kSaturated, "saturated"},
     {VertexOutcome::kDeviceFault, "device_fault"},
+    {VertexOutcome::kUnreachable, "unreachable"},
 }};
 
 }  // namespace
@@ -47,18 +48,33 @@ bool parseVertexOutcome(const std::string& name, VertexOutcome& outcome) noexcep
   return false;
 }
 
+const char* toString(VertexProvenance provenance) noexcept {
+  return provenance == VertexProvenance::kFilled ? "filled" : "measured";
+}
+
+bool parseVertexProvenance(const std::string& name, VertexProvenance& provenance) noexcept {
+  if (name == "measured") {
+    provenance = VertexProvenance::kMeasured;
+  } else if (name == "filled") {
+    provenance = VertexProvenance::kFilled;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
                        MapMetadata metadata)
     : grid_(std::move(grid)),
       vertices_(std::move(vertices)),
       metadata_(std::move(metadata)),
       min_corner_m_(grid_.minCorner_m()),
-      inverse_spacing_per_m_(1.0 / grid_.spacing_m()),
-      last_cell_(grid_.resolution() - 1) {
+      inverse_spacing_per_m_(grid_.spacing_m().cwiseInverse()),
+      last_cell_((grid_.resolution().array() - 1).cast<double>()) {
   if (static_cast<int>(vertices_.size()) != grid_.vertexCount()) {
     std::ostringstream message;
     message << "gravity map: " << vertices_.size() << " vertex estimates for a grid of "
-            << grid_.vertexCount() << " vertices (" << grid_.resolution() << "^3)";
+            << grid_.vertexCount() << " vertices (" << grid_.describe() << ")";
     throw Error(message.str());
   }
   packed_gravity_n_.reserve(vertices_.size());
@@ -81,22 +97,41 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m) const noexcept {
-  const Eigen::Vector3d cells = (position_m - min_corner_m_) * inverse_spacing_per_m_;
+  const Eigen::Vector3d cells = (position_m - min_corner_m_).cwiseProduct(inverse_spacing_per_m_);
   return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m, double margin_m,
                                       bool& inside) const noexcept {
-  const Eigen::Vector3d cells = (position_m - min_corner_m_) * inverse_spacing_per_m_;
-  const double margin_cells = margin_m * inverse_spacing_per_m_;
-  inside =
-      (cells.array() >= -margin_cells).all() && (cells.array() <= last_cell_ + margin_cells).all();
+  const Eigen::Vector3d cells = (position_m - min_corner_m_).cwiseProduct(inverse_spacing_per_m_);
+  const Eigen::Array3d margin_cells = margin_m * inverse_spacing_per_m_.array();
+  inside = (cells.array() >= -margin_cells).all() &&
+           (cells.array() <= last_cell_.array() + margin_cells).all();
   return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
 }
 
 int GravityMap::convergedCount() const noexcept {
   return static_cast<int>(std::count_if(vertices_.begin(), vertices_.end(), [](const auto& v) {
     return v.outcome == VertexOutcome::kConverged;
+  }));
+}
+
+bool GravityMap::isComplete() const noexcept {
+  return std::all_of(vertices_.begin(), vertices_.end(), [](const auto& v) {
+    return v.outcome == VertexOutcome::kConverged ||
+           (v.outcome == VertexOutcome::kUnreachable && v.provenance == VertexProvenance::kFilled);
+  });
+}
+
+int GravityMap::unreachableCount() const noexcept {
+  return static_cast<int>(std::count_if(vertices_.begin(), vertices_.end(), [](const auto& v) {
+    return v.outcome == VertexOutcome::kUnreachable;
+  }));
+}
+
+int GravityMap::filledCount() const noexcept {
+  return static_cast<int>(std::count_if(vertices_.begin(), vertices_.end(), [](const auto& v) {
+    return v.provenance == VertexProvenance::kFilled;
   }));
 }
 

@@ -21,6 +21,8 @@ using nlohmann::json;
 
 json vectorToJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+json vectorToJson(const Eigen::Vector3i& v) { return json::array({v.x(), v.y(), v.z()}); }
+
 }  // namespace
 
 json parametersDocument(const EstimationParameters& p) {
@@ -59,6 +61,7 @@ json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& ve
               {"iterations", vertex.iterations},
               {"seconds", vertex.seconds},
               {"outcome", toString(vertex.outcome)},
+              {"provenance", toString(vertex.provenance)},
               {"history", std::move(history)}};
 }
 
@@ -119,6 +122,10 @@ class DocumentReader {
  public:
   explicit DocumentReader(std::string source) : source_(std::move(source)) {}
 
+  /// The schema version the document declares, named in messages about missing or extra fields.
+  void setSchemaVersion(int version) { schema_version_ = version; }
+  int schemaVersion() const { return schema_version_; }
+
   [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
     throw Error("map file '" + source_ + "': field " + (pointer.empty() ? "/" : pointer) + ": " +
                 message);
@@ -137,7 +144,7 @@ class DocumentReader {
     for (const char* key : keys) {
       if (!value.contains(key)) {
         fail(pointer + "/" + key,
-             "missing (required by schema version " + std::to_string(kMapSchemaVersion) + ")");
+             "missing (required by schema version " + std::to_string(schema_version_) + ")");
       }
     }
     for (auto it = value.begin(); it != value.end(); ++it) {
@@ -146,7 +153,7 @@ class DocumentReader {
                          std::any_of(optional_keys.begin(), optional_keys.end(), is_key);
       if (!known) {
         fail(pointer + "/" + escapePointerToken(it.key()),
-             "unexpected field (not part of schema version " + std::to_string(kMapSchemaVersion) +
+             "unexpected field (not part of schema version " + std::to_string(schema_version_) +
                  "; misspelt, or written by a newer autograv?)");
       }
     }
@@ -171,19 +178,7 @@ class DocumentReader {
 
   int integer(const json& parent, const std::string& parent_pointer, const char* key, int min,
               int max) const {
-    const std::string pointer = parent_pointer + "/" + key;
-    const json& value = parent.at(key);
-    const std::string what =
-        "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-    if (!value.is_number_integer()) expected(pointer, what, value);
-    // Read as a 64-bit signed value first so that huge numbers do not wrap into range.
-    if (value.is_number_unsigned() &&
-        value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
-      expected(pointer, what, value);
-    }
-    const std::int64_t x = value.get<std::int64_t>();
-    if (x < min || x > max) expected(pointer, what, value);
-    return static_cast<int>(x);
+    return integerValue(parent.at(key), parent_pointer + "/" + key, min, max);
   }
 
   std::string string(const json& parent, const std::string& parent_pointer, const char* key,
@@ -214,10 +209,44 @@ class DocumentReader {
     return v;
   }
 
+  /// Three integers in [min, max], e.g. vertices per axis.
+  Eigen::Vector3i integer3(const json& parent, const std::string& parent_pointer, const char* key,
+                           int min, int max) const {
+    const std::string pointer = parent_pointer + "/" + key;
+    const json& value = parent.at(key);
+    if (!value.is_array() || value.size() != 3) {
+      expected(
+          pointer,
+          "an array of 3 integers in [" + std::to_string(min) + ", " + std::to_string(max) + "]",
+          value);
+    }
+    Eigen::Vector3i v;
+    for (int i = 0; i < 3; ++i) {
+      v[i] = integerValue(value[static_cast<std::size_t>(i)], pointer + "/" + std::to_string(i),
+                          min, max);
+    }
+    return v;
+  }
+
   const std::string& source() const { return source_; }
 
  private:
+  int integerValue(const json& value, const std::string& pointer, int min, int max) const {
+    const std::string what =
+        "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    if (!value.is_number_integer()) expected(pointer, what, value);
+    // Read as a 64-bit signed value first so that huge numbers do not wrap into range.
+    if (value.is_number_unsigned() &&
+        value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+      expected(pointer, what, value);
+    }
+    const std::int64_t x = value.get<std::int64_t>();
+    if (x < min || x > max) expected(pointer, what, value);
+    return static_cast<int>(x);
+  }
+
   std::string source_;
+  int schema_version_ = kMapSchemaVersion;
 };
 
 EstimationParameters readParameters(const DocumentReader& reader, const json& value) {
@@ -278,12 +307,45 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
   return parameters;
 }
 
+WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
+  constexpr int kMinResolution = 2;
+  constexpr int kMaxResolution = 64;
+  if (reader.schemaVersion() == 1) {
+    reader.requireObject(value, "/grid", {"center_m", "side_m", "resolution"});
+    const Eigen::Vector3d center = reader.vector3(value, "/grid", "center_m", "m");
+    const double side = reader.number(value, "/grid", "side_m", Range::kPositive, "m");
+    const int resolution =
+        reader.integer(value, "/grid", "resolution", kMinResolution, kMaxResolution);
+    return WorkspaceGrid(center, side, resolution);
+  }
+  reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"});
+  const Eigen::Vector3d center = reader.vector3(value, "/grid", "center_m", "m");
+  const Eigen::Vector3d size = reader.vector3(value, "/grid", "size_m", "m");
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(size[axis] > 0.0)) {
+      reader.expected("/grid/size_m/" + std::to_string(axis), "a finite number > 0 (unit: m)",
+                      value.at("size_m")[static_cast<std::size_t>(axis)]);
+    }
+  }
+  const Eigen::Vector3i resolution =
+      reader.integer3(value, "/grid", "resolution", kMinResolution, kMaxResolution);
+  // Bounded per axis above, so the product (at most 64^3) cannot overflow.
+  return WorkspaceGrid(center, size, resolution);
+}
+
 VertexEstimate readVertex(const DocumentReader& reader, const json& value,
                           const WorkspaceGrid& grid, int index) {
   const std::string p = "/vertices/" + std::to_string(index);
-  reader.requireObject(
-      value, p,
-      {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome", "history"});
+  const bool has_provenance = reader.schemaVersion() >= 2;
+  if (has_provenance) {
+    reader.requireObject(value, p,
+                         {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome",
+                          "provenance", "history"});
+  } else {
+    reader.requireObject(
+        value, p,
+        {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome", "history"});
+  }
   const int stored_index = reader.integer(value, p, "index", 0, grid.vertexCount() - 1);
   if (stored_index != index) {
     reader.expected(p + "/index", std::to_string(index) + " (vertices are stored in index order)",
@@ -293,7 +355,8 @@ VertexEstimate readVertex(const DocumentReader& reader, const json& value,
   const Eigen::Vector3d expected_position = grid.vertexPosition(index);
   // The position is redundant (it follows from the grid); it is stored for people and other
   // tools, and a mismatch means the grid or the vertex order was edited.
-  if ((position - expected_position).cwiseAbs().maxCoeff() > 1e-9 + 1e-9 * grid.side_m()) {
+  if ((position - expected_position).cwiseAbs().maxCoeff() >
+      1e-9 + 1e-9 * grid.size_m().maxCoeff()) {
     std::ostringstream what;
     what.precision(17);
     what << "the grid position of vertex " << index << ", [" << expected_position.x() << ", "
@@ -306,11 +369,19 @@ VertexEstimate readVertex(const DocumentReader& reader, const json& value,
   vertex.iterations = reader.integer(value, p, "iterations", 0, 1000000000);
   vertex.seconds = reader.number(value, p, "seconds", Range::kNonNegative, "s");
   const std::string outcome = reader.string(value, p, "outcome", true);
-  if (!parseVertexOutcome(outcome, vertex.outcome)) {
+  if (!parseVertexOutcome(outcome, vertex.outcome) ||
+      (!has_provenance && vertex.outcome == VertexOutcome::kUnreachable)) {
     reader.expected(p + "/outcome",
-                    "one of pending, converged, iteration_cap, no_steady_state, saturated, "
-                    "device_fault",
+                    std::string("one of pending, converged, iteration_cap, no_steady_state, "
+                                "saturated, device_fault") +
+                        (has_provenance ? ", unreachable" : " (schema version 1)"),
                     value.at("outcome"));
+  }
+  if (has_provenance) {
+    const std::string provenance = reader.string(value, p, "provenance", true);
+    if (!parseVertexProvenance(provenance, vertex.provenance)) {
+      reader.expected(p + "/provenance", "one of measured, filled", value.at("provenance"));
+    }
   }
   const json& history = value.at("history");
   if (!history.is_array())
@@ -375,8 +446,8 @@ json mapToDocument(const GravityMap& map) {
       {"device", json{{"model", metadata.device_model}, {"serial", metadata.device_serial}}},
       {"created_utc", metadata.created_utc.empty() ? currentUtcTimestamp() : metadata.created_utc},
       {"grid", json{{"center_m", vectorToJson(grid.center_m())},
-                    {"side_m", grid.side_m()},
-                    {"resolution", grid.resolution()}}},
+                    {"size_m", vectorToJson(grid.size_m())},
+                    {"resolution", vectorToJson(grid.resolution())}}},
       {"parameters", parametersDocument(metadata.parameters)},
       {"vertices", std::move(vertices)},
   };
@@ -393,7 +464,7 @@ json mapToDocument(const GravityMap& map) {
 
 GravityMap mapFromDocument(const json& document, const std::string& source,
                            const MapLoadOptions& options) {
-  const DocumentReader reader(source);
+  DocumentReader reader(source);
   if (!document.is_object()) reader.expected("", "a JSON object (an autograv map)", document);
   if (!document.contains("format")) {
     reader.fail("/format", std::string("missing; not an autograv map file (expected \"") +
@@ -405,12 +476,16 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   if (!document.contains("schema_version")) reader.fail("/schema_version", "missing");
   {
     const json& version = document.at("schema_version");
-    if (!version.is_number_integer() || version.get<std::int64_t>() != kMapSchemaVersion) {
+    if (!version.is_number_integer() || version.get<std::int64_t>() < kOldestMapSchemaVersion ||
+        version.get<std::int64_t>() > kMapSchemaVersion) {
       reader.expected("/schema_version",
-                      std::to_string(kMapSchemaVersion) + " (this autograv reads schema version " +
+                      "an integer in [" + std::to_string(kOldestMapSchemaVersion) + ", " +
+                          std::to_string(kMapSchemaVersion) + "] (this autograv reads schema " +
+                          "versions " + std::to_string(kOldestMapSchemaVersion) + " to " +
                           std::to_string(kMapSchemaVersion) + " only)",
                       version);
     }
+    reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
   reader.requireObject(document, "",
                        {"format", "schema_version", "units", "device", "created_utc", "grid",
@@ -440,12 +515,7 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
                     document.at("created_utc"));
   }
 
-  const json& grid_json = document.at("grid");
-  reader.requireObject(grid_json, "/grid", {"center_m", "side_m", "resolution"});
-  const Eigen::Vector3d center = reader.vector3(grid_json, "/grid", "center_m", "m");
-  const double side = reader.number(grid_json, "/grid", "side_m", Range::kPositive, "m");
-  const int resolution = reader.integer(grid_json, "/grid", "resolution", 2, 64);
-  const WorkspaceGrid grid(center, side, resolution);
+  const WorkspaceGrid grid = readGrid(reader, document.at("grid"));
 
   metadata.parameters = readParameters(reader, document.at("parameters"));
 
@@ -456,8 +526,7 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
                                 ? "an array of " + std::to_string(vertices_json.size())
                                 : describe(vertices_json);
     reader.fail("/vertices", "expected an array of " + std::to_string(vertex_count) +
-                                 " vertex objects (grid resolution " + std::to_string(resolution) +
-                                 " cubed), got " + got);
+                                 " vertex objects (grid of " + grid.describe() + "), got " + got);
   }
   std::vector<VertexEstimate> vertices;
   vertices.reserve(vertex_count);

@@ -12,29 +12,28 @@
 namespace autograv::detail {
 
 /// Trilinear interpolation at `cells`, a position in grid cells from the minimum corner of a grid
-/// of `n` vertices per axis. A point outside is clamped to the boundary first; a NaN coordinate
-/// counts as 0 (the minimum face).
-/// `values[i]` is the vertex value with index i = ix + N * (iy + N * iz), the fourth component
+/// of `n` = (nx, ny, nz) vertices along the axes. A point outside is clamped to the boundary
+/// first; a NaN coordinate counts as 0 (the minimum face).
+/// `values[i]` is the vertex value with index i = ix + nx * (iy + ny * iz), the fourth component
 /// zero. Real-time safe.
-inline Eigen::Vector3d interpolateTrilinear(int n, const Eigen::Vector3d& cells,
+inline Eigen::Vector3d interpolateTrilinear(const Eigen::Vector3i& n, const Eigen::Vector3d& cells,
                                             const Eigen::Vector4d* values) noexcept {
-  const double last = static_cast<double>(n - 1);
-  // Cell and fraction along one axis. min first, then max: std::max(0.0, NaN) is 0.0, so a NaN
-  // lands on the minimum face.
-  const auto locate = [n, last](double coordinate, double& fraction) noexcept {
-    const double clamped = std::max(0.0, std::min(coordinate, last));
-    const int cell = std::min(static_cast<int>(clamped), n - 2);
+  // Cell and fraction along one axis of `count` vertices. min first, then max:
+  // std::max(0.0, NaN) is 0.0, so a NaN lands on the minimum face.
+  const auto locate = [](double coordinate, int count, double& fraction) noexcept {
+    const double clamped = std::max(0.0, std::min(coordinate, static_cast<double>(count - 1)));
+    const int cell = std::min(static_cast<int>(clamped), count - 2);
     fraction = clamped - cell;
     return cell;
   };
   double x1 = 0.0, y1 = 0.0, z1 = 0.0;  // fractions towards the far corner of the cell
-  const int ix = locate(cells.x(), x1);
-  const int iy = locate(cells.y(), y1);
-  const int iz = locate(cells.z(), z1);
+  const int ix = locate(cells.x(), n.x(), x1);
+  const int iy = locate(cells.y(), n.y(), y1);
+  const int iz = locate(cells.z(), n.z(), z1);
   const double x0 = 1.0 - x1, y0 = 1.0 - y1, z0 = 1.0 - z1;
-  const Eigen::Vector4d* v = values + (ix + n * (iy + n * iz));
-  const std::ptrdiff_t dy = n;
-  const std::ptrdiff_t dz = static_cast<std::ptrdiff_t>(n) * n;
+  const Eigen::Vector4d* v = values + (ix + n.x() * (iy + n.y() * iz));
+  const std::ptrdiff_t dy = n.x();
+  const std::ptrdiff_t dz = static_cast<std::ptrdiff_t>(n.x()) * n.y();
   const Eigen::Vector4d near_face =
       y0 * (x0 * v[0] + x1 * v[1]) + y1 * (x0 * v[dy] + x1 * v[dy + 1]);
   const Eigen::Vector4d far_face =

@@ -69,7 +69,7 @@ const char* toString(WizardStep step) noexcept {
 
 CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
     : config_(std::move(config)),
-      grid_(config_.grid_center_m, config_.grid_side_m, config_.grid_resolution),
+      grid_(config_.grid_center_m, config_.grid_size_m, config_.grid_resolution),
       checkpoint_path_(config_.map_path + ".partial"),
       live_shared_(std::make_unique<wizard::Live>()),
       live_(std::make_unique<wizard::Live>()) {

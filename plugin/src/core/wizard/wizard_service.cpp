@@ -12,6 +12,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/vertex_fill.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "wizard/wizard_internal.h"
 
@@ -30,11 +31,6 @@ std::string millimetres(double metres) {
   text.precision(1);
   text << metres * 1e3 << " mm";
   return text.str();
-}
-
-bool sameGrid(const WorkspaceGrid& a, const WorkspaceGrid& b) {
-  return a.resolution() == b.resolution() && std::abs(a.side_m() - b.side_m()) <= 1e-9 &&
-         a.center_m().isApprox(b.center_m(), 1e-9);
 }
 
 /// Messages of the plan check for the lightest |G| that the convergence check alone accepts:
@@ -72,13 +68,11 @@ std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const Worksp
   MapLoadOptions options;
   options.expected_device_model = device_model;
   const GravityMap partial = loadMap(path, options);
-  if (!sameGrid(partial.grid(), grid)) {
+  if (!partial.grid().sameGeometry(grid)) {
     std::ostringstream message;
-    message << "checkpoint " << path << " was made for another grid ("
-            << partial.grid().resolution() << "^3 vertices, side "
-            << millimetres(partial.grid().side_m()) << ", this run " << grid.resolution()
-            << "^3, side " << millimetres(grid.side_m())
-            << "); use the same --grid and --side-mm as that run";
+    message << "checkpoint " << path << " was made for another grid (" << partial.grid().describe()
+            << "; this run " << grid.describe()
+            << "); use the same --grid and --box-mm (or --side-mm) as that run";
     throw Error(message.str());
   }
   return partial.vertices();
@@ -119,14 +113,17 @@ void CalibrationWizard::runCheck(bool retry) {
     max_force_n_ = specifications.max_linear_force_n;
 
     const EstimationParameters& parameters = config_.parameters;
-    const double corner_m = 0.5 * std::sqrt(3.0) * grid_.side_m();
-    if (corner_m > specifications.workspace_radius_m) {
+    // A box fitted to the workspace has corners beyond it (found unreachable and filled), but
+    // the middle of each face must lie inside the workspace sphere, or whole faces are holes.
+    const double half_extent_m = 0.5 * grid_.size_m().maxCoeff();
+    if (half_extent_m > specifications.workspace_radius_m) {
       std::ostringstream message;
-      message << "The grid does not fit in the workspace: its corners are " << millimetres(corner_m)
-              << " from the centre, the workspace radius is "
-              << millimetres(specifications.workspace_radius_m) << ". Use --side-mm "
-              << std::floor(0.8 * 2.0 * specifications.workspace_radius_m / std::sqrt(3.0) * 1e3)
-              << " or less.";
+      message << "The grid does not fit in the workspace: it reaches " << millimetres(half_extent_m)
+              << " from the centre along an axis, the workspace radius is "
+              << millimetres(specifications.workspace_radius_m)
+              << ". Use --box-mm with no extent over "
+              << std::floor(2.0 * specifications.workspace_radius_m * 1e3)
+              << ", or leave it out for the fitted default.";
       throw Error(message.str());
     }
     if (parameters.k0_n_per_m > specifications.max_linear_stiffness_n_per_m) {
@@ -137,7 +134,7 @@ void CalibrationWizard::runCheck(bool retry) {
       throw Error(message.str());
     }
     const std::vector<std::string> refusal =
-        refusalForAnyGravity(parameters, grid_.spacing_m(), max_force_n_);
+        refusalForAnyGravity(parameters, grid_.maxSpacing_m(), max_force_n_);
     if (!refusal.empty()) {
       std::string message =
           "These parameters cannot work on this device whatever its weight (paper Secs. IV and "
@@ -183,8 +180,7 @@ void CalibrationWizard::runCheck(bool retry) {
     }
     std::ostringstream summary;
     summary << specifications.model_name << ", max force " << max_force_n_ << " N; grid "
-            << grid_.resolution() << "^3 = " << grid_.vertexCount() << " vertices, side "
-            << millimetres(grid_.side_m()) << " (cell " << millimetres(grid_.spacing_m()) << ")";
+            << grid_.describe();
     if (config_.resume) {
       summary << "; resuming " << std::count(restored_.begin(), restored_.end(), 1)
               << " converged vertices from " << checkpoint_path_;
@@ -224,8 +220,8 @@ void CalibrationWizard::service() {
 
   const std::uint32_t requests = requests_.exchange(0, std::memory_order_acq_rel);
   if ((requests & wizard::kRequestPlanCheck) != 0) {
-    const std::vector<std::string> problems =
-        checkCalibrationPlan(config_.parameters, grid_.spacing_m(), max_force_n_, plan_gravity_n_);
+    const std::vector<std::string> problems = checkCalibrationPlan(
+        config_.parameters, grid_.maxSpacing_m(), max_force_n_, plan_gravity_n_);
     plan_message_.clear();
     for (const auto& problem : problems) plan_message_ += "\n  - " + problem;
     replies_.fetch_or(problems.empty() ? wizard::kReplyPlanAccepted : wizard::kReplyPlanRefused,
@@ -320,6 +316,10 @@ void CalibrationWizard::buildReview() {
       ++review.pending;
       continue;
     }
+    if (vertex.outcome == VertexOutcome::kUnreachable) {
+      ++review.unreachable;
+      continue;
+    }
     if (vertex.outcome != VertexOutcome::kConverged) {
       review.failed.push_back(ReviewRow{i, grid_.vertexPosition(i), vertex.outcome,
                                         vertex.iterations, vertex.seconds, vertex.gravity_n});
@@ -354,12 +354,14 @@ void CalibrationWizard::prepareRedo() {
   const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
   std::vector<int> redo;
   for (int i = 0; i < grid_.vertexCount(); ++i) {
-    if (vertices[static_cast<std::size_t>(i)].outcome != VertexOutcome::kConverged) {
+    const VertexOutcome outcome = vertices[static_cast<std::size_t>(i)].outcome;
+    // An unreachable vertex would hit the same stop again.
+    if (outcome != VertexOutcome::kConverged && outcome != VertexOutcome::kUnreachable) {
       redo.push_back(i);
     }
   }
   if (redo.empty()) {
-    redo_message_ = "Nothing to redo: every vertex converged.";
+    redo_message_ = "Nothing to redo: every reachable vertex converged.";
     replies_.fetch_or(wizard::kReplyNothingToRedo, std::memory_order_acq_rel);
     return;
   }
@@ -411,6 +413,7 @@ void CalibrationWizard::saveAndPrepareVerify() {
   std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
   std::shared_ptr<const GravityMap> map;
   try {
+    fillUnreachableVertices(grid_, vertices);
     map = std::make_shared<const GravityMap>(grid_, vertices, metadata());
     saveMap(*map, config_.map_path);
   } catch (const Error& error) {

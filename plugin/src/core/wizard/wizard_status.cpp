@@ -244,6 +244,10 @@ WizardStatus CalibrationWizard::status() const {
       }
       message << "Converged: " << r.converged << " of " << r.vertex_count << " vertices";
       if (r.restored > 0) message << " (" << r.restored << " from the checkpoint)";
+      if (r.unreachable > 0) {
+        message << "; " << r.unreachable
+                << " out of the device's reach, filled from their neighbours";
+      }
       message << ".\nIterations per vertex: median " << format("%.1f", r.iterations_median)
               << ", min " << r.iterations_min << ", max " << r.iterations_max << ".\n"
               << "|G_hat| from " << format("%.3f", r.gravity_min_n) << " to "
