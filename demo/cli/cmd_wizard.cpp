@@ -14,6 +14,7 @@
 
 #include "autograv/calibration_wizard.h"
 #include "autograv/error.h"
+#include "autograv/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "cli_support.h"
 #include "commands.h"
@@ -241,6 +242,10 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "are then answered automatically: failed vertices are redone once, then the map is "
         "saved)");
   }
+  // Refuse now, not after the whole grid, when the files cannot be written.
+  checkWritable(options.out_path, "map");
+  checkWritable(options.out_path + ".partial", "checkpoint");
+  if (!options.report_path.empty()) checkWritable(options.report_path, "report");
   std::shared_ptr<sim::SimulatedDevice> device(
       sim::makeSimulatedDevice(options.device, options.seed));
   if (options.uncalibrated) device->setCalibrated(false);
