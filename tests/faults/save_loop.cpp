@@ -14,10 +14,10 @@
 
 namespace {
 
-/// A grid of 9^3 vertices with a history each: a file of about a megabyte, long enough to write
-/// that kills land inside write(), fsync() and rename() as well as between saves.
+/// A grid of 7^3 vertices with a history each: a file of about half a megabyte, long enough to
+/// write that kills land inside write(), fsync() and rename() as well as between saves.
 autograv::GravityMap makeVersion(int version) {
-  const autograv::WorkspaceGrid grid(Eigen::Vector3d(0.0, 0.0, 0.0), 0.08, 9);
+  const autograv::WorkspaceGrid grid(Eigen::Vector3d(0.0, 0.0, 0.0), 0.08, 7);
   std::vector<autograv::VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
   for (int i = 0; i < grid.vertexCount(); ++i) {
     autograv::VertexEstimate& v = vertices[static_cast<std::size_t>(i)];

@@ -98,15 +98,22 @@ class ChildProcess {
     }
     return !line.empty();
   }
-  void kill(int signal_number) { ::kill(pid_, signal_number); }
+  void kill(int signal_number) {
+    if (!reaped_) ::kill(pid_, signal_number);
+  }
+  /// True once the program has ended (it is then reaped; wait() returns at once).
+  bool exited() {
+    if (!reaped_ && ::waitpid(pid_, &status_, WNOHANG) == pid_) reaped_ = true;
+    return reaped_;
+  }
   /// Waits for the end, reading the rest of the output.
   ProgramRun wait() {
     ProgramRun run;
     output_ += readAll(output_fd_);
-    int status = 0;
-    while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    while (!reaped_ && ::waitpid(pid_, &status_, 0) < 0 && errno == EINTR) {
     }
     reaped_ = true;
+    const int status = status_;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     run.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
     run.output = output_;
@@ -117,6 +124,7 @@ class ChildProcess {
   pid_t pid_ = -1;
   int output_fd_ = -1;
   bool reaped_ = false;
+  int status_ = 0;
   std::string output_;
 };
 
