@@ -24,7 +24,11 @@ step "tests that need no display (core, sim, wizard, OSMesa renderer)"
 (cd build/release && env -u DISPLAY ctest --output-on-failure -j "$jobs" -LE xvfb)
 
 step "VTK scene tests under xvfb-run"
-(cd build/release && xvfb-run -a -s "-screen 0 1600x1200x24" ctest --output-on-failure -j "$jobs" -L xvfb)
+# One X server for the parallel tests, with -noreset: by default Xvfb resets whenever its last
+# client leaves and drops the connections still in their handshake, so a test that connects just
+# as another one exits dies of SIGPIPE (or cannot open the display).
+(cd build/release && xvfb-run -a -s "-screen 0 1600x1200x24 -noreset" \
+  ctest --output-on-failure -j "$jobs" -L xvfb)
 
 step "CHAI3D bridge against the stand-in of CHAI3D 3.3's API (CHAI3D is not packaged in Debian)"
 cmake -S . -B build/chai3d-mock -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_WARNINGS_AS_ERRORS=ON \

@@ -70,6 +70,15 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
   const std::string checkpoint_path = options.out_path + ".partial";
+  // Refuse now, not after minutes of calibration, when the files cannot be written.
+  checkWritable(options.out_path, "map");
+  checkWritable(checkpoint_path, "checkpoint");
+  if (!options.report_path.empty()) checkWritable(options.report_path, "report");
+  if (!options.resume && std::filesystem::exists(checkpoint_path)) {
+    throw Error("checkpoint " + checkpoint_path +
+                " holds the finished vertices of an interrupted run: add --resume to continue "
+                "it, or delete it to start afresh");
+  }
   if (options.resume) {
     // The wizard's reader: either command resumes the other's run, with the same checks.
     run.resume_from = loadCheckpoint(checkpoint_path, grid, specs.model_name);
@@ -100,8 +109,11 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     }
     progress.update(calibrator.visitedCount(), calibrator.toVisitCount(), detail);
   };
+  const auto save_checkpoint = [&](const GravityMap& map) {
+    writeFileAtomically(checkpoint_path, mapToJson(map), "checkpoint");  // temp file + rename
+  };
   run.on_vertex_finished = [&](const AutoCalibrator& calibrator, int) {
-    saveMap(calibrator.makeMap(metadata), checkpoint_path);  // atomic: temp file + rename
+    save_checkpoint(calibrator.makeMap(metadata));
   };
   g_stop_requested.store(false);
   run.stop_requested = &g_stop_requested;
@@ -118,13 +130,19 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
-    saveMap(map, checkpoint_path);
+    save_checkpoint(map);
     throw Error(std::string(result.stopped ? "interrupted" : "the device stopped answering") +
                 ": " + std::to_string(map.convergedCount()) + " of " +
                 std::to_string(grid.vertexCount()) + " vertices are saved in " + checkpoint_path +
                 "; run the same command with --resume to continue");
   }
-  saveMap(map, options.out_path);
+  try {
+    saveMap(map, options.out_path);
+  } catch (const Error& error) {
+    // The last checkpoint, written after the last vertex, holds the whole result.
+    throw Error(std::string(error.what()) + ". Every finished vertex is kept in " +
+                checkpoint_path + ": make room and run the same command with --resume");
+  }
   std::error_code ignored;
   std::filesystem::remove(checkpoint_path, ignored);
 

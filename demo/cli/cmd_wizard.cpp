@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/error.h"
+#include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
@@ -245,6 +246,10 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "are then answered automatically: failed vertices are redone once, then the map is "
         "saved)");
   }
+  // Refuse now, not after the whole grid, when the files cannot be written.
+  checkWritable(options.out_path, "map");
+  checkWritable(options.out_path + ".partial", "checkpoint");
+  if (!options.report_path.empty()) checkWritable(options.report_path, "report");
   std::shared_ptr<sim::SimulatedDevice> device(
       sim::makeSimulatedDevice(options.device, options.seed, options.friction));
   if (options.uncalibrated) device->setCalibrated(false);

@@ -47,8 +47,11 @@ else
   fixtures=0
 fi
 
-AUTOGRAV_UPDATE_FIXTURES=$fixtures AUTOGRAV_UPDATE_GOLDENS=1 xvfb-run -a "$build/tests/visual_regression_test" \
+# -noreset: Xvfb would otherwise reset each time its last client leaves (see tests/run.sh).
+xvfb_args="-screen 0 1280x1024x24 -noreset"
+AUTOGRAV_UPDATE_FIXTURES=$fixtures AUTOGRAV_UPDATE_GOLDENS=1 xvfb-run -a -s "$xvfb_args" \
+  "$build/tests/visual_regression_test" \
   --gtest_filter='VisualRegressionTest.RendersMatchTheGoldens'
 # The fresh goldens must pass their own test, broken renders included.
-xvfb-run -a "$build/tests/visual_regression_test"
+xvfb-run -a -s "$xvfb_args" "$build/tests/visual_regression_test"
 echo "regenerate_goldens: new goldens in $golden; review them before committing"

@@ -21,6 +21,7 @@
 #include <vtkXMLWriter.h>
 
 #include "autograv/error.h"
+#include "autograv/map/map_io.h"
 #include "vtk_support.h"
 
 namespace autograv::viz {
@@ -135,14 +136,16 @@ void write(vtkXMLWriter* writer, vtkDataObject* data, const std::string& path) {
   vtkNew<detail::ErrorCollector> errors;
   errors->watch(writer);
   writer->SetInputData(data);
-  writer->SetFileName(path.c_str());
   writer->SetDataModeToAscii();
+  // Into memory, then atomically like maps and pictures: VTK's own file output would truncate an
+  // earlier export first and leave half a file on a full disk.
+  writer->WriteToOutputStringOn();
   const int ok = writer->Write();
   if (ok != 1 || errors->hasErrors()) {
     throw Error("export " + path + ": cannot write the file" +
-                (errors->hasErrors() ? " (" + errors->text() + ")"
-                                     : std::string(" (does the folder exist?)")));
+                (errors->hasErrors() ? " (" + errors->text() + ")" : std::string()));
   }
+  writeFileAtomically(path, writer->GetOutputString(), "export");
 }
 
 }  // namespace

@@ -33,10 +33,18 @@ void saveMap(const GravityMap& map, const std::string& path);
 /// Writes `text` to `path` so that `path` holds either its previous content or all of `text`,
 /// whatever happens: a unique temporary file in the same folder (rename is atomic only within
 /// one file system), written, fsync'ed, renamed over the target, then the folder fsync'ed so
-/// that the rename itself survives a power cut. What saveMap does; reports use it too. Throws
-/// autograv::Error saying "saving <what> '<path>': ..." and why. Not real-time safe.
+/// that the rename itself survives a power cut. What saveMap does; reports use it too. A path
+/// that names a device or a pipe (/dev/null, /dev/stdout) is written into instead, never replaced.
+/// Throws autograv::Error saying "saving <what> '<path>': ..." and why (disk full, read-only
+/// folder, ...). Not real-time safe.
 void writeFileAtomically(const std::string& path, const std::string& text,
                          const std::string& what = "file");
+
+/// Throws autograv::Error saying "cannot write <what> '<path>': ..." and why when
+/// writeFileAtomically could not write `path` now (the folder is missing, read-only or full), so
+/// that a long run can refuse at its start rather than fail at its end. Creates and removes a
+/// one-byte temporary file in the folder; leaves `path` alone. Not real-time safe.
+void checkWritable(const std::string& path, const std::string& what = "file");
 
 // --- In-memory form and checksum (additions for tools and tests) ---------------------------
 //

@@ -35,6 +35,84 @@ class TemporaryFileGuard {
   std::string path_;
 };
 
+/// Writes all of `text` to `fd`; on failure returns errno (0 on success).
+int writeAll(int fd, const std::string& text) {
+  const char* data = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  return 0;
+}
+
+std::string reasonFor(int error_number) {
+  std::string reason = systemError(error_number);
+  if (error_number == ENOSPC || error_number == EDQUOT) reason += " (the disk is full)";
+  if (error_number == EROFS || error_number == EACCES || error_number == EPERM) {
+    reason += " (is the folder writable?)";
+  }
+  return reason;
+}
+
+/// A device or a pipe (/dev/null, /dev/stdout, a FIFO) is written into: it cannot be replaced by
+/// a rename, and must not be (renaming over /dev/full as root would swap the device node for a
+/// plain file). Such a target holds no earlier file that could be damaged.
+void writeIntoSpecialFile(const std::string& path, const std::string& text,
+                          const std::string& what) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) {
+    throw Error("saving " + what + " '" + path + "': cannot open: " + reasonFor(errno));
+  }
+  const int write_error = writeAll(fd, text);
+  const int close_error = ::close(fd) != 0 ? errno : 0;
+  if (write_error != 0 || close_error != 0) {
+    throw Error("saving " + what + " '" + path +
+                "': write failed: " + reasonFor(write_error != 0 ? write_error : close_error));
+  }
+}
+
+/// How `path` is written: false for a regular file (or none yet), true for a device or a pipe.
+/// Throws when `path` names a folder; `action` starts the message ("saving map").
+bool isSpecialFile(const std::string& path, const std::string& action) {
+  const std::filesystem::path target(path);
+  struct stat existing {};
+  if (target.filename().empty() ||
+      (::stat(path.c_str(), &existing) == 0 && S_ISDIR(existing.st_mode))) {
+    throw Error(action + " '" + path + "': the path names a folder, not a file");
+  }
+  return ::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode);
+}
+
+/// The folder `path` is in ("." for a bare name).
+std::filesystem::path folderOf(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  return folder.empty() ? std::filesystem::path(".") : folder;
+}
+
+/// Creates a unique hidden temporary file next to `path`; stores its name in `temporary_path`.
+/// Throws "<action> '<path>': cannot create a temporary file in ...".
+int createTemporaryBeside(const std::string& path, const std::string& action,
+                          std::string& temporary_path) {
+  const std::filesystem::path folder = folderOf(path);
+  const std::string pattern =
+      (folder / ("." + std::filesystem::path(path).filename().string() + ".tmp-XXXXXX")).string();
+  std::vector<char> temporary(pattern.begin(), pattern.end());
+  temporary.push_back('\0');
+  const int fd = ::mkstemp(temporary.data());
+  if (fd < 0) {
+    throw Error(action + " '" + path + "': cannot create a temporary file in '" + folder.string() +
+                "': " + reasonFor(errno) + "; the previous file, if any, is untouched");
+  }
+  temporary_path = temporary.data();
+  return fd;
+}
+
 /// Follows the parser through the document, so that an error can name the field it was reading.
 class ParsePosition {
  public:
@@ -114,59 +192,57 @@ nlohmann::json parseJsonDocument(const std::string& text, const std::string& sou
 
 }  // namespace
 
+void checkWritable(const std::string& path, const std::string& what) {
+  const std::string action = "cannot write " + what;
+  if (isSpecialFile(path, action)) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) throw Error(action + " '" + path + "': cannot open: " + reasonFor(errno));
+    ::close(fd);
+    return;
+  }
+  std::string temporary_path;
+  const int fd = createTemporaryBeside(path, action, temporary_path);
+  const TemporaryFileGuard guard(temporary_path);
+  // One byte takes a block: a full disk says so now.
+  const int write_error = writeAll(fd, "?");
+  ::close(fd);
+  if (write_error != 0) {
+    throw Error(action + " '" + path + "': a test write failed: " + reasonFor(write_error) +
+                "; the previous file, if any, is untouched");
+  }
+}
+
 void writeFileAtomically(const std::string& path, const std::string& text,
                          const std::string& what) {
-  const std::filesystem::path target(path);
-  if (target.filename().empty()) {
-    throw Error("saving " + what + " '" + path + "': the path names a folder, not a file");
+  const std::string action = "saving " + what;
+  if (isSpecialFile(path, action)) {
+    writeIntoSpecialFile(path, text, what);
+    return;
   }
-  const std::filesystem::path folder =
-      target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
-  const std::string pattern =
-      (folder / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
-  std::vector<char> temporary(pattern.begin(), pattern.end());
-  temporary.push_back('\0');
-  const int fd = ::mkstemp(temporary.data());
-  if (fd < 0) {
-    throw Error("saving " + what + " '" + path + "': cannot create a temporary file in '" +
-                folder.string() + "': " + systemError(errno) +
-                " (does the folder exist and is it writable?)");
-  }
-  TemporaryFileGuard guard(temporary.data());
+  std::string temporary_path;
+  const int fd = createTemporaryBeside(path, action, temporary_path);
+  TemporaryFileGuard guard(temporary_path);
   // mkstemp creates 0600; these files are not secret: readable like any other file.
   ::fchmod(fd, 0644);
-  const char* data = text.data();
-  std::size_t left = text.size();
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      const int error_number = errno;
-      ::close(fd);
-      throw Error("saving " + what + " '" + path + "': write failed: " + systemError(error_number) +
-                  " (disk full?); the previous file is untouched");
-    }
-    data += written;
-    left -= static_cast<std::size_t>(written);
-  }
-  if (::fsync(fd) != 0) {
-    const int error_number = errno;
+  const auto fail = [&](const char* step, int error_number) {
     ::close(fd);
-    throw Error("saving " + what + " '" + path + "': fsync failed: " + systemError(error_number) +
-                "; the previous file is untouched");
-  }
+    throw Error("saving " + what + " '" + path + "': " + step + " failed: " +
+                reasonFor(error_number) + "; the previous file, if any, is untouched");
+  };
+  if (const int error_number = writeAll(fd, text); error_number != 0) fail("write", error_number);
+  if (::fsync(fd) != 0) fail("fsync", errno);
   if (::close(fd) != 0) {
-    throw Error("saving " + what + " '" + path + "': close failed: " + systemError(errno) +
-                "; the previous file is untouched");
+    throw Error("saving " + what + " '" + path + "': close failed: " + reasonFor(errno) +
+                "; the previous file, if any, is untouched");
   }
-  if (::rename(temporary.data(), path.c_str()) != 0) {
+  if (::rename(temporary_path.c_str(), path.c_str()) != 0) {
     throw Error("saving " + what + " '" + path +
-                "': cannot rename the temporary file into place: " + systemError(errno) +
-                "; the previous file is untouched");
+                "': cannot rename the temporary file into place: " + reasonFor(errno) +
+                "; the previous file, if any, is untouched");
   }
   guard.release();
   // Best effort: some file systems refuse fsync on a folder; the data itself is already safe.
-  const int folder_fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY);
+  const int folder_fd = ::open(folderOf(path).c_str(), O_RDONLY | O_DIRECTORY);
   if (folder_fd >= 0) {
     ::fsync(folder_fd);
     ::close(folder_fd);
