@@ -116,6 +116,7 @@ Eigen::Vector3d PointMassDevice::gravityAt(const Eigen::Vector3d& position_m) co
   g.x() += 2.0 * c_r * p.x() * p.z();
   g.y() += 2.0 * c_r * p.y() * p.z();
   g.z() += vertical_offset_n_ + c_r * (p.x() * p.x() + p.y() * p.y()) + 3.0 * c_z * p.z() * p.z();
+  g.z() += payload_kg_ * kStandardGravity;  // a point load; the mass |G|/g follows
   return g;
 }
 
@@ -128,12 +129,16 @@ double PointMassDevice::potentialEnergy_j(const Eigen::Vector3d& position_m) con
 }
 
 Eigen::Vector3d PointMassDevice::trueGravity(const Eigen::Vector3d& position_m) const {
-  return gravityAt(position_m);
+  return loadedGravity_n(gravityAt(position_m));
 }
 
 Eigen::Matrix3d PointMassDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {
   const double mass_kg = std::max(kMinimumMass_kg, gravityAt(position_m).norm() / kStandardGravity);
   return mass_kg * Eigen::Matrix3d::Identity();
+}
+
+Eigen::Vector3d PointMassDevice::mechanismGravity_n() const noexcept {
+  return gravityAt(position_m_);
 }
 
 void PointMassDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {

@@ -74,6 +74,8 @@ class PointMassDevice final : public SimulatedDriver {
   void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
+  Eigen::Vector3d mechanismGravity_n() const noexcept override;
+  void applyPayload_kg(double payload_kg) override { payload_kg_ = payload_kg; }
 
  private:
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
@@ -82,6 +84,7 @@ class PointMassDevice final : public SimulatedDriver {
   double vertical_offset_n_ = 0.0;  // w
   Eigen::Vector3d position_m_;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  double payload_kg_ = 0.0;  // setPayload_kg
 };
 
 }  // namespace autograv::sim

@@ -132,6 +132,8 @@ class SerialArmDevice final : public SimulatedDriver {
   void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
+  Eigen::Vector3d mechanismGravity_n() const noexcept override;
+  void applyPayload_kg(double payload_kg) override;
 
  private:
   struct Trig {
