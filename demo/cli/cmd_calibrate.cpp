@@ -35,6 +35,7 @@ struct CalibrateOptions {
   bool resume = false;
   bool copy_initial_estimate = false;
   int redo_failed = 1;
+  SimulatedLoad load;
   EstimationParameters parameters;
 };
 
@@ -47,6 +48,7 @@ double median(std::vector<int> values) {
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed);
+  applySimulatedLoad(*device, options.load);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
@@ -211,9 +213,8 @@ void addCalibrateCommand(CLI::App& app) {
   auto options = std::make_shared<CalibrateOptions>();
   CLI::App* command = app.add_subcommand(
       "calibrate", "Run the whole off-line autocalibration on a simulated device and save the map");
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addDeviceOption(*command, options->device)->check(simulatedOnly("calibrate"));
+  addSimulatedLoadOptions(*command, options->load);
   addGridOptions(*command, options->grid, options->side_mm);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();

@@ -94,9 +94,15 @@ double releaseAndMeasure(sim::SimulatedDevice& simulated, HapticDevice& device,
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
-  std::shared_ptr<sim::SimulatedDevice> simulated =
-      openSimulatedDevice(options.device, options.seed);
-  const DeviceSpecifications& specs = simulated->specifications();
+  const DeviceHandle handle = openDevice(options.device, options.seed);
+  if (!handle.simulation) {
+    throw Error(
+        "verify places the end-effector at its test points by simulation, so it needs a "
+        "simulated device; on " +
+        options.device + " run `autograv check`, which measures the map against the device itself");
+  }
+  const std::shared_ptr<sim::SimulatedDevice>& simulated = handle.simulation;
+  const DeviceSpecifications& specs = handle.device->specifications();
   MapLoadOptions load;
   load.expected_device_model = specs.model_name;
   load.allow_model_mismatch = options.allow_model_mismatch;
@@ -105,7 +111,7 @@ void runVerifyCommand(const VerifyOptions& options) {
   const double period_s = map->metadata().parameters.servo_period_s;
   const int ticks = std::max(1, static_cast<int>(std::lround(options.duration_s / period_s)));
 
-  auto meter = std::make_shared<ForceMeter>(simulated);
+  auto meter = std::make_shared<ForceMeter>(handle.device);
   CompensationOptions compensation;
   compensation.servo_period_s = period_s;
   GravityCompensatedDevice decorated(meter, compensation);
@@ -238,9 +244,7 @@ void addVerifyCommand(CLI::App& app) {
       "Release the end-effector at seeded points with the map's compensation on, then off, and "
       "report the drift");
   command->add_option("map", options->map_path, "Map file (JSON)")->required();
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addDeviceOption(*command, options->device);
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
   command->add_option("--points", options->points, "Release points")
