@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -288,9 +289,17 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
                 " your own hand does the manual step");
   }
   if (options.uncalibrated) simulation->setCalibrated(false);
-  const std::string out_path = options.out_path.empty()
-                                   ? MapLibrary(options.maps_dir).pathFor(device->specifications())
-                                   : options.out_path;
+  std::string out_path = options.out_path;
+  if (out_path.empty()) {  // the device's place in the map library, where every tool looks
+    const MapLibrary library(options.maps_dir);
+    std::error_code error;
+    std::filesystem::create_directories(library.dir(), error);
+    if (error) {
+      throw Error("cannot create the map library '" + library.dir() + "': " + error.message() +
+                  "; choose another with --maps, or name the map with --out");
+    }
+    out_path = library.pathFor(device->specifications());
+  }
   // A handle change does not need the whole grid again: say so before the long run.
   const std::string retare_offer =
       std::filesystem::exists(out_path) && !options.resume

@@ -36,6 +36,11 @@ struct SpotMeasurement {
   bool timed_out = false;
 };
 
+/// True when `change_n` lies within about 25 degrees of the line of `up` (either way): a change
+/// of weight, such as a new handle, rather than of gravity's direction (a tilted or moved
+/// device). Real-time safe.
+bool isChangeOfWeight(const Eigen::Vector3d& change_n, const Eigen::Vector3d& up) noexcept;
+
 /// Up to `count` vertices of `grid` nearest its centre, ties broken by index (deterministic):
 /// the middle of the workspace, where a device is best behaved. Not real-time safe.
 std::vector<int> centralVertices(const WorkspaceGrid& grid, int count);

@@ -11,9 +11,6 @@ namespace autograv {
 
 namespace {
 
-// A change of G within this angle of the map's up direction is a change of weight.
-constexpr double kVerticalChangeCos = 0.9;  // about 25 degrees
-
 std::string format(const char* pattern, double a, double b = 0.0) {
   char text[320];
   std::snprintf(text, sizeof text, pattern, a, b);
@@ -75,11 +72,10 @@ MapCheckResult checkMap(HapticDevice& device, TickSource& ticks, const GravityMa
                100.0 * result.max_error_rel, 100.0 * options.tolerance_rel);
     return result;
   }
-  const bool vertical = change_n.dot(up) >= kVerticalChangeCos * change_n.norm();
-  if (vertical) {
+  if (isChangeOfWeight(change_n, up)) {
     result.fit = MapFit::kRetare;
     result.reason = format(
-        "the map does not fit: the end-effector weighs %+.1f g more than when it was "
+        "the map does not fit: the end-effector's weight changed by %+.1f g since it was "
         "calibrated (%.1f %% of |G|), as after a handle change; run autograv retare",
         result.payload_kg * 1e3, 100.0 * result.max_error_rel);
   } else {

@@ -48,6 +48,11 @@ RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap
   RetareResult result{shiftedMap(map, shift_n), shift_n,
                       shift_n.dot(up.normalized()) / kStandardGravity,
                       disagreement_n / gravity_norm_n, std::move(measurement)};
+  if (!isChangeOfWeight(shift_n, up)) {
+    throw Error(
+        "retare: the change is not vertical, so it is not a new handle (a point load "
+        "only adds weight): the device was probably moved or tilted; calibrate it again");
+  }
   if (result.disagreement_rel > options.max_disagreement_rel) {
     char text[64];
     std::snprintf(text, sizeof text, "%.1f %%", 100.0 * result.disagreement_rel);

@@ -9,6 +9,11 @@
 
 namespace autograv {
 
+bool isChangeOfWeight(const Eigen::Vector3d& change_n, const Eigen::Vector3d& up) noexcept {
+  constexpr double kCosine = 0.9;  // about 25 degrees
+  return std::abs(change_n.dot(up.normalized())) >= kCosine * change_n.norm();
+}
+
 std::vector<int> centralVertices(const WorkspaceGrid& grid, int count) {
   std::vector<int> order(static_cast<std::size_t>(grid.vertexCount()));
   std::iota(order.begin(), order.end(), 0);
