@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include "autograv/chai3d/device_adapter.h"
+#include "autograv/chai3d/gravity_compensated_device.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_library.h"
 #include "chai3d.h"
 #include "run_command.h"
 #include "simulated_haptic_device.h"
@@ -106,6 +108,50 @@ TEST_F(Chai3dDevicesTest, TheTerminalWizardCalibratesAChai3dDeviceWithTheSimulat
                                          " check --device chai3d:0 --map " + map_path);
   EXPECT_EQ(check.exit_code, 0) << check.output;
   fs::remove_all(dir);
+}
+
+TEST_F(Chai3dDevicesTest, TheBridgeFindsItsMapInTheLibraryAndChecksItAtStartUp) {
+  const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+  if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  const fs::path maps =
+      fs::temp_directory_path() / ("autograv_chai3d_maps_" + std::to_string(::getpid()));
+  fs::remove_all(maps);
+  // The wizard files the map of chai3d:0 in the library (no --out).
+  const auto wizard = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                          " wizard --device chai3d:0 --auto-hand --grid 2 "
+                                          "--side-mm 40 --seed 3 --verify-points 0 --maps " +
+                                          maps.string());
+  ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+
+  ::chai3d::cHapticDeviceHandler handler;
+  ::chai3d::cGenericHapticDevicePtr raw;
+  ASSERT_TRUE(handler.getDevice(raw, 0));
+  auto device = chai3d::cGravityCompensatedDevice::create(raw);
+  ASSERT_TRUE(device->open());
+  EXPECT_THROW(device->checkPublishedMap(), Error);  // nothing published yet
+  device->loadAndPublishMapForDevice(maps.string());
+  ASSERT_NE(device->compensation().publishedMap(), nullptr);
+  const auto simulation = dynamic_cast<chai3d::SimulatedChai3dDevice&>(*raw).simulation();
+  sim::SimulatedTickSource ticks(*simulation, 1e-3,
+                                 sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  EXPECT_EQ(device->checkPublishedMap({}, &ticks).fit, MapFit::kFits);
+  simulation->setPayload_kg(0.025);
+  const MapCheckResult heavier = device->checkPublishedMap({}, &ticks);
+  EXPECT_EQ(heavier.fit, MapFit::kRetare) << heavier.reason;
+  EXPECT_NEAR(heavier.payload_kg, 0.025, 0.002);
+
+  // Another model has no map there: the error names the folder and what it holds.
+  ::chai3d::cGenericHapticDevicePtr omega =
+      std::make_shared<chai3d::cSimulatedHapticDevice>(sim::makeSimulatedDevice("sim:omega", 1));
+  auto other = chai3d::cGravityCompensatedDevice::create(omega);
+  ASSERT_TRUE(other->open());
+  try {
+    other->loadAndPublishMapForDevice(maps.string());
+    FAIL() << "expected autograv::Error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("sim_omni.json"), std::string::npos) << error.what();
+  }
+  fs::remove_all(maps);
 }
 
 }  // namespace
