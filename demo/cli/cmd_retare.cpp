@@ -65,6 +65,16 @@ void runRetareCommand(const RetareCommandOptions& options, const CLI::App& comma
         sim::measureAccuracy(result.map, *setup.device.simulation, 1000, options.common.seed);
     report["max_error_rel"] = accuracy.max_error_rel;  // against the simulation's ground truth
     report["rms_residual_rel"] = accuracy.rms_residual_rel;
+    if (options.common.load.tilt_deg == 0.0) {
+      // The re-tare's own error: its shift against the true weight of the simulated payload
+      // (the rest of max_error_rel is the original map's).
+      const Eigen::Vector3d weight_n(0.0, 0.0,
+                                     options.common.load.payload_g * 1e-3 * kStandardGravity);
+      const double shift_error_rel = (result.shift_n - weight_n).norm() / accuracy.mean_true_norm_n;
+      report["shift_error_rel"] = shift_error_rel;
+      std::printf("the shift is %.3f %% of mean |G| off the payload's true weight\n",
+                  100.0 * shift_error_rel);
+    }
     std::printf("against the simulation's truth: worst vertex %.3f %% of |G|\n",
                 100.0 * accuracy.max_error_rel);
   }
