@@ -95,14 +95,23 @@ TEST_F(Chai3dDevicesTest, TheTerminalWizardCalibratesAChai3dDeviceWithTheSimulat
       testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary + " devices");
   ASSERT_EQ(devices.exit_code, 0) << devices.output;
   EXPECT_NE(devices.output.find("chai3d:0   sim:omni"), std::string::npos) << devices.output;
+  // The stand-in's device is sim:omni with seed 1: the wizard must make the very same map
+  // through CHAI3D's API as on the simulation directly.
+  const std::string options = " --auto-hand --grid 2 --side-mm 40 --seed 1 --out ";
   const auto wizard = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
-                                          " wizard --device chai3d:0 --auto-hand --grid 2 "
-                                          "--side-mm 40 --seed 3 --out " +
-                                          map_path);
+                                          " wizard --device chai3d:0" + options + map_path);
   ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+  const std::string direct_path = (dir / "direct.json").string();
+  const auto direct =
+      testing::runCommand(binary + " wizard --device sim:omni" + options + direct_path);
+  ASSERT_EQ(direct.exit_code, 0) << direct.output;
   const GravityMap map = loadMap(map_path);
   EXPECT_EQ(map.metadata().device_model, "sim:omni");
   EXPECT_EQ(map.convergedCount(), 8);
+  const GravityMap direct_map = loadMap(direct_path);
+  for (std::size_t i = 0; i < map.vertices().size(); ++i) {
+    EXPECT_EQ(map.vertices()[i].gravity_n, direct_map.vertices()[i].gravity_n) << i;
+  }
   // The map fits the device it was made on, through the same CHAI3D path.
   const auto check = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
                                          " check --device chai3d:0 --map " + map_path);
