@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job on a simulated device: calibrate, save the map, render the scene to a PNG, check
 # the map with a release test, and print the accuracy report. Installs missing Debian packages
-# and builds first. Usage: bash demo/run.sh [sim:omni|sim:omega]   (outputs in ./out/)
+# and builds first. Usage: bash demo/run.sh [sim:omni|sim:omega|sim:falcon]   (outputs in ./out/)
 set -euo pipefail
 
 device="${1:-sim:omni}"

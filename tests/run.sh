@@ -2,13 +2,14 @@
 # Builds autograv and runs every test: the full suite (VTK scene tests under xvfb-run, the OSMesa
 # renderer with no display at all), the CHAI3D bridge against its stand-in headers, then the
 # suite again under AddressSanitizer + UndefinedBehaviorSanitizer, then the concurrency tests
-# under ThreadSanitizer.
+# under ThreadSanitizer, and every fuzz target (tests/fuzz) for a bounded time.
 # Installs missing Debian packages first. Usage: bash tests/run.sh   (from anywhere)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc 2>/dev/null || echo 2)"
 start_s=$SECONDS
+fuzz_seconds=30  # per fuzz target; there are four
 cd "$root"
 
 "$root/.ci/install-deps.sh"
@@ -40,6 +41,13 @@ cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \
 cmake --build build/asan -j "$jobs"
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --output-on-failure -j "$jobs" -LE "xvfb|slow")
+
+step "libFuzzer targets (clang, ASan + UBSan): each on its seed corpus for ${fuzz_seconds}s"
+cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_FUZZ=ON \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DAUTOGRAV_WARNINGS_AS_ERRORS=ON \
+  -DAUTOGRAV_BUILD_TESTS=OFF -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF
+cmake --build build/fuzz -j "$jobs" --target autograv_fuzzers
+tests/fuzz/run_fuzzers.sh build/fuzz "$fuzz_seconds"
 
 if [[ -f tests/core/gravity_compensated_device_concurrency_test.cpp ]]; then
   step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread"

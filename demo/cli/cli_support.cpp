@@ -13,8 +13,9 @@
 namespace autograv::cli {
 
 std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& name,
-                                                          std::uint64_t seed) {
-  auto device = sim::makeSimulatedDevice(name, seed);
+                                                          std::uint64_t seed,
+                                                          sim::FrictionLevel friction) {
+  auto device = sim::makeSimulatedDevice(name, seed, friction);
   if (!device->open()) throw Error("device " + name + ": open() failed");
   if (!device->calibrate()) throw Error("device " + name + ": calibrate() failed");
   return device;

@@ -13,10 +13,11 @@
 
 namespace autograv::cli {
 
-/// Opens a simulated device by name ("sim:omega", "sim:omni") and calls open() and calibrate().
-/// Throws autograv::Error with the valid names for an unknown one.
-std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& name,
-                                                          std::uint64_t seed);
+/// Opens a simulated device by name ("sim:omega", "sim:omni") with the given friction and calls
+/// open() and calibrate(). Throws autograv::Error with the valid names for an unknown one.
+std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(
+    const std::string& name, std::uint64_t seed,
+    sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
 
 /// How every command names its device: adds `--device` (sim:omni, sim:omega, chai3d:N; checked when
 /// the device is opened, since CHAI3D's devices are only known then).

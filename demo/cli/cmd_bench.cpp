@@ -13,6 +13,7 @@
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -24,6 +25,7 @@ struct BenchOptions {
   std::string report_path;
   int grid = 5;
   bool quick = false;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
 };
 
 double secondsSince(Clock::time_point start) {
@@ -88,9 +90,9 @@ struct CalibrationFigures {
   double max_error_rel = 0.0;
 };
 
-CalibrationFigures calibrationFigures(const std::string& name, int resolution, bool extrapolate,
-                                      GravityMap* map_out) {
-  auto device = openSimulatedDevice(name, 1);
+CalibrationFigures calibrationFigures(const std::string& name, sim::FrictionLevel friction,
+                                      int resolution, bool extrapolate, GravityMap* map_out) {
+  auto device = openSimulatedDevice(name, 1, friction);
   const double side_m = defaultGridSide_m(device->specifications().workspace_radius_m);
   sim::CalibrationRunOptions options;
   options.grid_center_m = device->workspaceCenter_m();
@@ -135,8 +137,10 @@ void runBenchCommand(const BenchOptions& options) {
   }
 
   std::printf(
-      "\nCalibration, %d^3 grid, default side, seed 1 (paper: 14 iterations at one vertex)\n",
-      options.grid);
+      "\nCalibration, %d^3 grid, default side, seed 1, friction %s (paper: 14 iterations at one "
+      "vertex)\n",
+      options.grid, sim::toString(options.friction));
+  report["friction"] = sim::toString(options.friction);
   std::printf("  %-10s %-12s %6s %6s %10s %10s %9s %8s\n", "device", "start", "median", "max",
               "s/vertex", "sim [s]", "wall [s]", "worst");
   std::unique_ptr<GravityMap> omni_map;
@@ -144,7 +148,8 @@ void runBenchCommand(const BenchOptions& options) {
     for (bool extrapolate : {false, true}) {
       GravityMap map(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2), std::vector<VertexEstimate>(8),
                      MapMetadata{});
-      const CalibrationFigures f = calibrationFigures(name, options.grid, extrapolate, &map);
+      const CalibrationFigures f =
+          calibrationFigures(name, options.friction, options.grid, extrapolate, &map);
       const char* start = extrapolate ? "extrapolate" : "eq. (9)";
       std::printf("  %-10s %-12s %6.1f %6d %10.2f %10.1f %9.2f %7.2f%%\n", name.c_str(), start,
                   f.iterations_median, f.iterations_max, f.seconds_per_vertex, f.simulated_s,
@@ -196,6 +201,7 @@ void addBenchCommand(CLI::App& app) {
       ->check(CLI::Range(2, 8))
       ->capture_default_str();
   command->add_flag("--quick", options->quick, "Shorter runs (noisier figures)");
+  addFrictionOption(*command, options->friction);
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->callback([options] { runBenchCommand(*options); });
 }

@@ -13,10 +13,13 @@
 
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -30,6 +33,7 @@ struct CalibrateOptions {
   int grid = 0;          // 0: the device's default
   double side_mm = 0.0;  // 0: the device's default
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   std::string out_path;
   std::string report_path;
   bool resume = false;
@@ -47,7 +51,7 @@ double median(std::vector<int> values) {
 }
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
   applySimulatedLoad(*device, options.load);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
@@ -70,26 +74,21 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
   const std::string checkpoint_path = options.out_path + ".partial";
   if (options.resume) {
-    if (!std::filesystem::exists(checkpoint_path)) {
-      throw Error("--resume: no checkpoint " + checkpoint_path + " (nothing to resume)");
-    }
-    MapLoadOptions load;
-    load.expected_device_model = specs.model_name;
-    const GravityMap partial = loadMap(checkpoint_path, load);
-    if (partial.grid().resolution() != grid.resolution() ||
-        std::abs(partial.grid().side_m() - grid.side_m()) > 1e-9 ||
-        !partial.grid().center_m().isApprox(grid.center_m(), 1e-9)) {
-      throw Error("--resume: checkpoint " + checkpoint_path +
-                  " was made for another grid; use the same --grid and --side-mm");
-    }
-    run.resume_from = partial.vertices();
+    // The wizard's reader: either command resumes the other's run, with the same checks.
+    run.resume_from = loadCheckpoint(checkpoint_path, grid, specs.model_name);
+    const auto converged = std::count_if(
+        run.resume_from.begin(), run.resume_from.end(),
+        [](const VertexEstimate& vertex) { return vertex.outcome == VertexOutcome::kConverged; });
     std::fprintf(stderr, "resuming: %d of %d vertices already done (%s)\n",
-                 partial.convergedCount(), grid.vertexCount(), checkpoint_path.c_str());
+                 static_cast<int>(converged), grid.vertexCount(), checkpoint_path.c_str());
   }
 
-  std::printf("Calibrating %s: grid %d^3 = %d vertices, side %.1f mm (cell %.1f mm), seed %llu\n",
-              specs.model_name.c_str(), grid.resolution(), grid.vertexCount(), grid.side_m() * 1e3,
-              grid.spacing_m() * 1e3, static_cast<unsigned long long>(options.seed));
+  std::printf(
+      "Calibrating %s: grid %d^3 = %d vertices, side %.1f mm (cell %.1f mm), seed %llu, "
+      "friction %s\n",
+      specs.model_name.c_str(), grid.resolution(), grid.vertexCount(), grid.side_m() * 1e3,
+      grid.spacing_m() * 1e3, static_cast<unsigned long long>(options.seed),
+      sim::toString(options.friction));
   std::fflush(stdout);
   ProgressBar progress("vertex");
   run.on_progress = [&](const AutoCalibrator& calibrator) {
@@ -151,8 +150,16 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
               median(iterations), iterations_max);
   std::printf("%-34s %.1f s (%.2f s per vertex), wall %.1f s\n", "simulated time",
               result.simulated_seconds, vertex_seconds / grid.vertexCount(), wall_s);
-  std::printf("%-34s %.2f %% (vertex %d)\n", "worst vertex |G_hat - G| / |G|",
-              100.0 * accuracy.max_error_rel, accuracy.worst_vertex);
+  std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n",
+              "worst vertex |G_hat - G| / |G|", 100.0 * accuracy.max_error_rel,
+              accuracy.worst_vertex, accuracy.max_error_n * 1e3);
+  // The device's friction, measured on a fresh copy (same seed and level) so that the
+  // calibration run above is what it was.
+  auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
+  const sim::FrictionMeasurement friction = sim::measureFriction(*bench);
+  std::printf("%-34s %s: breakaway %.1f mN, sliding %.1f mN\n", "device friction",
+              sim::toString(options.friction), friction.breakaway_force_n * 1e3,
+              friction.coulomb_force_n * 1e3);
   std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
               100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
   std::printf(
@@ -179,6 +186,9 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   const nlohmann::json report = {
       {"device", specs.model_name},
       {"seed", options.seed},
+      {"friction", sim::toString(options.friction)},
+      {"breakaway_force_n", friction.breakaway_force_n},
+      {"coulomb_force_n", friction.coulomb_force_n},
       {"map", options.out_path},
       {"grid",
        {{"resolution", grid.resolution()},
@@ -194,6 +204,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       {"wall_seconds", wall_s},
       {"max_error_rel", accuracy.max_error_rel},
       {"worst_vertex", accuracy.worst_vertex},
+      {"max_error_n", accuracy.max_error_n},
       {"rms_residual_rel", accuracy.rms_residual_rel},
       {"mean_true_gravity_n", accuracy.mean_true_norm_n},
       {"lipschitz_n_per_m", result.lipschitz_n_per_m},
@@ -217,6 +228,7 @@ void addCalibrateCommand(CLI::App& app) {
   addSimulatedLoadOptions(*command, options->load);
   addGridOptions(*command, options->grid, options->side_mm);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->add_flag("--resume", options->resume,

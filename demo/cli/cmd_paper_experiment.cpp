@@ -9,6 +9,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -17,6 +18,7 @@ namespace {
 struct PaperExperimentOptions {
   std::string device = "sim:omega";
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   std::string report_path;
   EstimationParameters parameters;  // the paper's values are the defaults
 };
@@ -24,16 +26,16 @@ struct PaperExperimentOptions {
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const auto& p = parameters;
   std::printf(
-      "Paper Sec. V on %s (seed %llu): alpha = %g 1/s, beta = %g 1/s^2, k0 = %g N/mm,\n"
-      "n_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
-      options.device.c_str(), static_cast<unsigned long long>(options.seed), p.alpha_per_s,
-      p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s, p.eps_s_m_per_s * 1e3, p.n_g,
-      p.eps_g_n / kStandardGravity * 1e3);
+      "Paper Sec. V on %s (seed %llu, friction %s): alpha = %g 1/s, beta = %g 1/s^2, "
+      "k0 = %g N/mm,\nn_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
+      options.device.c_str(), static_cast<unsigned long long>(options.seed),
+      sim::toString(options.friction), p.alpha_per_s, p.beta_per_s2, p.k0_n_per_m * 1e-3, p.n_s,
+      p.eps_s_m_per_s * 1e3, p.n_g, p.eps_g_n / kStandardGravity * 1e3);
   const Eigen::Vector3d target_mm = sim::chai3dToPaperFrame(sim::paperTargetPoint_m());
   const Eigen::Vector3d start_mm = sim::chai3dToPaperFrame(sim::paperStartPoint_m());
   std::printf("X_D = [%.1f, %.1f, %.1f] mm, start = [%.1f, %.1f, %.1f] mm (paper frame, y up)\n\n",
@@ -41,8 +43,13 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
               start_mm.z());
 
   const sim::PaperExperimentResult result = sim::runPaperExperiment(*device, p);
-  std::printf("initialization (eq. 7): |G_hat_0| = %.4f N after %.2f s\n\n",
-              result.initialization.gravity_n.norm(), result.initialization.seconds);
+  const Eigen::Vector3d initial_truth_n = device->trueGravity(result.initialization.center_m);
+  std::printf(
+      "initialization (eq. 7): |G_hat_0| = %.4f N, true |G(X0)| = %.4f N (error %.1f mN) after "
+      "%.2f s\n\n",
+      result.initialization.gravity_n.norm(), initial_truth_n.norm(),
+      (result.initialization.gravity_n - initial_truth_n).norm() * 1e3,
+      result.initialization.seconds);
   std::printf("%5s %12s %12s %10s\n", "j", "Delta_j[mm]", "M_hat_j[g]", "t_j[ms]");
   nlohmann::json history = nlohmann::json::array();
   int j = 1;
@@ -67,6 +74,7 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
 
   nlohmann::json report = {{"device", options.device},
                            {"seed", options.seed},
+                           {"friction", sim::toString(options.friction)},
                            {"outcome", toString(result.estimate.outcome)},
                            {"converged", result.estimate.outcome == VertexOutcome::kConverged},
                            {"iterations", result.estimate.iterations},
@@ -76,6 +84,8 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
                            {"gravity_estimate_n", vectorJson(result.estimate.gravity_n)},
                            {"gravity_true_n", vectorJson(result.gravity_true_n)},
                            {"initial_gravity_n", vectorJson(result.initialization.gravity_n)},
+                           {"initial_gravity_true_n", vectorJson(initial_truth_n)},
+                           {"initial_end_stop_hit", result.initialization.end_stop_hit},
                            {"target_m", vectorJson(result.target_m)},
                            {"simulated_seconds", result.simulated_seconds},
                            {"parameters", parametersJson(p)},
@@ -93,8 +103,9 @@ void addPaperExperimentCommand(CLI::App& app) {
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--report", options->report_path, "Write a JSON report here");
-  addEstimationOptions(*command, options->parameters);
+  addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
 }
 

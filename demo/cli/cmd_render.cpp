@@ -76,8 +76,9 @@ struct CompareCommandOptions {
 };
 
 void addTruthOptions(CLI::App* command, TruthOptions& truth) {
-  command->add_option("--truth", truth.device,
-                      "Simulated device whose true gravity is the reference (sim:omega, sim:omni)");
+  command->add_option(
+      "--truth", truth.device,
+      "Simulated device whose true gravity is the reference (sim:omega, sim:omni, sim:falcon)");
   command->add_option("--seed", truth.seed, "Seed of that simulated device")->capture_default_str();
 }
 

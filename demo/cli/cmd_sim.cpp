@@ -1,5 +1,5 @@
 // autograv sim: release the end-effector with zero force and report where it goes - the
-// uncompensated drift a user feels today.
+// uncompensated drift a user feels today - and measure the device's friction.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,8 +9,10 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/sim/friction_measurement.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -20,6 +22,7 @@ struct SimOptions {
   std::string device = "sim:omega";
   double seconds = 1.0;
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   std::string report_path;
 };
 
@@ -29,7 +32,7 @@ void runSimCommand(const SimOptions& options) {
   if (!(std::isfinite(options.seconds) && options.seconds > 0.0 && options.seconds <= 3600.0)) {
     throw Error("--seconds must be in (0, 3600]");
   }
-  auto device = openSimulatedDevice(options.device, options.seed);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
   const Eigen::Vector3d start = device->workspaceCenter_m();
   device->resetState(start);
   const double radius_m = device->specifications().workspace_radius_m;
@@ -58,10 +61,11 @@ void runSimCommand(const SimOptions& options) {
   const Eigen::Vector3d gravity_final = device->trueGravity(final_true);
 
   std::printf(
-      "%s (seed %llu): released at rest at the workspace centre [%.1f, %.1f, %.1f] mm "
-      "with zero force for %.3g s\n",
-      options.device.c_str(), static_cast<unsigned long long>(options.seed), start.x() * 1e3,
-      start.y() * 1e3, start.z() * 1e3, options.seconds);
+      "%s (seed %llu, friction %s): released at rest at the workspace centre "
+      "[%.1f, %.1f, %.1f] mm with zero force for %.3g s\n",
+      options.device.c_str(), static_cast<unsigned long long>(options.seed),
+      sim::toString(options.friction), start.x() * 1e3, start.y() * 1e3, start.z() * 1e3,
+      options.seconds);
   std::printf("  true |G| at the start   %.3f N (apparent mass %.1f g)\n", gravity_start.norm(),
               gravity_start.norm() / kStandardGravity * 1e3);
   std::printf("  final position (true)   [%.2f, %.2f, %.2f] mm\n", final_true.x() * 1e3,
@@ -80,9 +84,28 @@ void runSimCommand(const SimOptions& options) {
   }
   std::printf("  true |G| at the end     %.3f N\n", gravity_final.norm());
 
+  // On a fresh device of the same seed, so that the drift run above is not disturbed.
+  auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
+  const sim::FrictionMeasurement friction = sim::measureFriction(*bench);
+  std::printf(
+      "  friction (%s): breakaway %.1f mN (largest over %zu directions, smallest %.1f mN), "
+      "sliding %.1f mN\n",
+      sim::toString(options.friction), friction.breakaway_force_n * 1e3, friction.directions.size(),
+      friction.min_breakaway_force_n * 1e3, friction.coulomb_force_n * 1e3);
+  nlohmann::json breakaway_by_direction = nlohmann::json::array();
+  for (std::size_t i = 0; i < friction.directions.size(); ++i) {
+    breakaway_by_direction.push_back(
+        {{"direction", vectorJson(friction.directions[i])}, {"force_n", friction.breakaway_n[i]}});
+  }
+
   const nlohmann::json report = {
       {"device", options.device},
       {"seed", options.seed},
+      {"friction", sim::toString(options.friction)},
+      {"breakaway_force_n", friction.breakaway_force_n},
+      {"min_breakaway_force_n", friction.min_breakaway_force_n},
+      {"coulomb_force_n", friction.coulomb_force_n},
+      {"breakaway_by_direction", breakaway_by_direction},
       {"seconds", options.seconds},
       {"start_m", vectorJson(start)},
       {"final_position_m", vectorJson(final_true)},
@@ -116,6 +139,7 @@ void addSimCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Noise seed (same seed, same run)")
       ->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->callback([options] { runSimCommand(*options); });
 }

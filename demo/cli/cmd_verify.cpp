@@ -15,6 +15,7 @@
 #include "autograv/sim/simulated_driver.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -24,6 +25,7 @@ struct VerifyOptions {
   std::string map_path;
   std::string device = "sim:omni";
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   int points = 100;
   double duration_s = 1.0;
   double max_drift_ratio = 0.1;
@@ -94,7 +96,7 @@ double releaseAndMeasure(sim::SimulatedDevice& simulated, HapticDevice& device,
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
-  const DeviceHandle handle = openDevice(options.device, options.seed);
+  const DeviceHandle handle = openDevice(options.device, options.seed, options.friction);
   if (!handle.simulation) {
     throw Error(
         "verify places the end-effector at its test points by simulation, so it needs a "
@@ -126,9 +128,10 @@ void runVerifyCommand(const VerifyOptions& options) {
     }
   }
 
-  std::printf("verify %s on %s: %d points inside the grid, released for %.2f s, seed %llu\n",
-              options.map_path.c_str(), specs.model_name.c_str(), options.points, ticks * period_s,
-              static_cast<unsigned long long>(options.seed));
+  std::printf(
+      "verify %s on %s (friction %s): %d points inside the grid, released for %.2f s, seed %llu\n",
+      options.map_path.c_str(), specs.model_name.c_str(), sim::toString(options.friction),
+      options.points, ticks * period_s, static_cast<unsigned long long>(options.seed));
   std::fflush(stdout);
 
   // The decorator ramps compensation in, as it would in an application; hold the end-effector
@@ -208,6 +211,7 @@ void runVerifyCommand(const VerifyOptions& options) {
                                  {"device", specs.model_name},
                                  {"map_device", map->metadata().device_model},
                                  {"seed", options.seed},
+                                 {"friction", sim::toString(options.friction)},
                                  {"points", options.points},
                                  {"duration_s", ticks * period_s},
                                  {"servo_period_s", period_s},
@@ -247,6 +251,7 @@ void addVerifyCommand(CLI::App& app) {
   addDeviceOption(*command, options->device);
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
+  addFrictionOption(*command, options->friction);
   command->add_option("--points", options->points, "Release points")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

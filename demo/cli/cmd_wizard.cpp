@@ -26,6 +26,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 #include "wizard_auto_hand.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
@@ -46,6 +47,7 @@ struct WizardOptions {
   bool yes = false;
   bool uncalibrated = false;
   std::uint64_t seed = 1;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   int grid = 0;          // 0: 5 per axis, as `autograv calibrate`
   double side_mm = 0.0;  // 0: the default of `autograv calibrate`
   double speed = -1.0;   // < 0: real time on a terminal, as fast as possible otherwise
@@ -203,7 +205,8 @@ class FrontEnd {
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json reportJson(const WizardOptions& options, const std::string& out_path,
-                          const CalibrationWizard& wizard, const WizardStatus& status) {
+                          const CalibrationWizard& wizard, const WizardStatus& status,
+                          bool initialization_end_stop_hit) {
   nlohmann::json failed = nlohmann::json::array();
   for (const ReviewRow& row : status.review.failed) {
     failed.push_back({{"vertex", row.vertex},
@@ -222,6 +225,7 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
   return {
       {"device", options.device},
       {"seed", options.seed},
+      {"friction", sim::toString(options.friction)},
       {"outcome", toString(status.step)},
       {"map", status.map_saved ? out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
@@ -238,6 +242,7 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
       {"lipschitz_n_per_m", status.review.lipschitz_n_per_m},
       {"peak_force_n", status.review.peak_force_n},
       {"initial_gravity_n", vectorJson(status.initial_gravity_n)},
+      {"initialization_end_stop_hit", initialization_end_stop_hit},
       {"verify", verify},
       {"max_drift_m", status.max_drift_m},
       {"simulated_seconds", status.time_s},
@@ -280,7 +285,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "are then answered automatically: failed vertices are redone once, then the map is "
         "saved)");
   }
-  const DeviceHandle handle = makeDevice(options.device, options.seed);
+  const DeviceHandle handle = makeDevice(options.device, options.seed, options.friction);
   const std::shared_ptr<HapticDevice>& device = handle.device;
   sim::SimulatedDevice* simulation = handle.simulation.get();
   if (simulation == nullptr && (options.auto_hand || options.uncalibrated)) {
@@ -361,6 +366,10 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
 
   WizardStatus status = wizard.status();
   if (!terminal) log.update(status);
+  // Eq. (7) assumes the end-effector settled in the k0 field alone: watch the end stops from the
+  // moment the field comes on until G_hat_0 is taken.
+  bool initialization_end_stop_hit = false;
+  WizardStep previous_step = status.step;
   while (true) {
     const Clock::time_point frame_start = Clock::now();
     const int interrupts = g_interrupts.load();
@@ -387,6 +396,19 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     }
     wizard.service();
     status = wizard.status();
+    // Only a simulation can tell that the end-effector rested on an end stop.
+    if (simulation != nullptr && status.step == WizardStep::kRelease &&
+        previous_step != WizardStep::kRelease) {
+      simulation->clearEndStopHit();
+    } else if (simulation != nullptr && status.step != WizardStep::kRelease &&
+               previous_step == WizardStep::kRelease && simulation->endStopHit()) {
+      initialization_end_stop_hit = true;
+      front_end.notice =
+          "WARNING: the end-effector rested on an end stop during the initialization, so "
+          "G_hat_0 (eq. 7) is wrong there: start again nearer the workspace centre.";
+      std::fprintf(stderr, "autograv wizard: %s\n", front_end.notice.c_str());
+    }
+    previous_step = status.step;
 
     if (terminal) {
       const Clock::time_point now = Clock::now();
@@ -415,7 +437,8 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   servo.stop();
   terminal.reset();  // back to the normal screen before the last words
 
-  writeJsonReport(options.report_path, reportJson(options, out_path, wizard, status));
+  writeJsonReport(options.report_path,
+                  reportJson(options, out_path, wizard, status, initialization_end_stop_hit));
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +
                 wizard.checkpointPath() + " (resume with --resume)");
@@ -446,6 +469,7 @@ void addWizardCommand(CLI::App& app) {
                     "Answer the prompts automatically on a terminal too (redo failed vertices "
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
+  addFrictionOption(*command, options->friction);
   addGridOptions(*command, options->grid, options->side_mm);
   command
       ->add_option("--speed", options->speed,

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <memory>
+
 #include <CLI/CLI.hpp>
 
 namespace autograv::cli {
@@ -13,6 +15,11 @@ bool registerCommand(int order, AddCommandFunction add);
 
 /// Adds every registered subcommand to `app`, sorted by order.
 void addRegisteredCommands(CLI::App& app);
+
+/// The whole `autograv` command line: one required subcommand of those registered, --version and
+/// --help. main() parses argv with it; the command-line fuzzer parses made-up ones. Not real-time
+/// safe.
+std::unique_ptr<CLI::App> makeApp();
 
 }  // namespace autograv::cli
 

@@ -5,7 +5,23 @@
 
 namespace autograv::cli {
 
-void addEstimationOptions(CLI::App& command, EstimationParameters& p) {
+void addEstimationOptions(CLI::App& command, EstimationParameters& p,
+                          EstimationMethod default_method) {
+  p = default_method == EstimationMethod::kDither ? EstimationParameters::frictionRobust()
+                                                  : EstimationParameters{};
+  command
+      .add_option_function<std::string>(
+          "--method", [&p](const std::string& name) { p.method = parseEstimationMethod(name); },
+          std::string("Estimation method: 'dither' converges through dry friction, 'paper' is "
+                      "eqs. 7-13 as published (default ") +
+              toString(default_method) + ")")
+      ->check(CLI::IsMember({"paper", "dither"}));
+  command
+      .add_option_function<double>(
+          "--dither-mn", [&p](double millinewtons) { p.dither_amplitude_n = millinewtons * 1e-3; },
+          "Dither amplitude per axis for --method dither [mN] (default: 6 % of the device's max "
+          "force)")
+      ->check(CLI::NonNegativeNumber);
   command.add_option("--alpha", p.alpha_per_s, "PD damping alpha, K_D = alpha M [1/s]")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -51,6 +67,11 @@ void applyDeviceDefaults(const CLI::App& command, EstimationParameters& paramete
                          const DeviceSpecifications& specifications) {
   if (command.count("--k0") == 0) {
     parameters.k0_n_per_m = defaultInitializationStiffness(specifications);
+  }
+  if (command.count("--n-g") == 0) {
+    parameters.n_g = parameters.method == EstimationMethod::kDither
+                         ? EstimationParameters::frictionRobust().n_g
+                         : EstimationParameters{}.n_g;
   }
 }
 

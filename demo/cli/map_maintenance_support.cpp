@@ -7,6 +7,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "estimation_options.h"
+#include "friction_option.h"
 
 namespace autograv::cli {
 
@@ -16,12 +17,13 @@ void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options) {
   command.add_option("--seed", options.seed, "Noise seed of simulated devices")
       ->capture_default_str();
   command.add_option("--report", options.report_path, "Write a JSON report here");
+  addFrictionOption(command, options.friction);
   addSimulatedLoadOptions(command, options.load);
   addEstimationOptions(command, options.parameters);
 }
 
 MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command) {
-  DeviceHandle device = openDevice(options.device, options.seed);
+  DeviceHandle device = openDevice(options.device, options.seed, options.friction);
   applySimulatedLoad(device, options.load);
   const DeviceSpecifications& specifications = device.device->specifications();
   std::string path = options.map_path;

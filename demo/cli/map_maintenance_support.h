@@ -21,10 +21,12 @@ struct MaintenanceOptions {
   std::string report_path;
   std::uint64_t seed = 1;
   SimulatedLoad load;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   EstimationParameters parameters;
 };
 
-/// --device, --maps, --seed, --report, --payload-g, --tilt-deg and the estimation options.
+/// --device, --maps, --seed, --friction, --report, --payload-g, --tilt-deg and the estimation
+/// options.
 void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options);
 
 struct MaintenanceSetup {

@@ -32,7 +32,7 @@ DemoSession::DemoSession(const SessionOptions& options)
   // Any device name (sim:omni, chai3d:0, ...); the mouse is a simulated hand, so the demo needs
   // the simulation behind the device, while every force and position goes through the device
   // itself (a simulated CHAI3D device is driven through Chai3dDeviceAdapter).
-  const DeviceHandle handle = makeDevice(options.device, options.seed);
+  const DeviceHandle handle = makeDevice(options.device, options.seed, options.friction);
   if (!handle.simulation) {
     throw Error(
         "autograv-demo: the mouse plays a simulated hand, so the demo runs on a simulated "

@@ -59,9 +59,10 @@ struct SessionOptions {
   /// a simulated CHAI3D device.
   std::string device = "sim:omega";
   std::uint64_t seed = 1;
-  double servo_period_s = 1.0e-3;  ///< Unit: [s]
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< Of the simulated device.
+  double servo_period_s = 1.0e-3;                              ///< Unit: [s]
   CompensationOptions compensation;
-  EstimationParameters estimation;
+  EstimationParameters estimation = EstimationParameters::frictionRobust();
   /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed
   /// in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
   int calibration_resolution = 5;

@@ -10,6 +10,7 @@
 #include "autograv/gl/image.h"
 #include "autograv/map/map_io.h"
 #include "demo_app.h"
+#include "friction_option.h"
 
 namespace {
 
@@ -32,6 +33,7 @@ void writeStats(const std::string& path, const DemoOptions& options,
   // The servo loop's figures at the top level; the reference loop's beside them.
   nlohmann::json report = timingJson(check.last_snapshot.timing);
   report["device"] = options.device;
+  report["friction"] = autograv::sim::toString(options.session.friction);
   report["map"] = options.map_path;
   report["script"] = options.script_path;
   report["seconds"] = seconds;
@@ -45,7 +47,8 @@ int runHeadless(const DemoOptions& options) {
   const double seconds = options.seconds > 0.0 ? options.seconds : 2.0;
   const auto result = autograv::demo::runHeadlessFrames(options);
   const auto& s = result.last_snapshot;
-  std::printf("autograv-demo headless: %s, map %s, script %s\n", options.device.c_str(),
+  std::printf("autograv-demo headless: %s (friction %s), map %s, script %s\n",
+              options.device.c_str(), autograv::sim::toString(options.session.friction),
               options.map_path.empty() ? "(none)" : options.map_path.c_str(),
               options.script_path.empty() ? "(none)" : options.script_path.c_str());
   std::printf("simulated time: %d frames x %lld ticks = %.3f s of servo time\n", result.frames,
@@ -91,8 +94,8 @@ int main(int argc, char** argv) {
   bool no_realtime_check = false;
   bool no_priority = false;
   app.add_option("--device", options.device,
-                 "Device with a simulation behind it: sim:omega, sim:omni, or a simulated CHAI3D "
-                 "device (chai3d:N)")
+                 "Device with a simulation behind it: sim:omega, sim:omni, sim:falcon, or a "
+                 "simulated CHAI3D device (chai3d:N)")
       ->capture_default_str();
   app.add_option("--map", options.map_path,
                  "Gravity map (JSON) to compensate with; also the file of the S and L keys "
@@ -112,6 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--shader-dir", options.shader_dir,
                  "Read the GLSL files from this folder instead of the embedded copies");
   app.add_option("--seed", options.seed, "Seed of the simulated device")->capture_default_str();
+  autograv::cli::addFrictionOption(app, options.session.friction);
   app.add_option("--ramp-s", options.session.compensation.ramp_duration_s,
                  "Compensation fade in/out time in seconds")
       ->capture_default_str();

@@ -42,6 +42,10 @@ void BM_SimOmegaServoLoopWithHand(benchmark::State& state) {
   runServoLoop(state, "sim:omega", true);
 }
 void BM_SimOmniServoLoopWithHand(benchmark::State& state) { runServoLoop(state, "sim:omni", true); }
+void BM_SimFalconServoLoop(benchmark::State& state) { runServoLoop(state, "sim:falcon", false); }
+void BM_SimFalconServoLoopWithHand(benchmark::State& state) {
+  runServoLoop(state, "sim:falcon", true);
+}
 
 // advance() alone: the physics cost, without the driver's sampling.
 void runPhysicsOnly(benchmark::State& state, const std::string& name) {
@@ -64,13 +68,17 @@ void runPhysicsOnly(benchmark::State& state, const std::string& name) {
 
 void BM_SimOmegaPhysicsOnly(benchmark::State& state) { runPhysicsOnly(state, "sim:omega"); }
 void BM_SimOmniPhysicsOnly(benchmark::State& state) { runPhysicsOnly(state, "sim:omni"); }
+void BM_SimFalconPhysicsOnly(benchmark::State& state) { runPhysicsOnly(state, "sim:falcon"); }
 
 BENCHMARK(BM_SimOmegaServoLoop);
 BENCHMARK(BM_SimOmniServoLoop);
 BENCHMARK(BM_SimOmegaServoLoopWithHand);
 BENCHMARK(BM_SimOmniServoLoopWithHand);
+BENCHMARK(BM_SimFalconServoLoop);
+BENCHMARK(BM_SimFalconServoLoopWithHand);
 BENCHMARK(BM_SimOmegaPhysicsOnly);
 BENCHMARK(BM_SimOmniPhysicsOnly);
+BENCHMARK(BM_SimFalconPhysicsOnly);
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <random>
 #include <thread>
@@ -217,6 +218,29 @@ TEST(GravityCompensatedDeviceTest, ClampsTheSumKeepingItsDirectionAndCountsClamp
   EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(1.0, 0.0, 0.0)));
   EXPECT_EQ(f.fake->last_force, Eigen::Vector3d(1.0, 0.0, -3.0));
   EXPECT_EQ(f.device.clampCount(), 1u);
+  EXPECT_EQ(f.device.faultCount(), 0u);
+}
+
+// Invariant of tests/fuzz/servo_fuzzer.cpp: whatever finite force the application asks for, the
+// device gets its limit along that direction. Squaring 1e300 N overflows; the force must not
+// vanish (max / inf = 0) or become NaN.
+TEST(GravityCompensatedDeviceTest, AForceWhoseSquareOverflowsIsClampedAlongItsDirection) {
+  Fixture f;
+  EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(1e300, -1e300, 0.0)));
+  EXPECT_NEAR(f.fake->last_force.norm(), 8.0, 1e-12);
+  EXPECT_NEAR(f.fake->last_force.normalized().dot(Eigen::Vector3d(1.0, -1.0, 0.0).normalized()),
+              1.0, 1e-12);
+
+  // The largest doubles plus the compensation: the sum stays finite (the map's estimates are
+  // bounded by kMaxGravityEstimate_n) and is clamped like any other.
+  f.device.publishMap(makeMap(Eigen::Vector3d(0.0, 0.0, -kMaxGravityEstimate_n)));
+  const double largest = std::numeric_limits<double>::max();
+  EXPECT_TRUE(f.device.setForce(Eigen::Vector3d(largest, largest, -largest)));
+  EXPECT_TRUE(f.fake->last_force.allFinite()) << f.fake->last_force.transpose();
+  EXPECT_NEAR(f.fake->last_force.norm(), 8.0, 1e-12);
+  EXPECT_NEAR(f.fake->last_force.normalized().dot(Eigen::Vector3d(1.0, 1.0, -1.0).normalized()),
+              1.0, 1e-12);
+  EXPECT_EQ(f.device.clampCount(), 2u);
   EXPECT_EQ(f.device.faultCount(), 0u);
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +119,22 @@ TEST(GravityMapTest, RejectsMismatchedOrNonFiniteVertices) {
   std::vector<VertexEstimate> vertices(8);
   vertices[3].gravity_n.x() = NAN;
   EXPECT_THROW(GravityMap(grid, vertices, MapMetadata{}), Error);
+}
+
+// No device's gravity is anywhere near kMaxGravityEstimate_n; a map holding such a value is
+// corrupt, and interpolating or adding it in the servo path could overflow.
+TEST(GravityMapTest, RejectsAnEstimateNoDeviceCouldHave) {
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 2);
+  std::vector<VertexEstimate> vertices(8);
+  vertices[5].gravity_n = Eigen::Vector3d(0.0, 0.0, -kMaxGravityEstimate_n);
+  EXPECT_NO_THROW(GravityMap(grid, vertices, MapMetadata{}));
+  vertices[5].gravity_n.z() = -1e300;
+  try {
+    GravityMap(grid, vertices, MapMetadata{});
+    FAIL() << "a 1e300 N estimate was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("vertex 5"), std::string::npos) << error.what();
+  }
 }
 
 TEST(GravityMapTest, OutcomeNamesRoundTrip) {

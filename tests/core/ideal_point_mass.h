@@ -1,14 +1,18 @@
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "autograv/device/servo_sample.h"
 
 namespace autograv::testing {
 
-/// The paper's model, eq. (1), with no friction, noise or quantization: M(X) Xdd + G(X) = F with
+/// The paper's model, eq. (1), with no noise or quantization: M(X) Xdd + G(X) = F with
 /// M = |G(X)|/g and an affine field G(X) = G0 + J (X - X_ref). Integrated exactly enough
-/// (10 substeps per 1 ms tick) to check the estimator's mathematics in isolation.
+/// (10 substeps per 1 ms tick) to check the estimator's mathematics in isolation. Optional dry
+/// friction per axis (0 by default): an axis at rest sticks while the net force on it stays within
+/// static_friction_n, and slides against coulomb_friction_n otherwise.
 class IdealPointMass {
  public:
   Eigen::Vector3d gravity_at_origin_n = Eigen::Vector3d(0.3, -0.2, -2.1);
@@ -16,6 +20,8 @@ class IdealPointMass {
       (Eigen::Matrix3d() << 8, 2, -3, 1, -6, 2, 4, -1, 12).finished();
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();
+  double static_friction_n = 0.0;   ///< Unit: [N]
+  double coulomb_friction_n = 0.0;  ///< Unit: [N]
 
   Eigen::Vector3d gravity(const Eigen::Vector3d& x) const {
     return gravity_at_origin_n + gradient_n_per_m * x;
@@ -27,7 +33,19 @@ class IdealPointMass {
     for (int k = 0; k < substeps; ++k) {
       const Eigen::Vector3d g = gravity(position_m);
       const double mass_kg = g.norm() / 9.81;
-      velocity_m_per_s += h * (force_n - g) / mass_kg;
+      Eigen::Vector3d net_n = force_n - g;
+      for (int axis = 0; axis < 3; ++axis) {
+        double& v = velocity_m_per_s[axis];
+        if (v == 0.0 && std::abs(net_n[axis]) <= static_friction_n) {
+          net_n[axis] = 0.0;  // sticking
+          continue;
+        }
+        const double direction = v != 0.0 ? (v > 0.0 ? 1.0 : -1.0) : (net_n[axis] > 0 ? 1.0 : -1.0);
+        const double new_v = v + h * (net_n[axis] - direction * coulomb_friction_n) / mass_kg;
+        // Friction stops the axis; it does not reverse it within a substep.
+        v = (coulomb_friction_n > 0.0 && new_v * direction < 0.0) ? 0.0 : new_v;
+        net_n[axis] = 0.0;
+      }
       position_m += h * velocity_m_per_s;
     }
   }

@@ -309,6 +309,43 @@ TEST(MapIoTest, ByteFlipsAndTruncationsNeverLoad) {
   EXPECT_LT(harmless, refused / 4);
 }
 
+// A number beyond the range of double is a JSON parse failure of its own kind in nlohmann
+// (out_of_range, not parse_error); it must still be an autograv::Error naming file and field.
+TEST(MapIoTest, ANumberBeyondDoubleRangeNamesTheFileAndTheField) {
+  TemporaryFolder folder;
+  std::string text = json::parse(mapToJson(makeMap())).dump();
+  const std::string side = "\"side_m\":0.09";
+  ASSERT_NE(text.find(side), std::string::npos);
+  text.replace(text.find(side), side.size(), "\"side_m\":1e999");
+  writeText(folder.file("huge.json"), text);
+  const std::string message = errorOf([&] { loadMap(folder.file("huge.json")); });
+  EXPECT_NE(message.find(folder.file("huge.json")), std::string::npos) << message;
+  EXPECT_NE(message.find("field /grid/side_m:"), std::string::npos) << message;
+  EXPECT_NE(message.find("beyond the range of double"), std::string::npos) << message;
+
+  // Inside arrays the pointer names the element: here the second component of vertex 2's gravity.
+  const std::string negative = "-1e400";
+  const std::string value = json::parse(mapToJson(makeMap()))["vertices"][2]["gravity_n"].dump();
+  std::string in_array = json::parse(mapToJson(makeMap())).dump();
+  const std::size_t at = in_array.find(value);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t comma = in_array.find(',', at);
+  in_array.replace(comma + 1, in_array.find(',', comma + 1) - comma - 1, negative);
+  const std::string array_message = errorOf([&] { mapFromJson(in_array, "m.json"); });
+  EXPECT_NE(array_message.find("field /vertices/2/gravity_n/1:"), std::string::npos)
+      << array_message;
+}
+
+TEST(MapIoTest, ASyntaxErrorNamesTheFieldBeingRead) {
+  std::string text = json::parse(mapToJson(makeMap())).dump();
+  const std::string units = "\"units\":{";
+  ASSERT_NE(text.find(units), std::string::npos);
+  text.insert(text.find(units) + units.size(), "\"force\":N,");
+  const std::string message = errorOf([&] { mapFromJson(text, "m.json"); });
+  EXPECT_NE(message.find("not valid JSON"), std::string::npos) << message;
+  EXPECT_NE(message.find("in field /units/force"), std::string::npos) << message;
+}
+
 TEST(MapIoTest, MissingFileNamesThePathAndTheFix) {
   const std::string message = errorOf([] { loadMap("/nonexistent/omni.json"); });
   EXPECT_NE(message.find("/nonexistent/omni.json"), std::string::npos) << message;

@@ -11,7 +11,7 @@
 
 namespace autograv::testing {
 
-class RecordingDevice final : public HapticDevice {
+class RecordingDevice : public HapticDevice {
  public:
   RecordingDevice() {
     specs.model_name = "fake:recording";

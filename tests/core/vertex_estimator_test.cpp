@@ -1,5 +1,9 @@
 #include "autograv/estimation/vertex_estimator.h"
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
@@ -134,11 +138,98 @@ TEST(VertexEstimatorTest, StepAllocatesNothing) {
   EXPECT_TRUE(estimator.finished());
 }
 
+// Dry friction on every axis: 60 mN to break away, 45 mN while sliding; |G| is about 2.1 N.
+testing::IdealPointMass stickyPointMass() {
+  testing::IdealPointMass device;
+  device.static_friction_n = 0.060;
+  device.coulomb_friction_n = 0.045;
+  device.position_m = Eigen::Vector3d(0.004, -0.003, 0.005);
+  return device;
+}
+
+double estimationError_n(const EstimationParameters& parameters, const Eigen::Vector3d& bias_n) {
+  testing::IdealPointMass device = stickyPointMass();
+  VertexEstimator estimator(parameters, 12.0);
+  const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
+  estimator.start(vertex, device.gravity(vertex) + bias_n);
+  runToEnd(estimator, device);
+  EXPECT_TRUE(estimator.finished());
+  return (estimator.estimate().gravity_n - device.gravity(vertex)).norm();
+}
+
+TEST(VertexEstimatorTest, PaperMethodStopsAnywhereInTheFrictionDeadBand) {
+  // Started 50 mN off, the paper's rule settles at once inside the dead band: eq. (12) keeps
+  // the error, which only friction bounds.
+  EstimationParameters paper;
+  EXPECT_GT(estimationError_n(paper, Eigen::Vector3d(0.0, 0.03, -0.04)), 0.02);
+}
+
+TEST(VertexEstimatorTest, DitherMethodMeasuresBelowTheFriction) {
+  const EstimationParameters dither = EstimationParameters::frictionRobust();
+  for (const Eigen::Vector3d& bias_n :
+       {Eigen::Vector3d(0.0, 0.03, -0.04), Eigen::Vector3d(-0.05, 0.0, 0.05),
+        Eigen::Vector3d(0.3, -0.2, 0.4)}) {
+    // A sixth of the breakaway force, whatever side the estimate started from.
+    EXPECT_LT(estimationError_n(dither, bias_n), 0.010) << bias_n.transpose();
+  }
+}
+
+TEST(VertexEstimatorTest, DitherIsZeroMeanOverEachWindowAndHalfWaveSymmetric) {
+  testing::IdealPointMass device;
+  const EstimationParameters parameters = EstimationParameters::frictionRobust();
+  VertexEstimator estimator(parameters, 12.0);
+  const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
+  estimator.start(vertex, device.gravity(vertex));
+  EXPECT_NEAR(estimator.ditherAmplitude_n(), 0.06 * 12.0, 1e-12);
+  // Held exactly at the vertex with zero velocity, the force is G_hat plus the dither alone.
+  const ServoSample at_vertex{vertex, Eigen::Vector3d::Zero(), true};
+  const int period_ticks = 50;  // 20 Hz at 1 kHz
+  std::vector<Eigen::Vector3d> dither;
+  for (int tick = 0; tick < 2 * period_ticks; ++tick) {
+    Eigen::Vector3d force;
+    estimator.step(at_vertex, force);
+    dither.push_back(force - device.gravity(vertex));
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& d : dither) sum += d;
+  EXPECT_LT(sum.norm() / dither.size(), 1e-9);
+  for (int tick = 0; tick < period_ticks / 2; ++tick) {
+    EXPECT_TRUE((dither[tick] + dither[tick + period_ticks / 2]).isZero(1e-9)) << tick;
+  }
+  double smallest_peak = 1e9;
+  for (int axis = 0; axis < 3; ++axis) {
+    double peak = 0.0;
+    for (const auto& d : dither) peak = std::max(peak, std::abs(d[axis]));
+    smallest_peak = std::min(smallest_peak, peak);
+  }
+  EXPECT_GT(smallest_peak, 0.9 * estimator.ditherAmplitude_n());  // every axis is driven
+}
+
+TEST(VertexEstimatorTest, DitheredStepAllocatesNothing) {
+  testing::IdealPointMass device = stickyPointMass();
+  VertexEstimator estimator(EstimationParameters::frictionRobust(), 12.0);
+  estimator.start(Eigen::Vector3d::Zero(), 0.7 * device.gravity(Eigen::Vector3d::Zero()));
+  Eigen::Vector3d force;
+  testing::AllocationCounter counter;
+  for (int tick = 0; tick < 20000 && !estimator.finished(); ++tick) {
+    estimator.step(device.sample(), force);
+    device.advance(force, kPeriod);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_TRUE(estimator.finished());
+}
+
 TEST(VertexEstimatorTest, RejectsBadParameters) {
   EstimationParameters parameters;
   parameters.beta_per_s2 = -1.0;
   EXPECT_THROW(VertexEstimator(parameters, 12.0), Error);
   EXPECT_THROW(VertexEstimator(EstimationParameters{}, 0.0), Error);
+  EstimationParameters loud = EstimationParameters::frictionRobust();
+  loud.dither_amplitude_n = 7.0;  // more than half of a 12 N device
+  EXPECT_THROW(VertexEstimator(loud, 12.0), Error);
+  EstimationParameters fast = EstimationParameters::frictionRobust();
+  fast.dither_frequency_hz = 400.0;  // under 4 samples per period at 1 kHz
+  EXPECT_THROW(VertexEstimator(fast, 12.0), Error);
 }
 
 }  // namespace

@@ -19,7 +19,8 @@ constexpr double kPayload_kg = 0.030;
 constexpr double kTilt_rad = 10.0 * M_PI / 180.0;
 
 EstimationParameters omniParameters(const sim::SimulatedDevice& device) {
-  EstimationParameters parameters;
+  // What the tools use: the dither method, which converges through the Omni's dry friction.
+  EstimationParameters parameters = EstimationParameters::frictionRobust();
   parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
   return parameters;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -25,9 +26,13 @@ const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 const std::string kPtyRunner = AUTOGRAV_SOURCE_DIR "/tests/integration/wizard_pty_run.sh";
 
 // A small grid on the Omni-like arm, with the paper's thresholds and the device-aware k0.
-const std::string kRunOptions = " --device sim:omni --auto-hand --grid 2 --side-mm 40 --seed 3";
+// Low friction: these tests drive the terminal front end, not the estimator's accuracy through
+// friction, and count on every vertex converging.
+const std::string kRunOptions =
+    " --device sim:omni --auto-hand --grid 2 --side-mm 40 --seed 3 --friction low";
 // The same on the Omega-like point mass, for the run `autograv calibrate` resumes.
-const std::string kOmegaOptions = " --device sim:omega --auto-hand --grid 2 --side-mm 40 --seed 3";
+const std::string kOmegaOptions =
+    " --device sim:omega --auto-hand --grid 2 --side-mm 40 --seed 3 --friction low";
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
@@ -379,6 +384,35 @@ TEST_F(WizardTerminalTest, WithoutATerminalItNeedsTheAutoHand) {
   }
   EXPECT_TRUE(std::filesystem::exists(folder + "/report.json"));
   EXPECT_EQ(loadMap(folder + "/m.json").convergedCount(), 8);
+}
+
+// A checkpoint or map with a number beyond the range of double is bad input like any other: the
+// programs say which file and field, and never "unexpected error".
+TEST_F(WizardTerminalTest, ANumberBeyondDoubleRangeIsAnErrorNamingFileAndField) {
+  const std::string folder = this->folder("huge");
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.04, 2);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  MapMetadata metadata;
+  metadata.device_model = "sim:omega";
+  std::string text = mapToJson(GravityMap(grid, vertices, metadata));
+  const std::string side = "\"side_m\": 0.04";
+  ASSERT_NE(text.find(side), std::string::npos) << text;
+  text.replace(text.find(side), side.size(), "\"side_m\": 1e999");
+  const std::string map_path = folder + "/m.json";
+  for (const std::string& path : {map_path, map_path + ".partial"}) {
+    std::ofstream(path) << text;
+  }
+
+  for (const std::string& command :
+       {" inspect " + map_path,
+        " calibrate --device sim:omega --grid 2 --side-mm 40 --resume --out " + map_path,
+        " wizard" + kOmegaOptions + " --resume --out " + map_path}) {
+    const CommandResult run = runCommand(kBinary + command);
+    EXPECT_EQ(run.exit_code, 2) << command << "\n" << run.output;
+    EXPECT_EQ(run.output.find("unexpected error"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("field /grid/side_m"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("beyond the range of double"), std::string::npos) << run.output;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include "allocation_counter.h"
@@ -23,12 +24,11 @@ PointMassDevice makeOpenOmega(std::uint64_t seed = 7) {
   return device;
 }
 
-TEST(PointMassDeviceTest, ApparentMassAtThePaperTargetIs214Grams) {
+TEST(PointMassDeviceTest, GravityAtThePaperTargetWeighs214Grams) {
   const PointMassDevice device(omegaParameters(), 1);
   const Eigen::Vector3d target = paperTargetPoint_m();
   const Eigen::Vector3d gravity = device.trueGravity(target);
   EXPECT_NEAR(gravity.norm(), 0.214 * kStandardGravity, 1e-12);
-  EXPECT_TRUE(device.trueApparentMass(target).isApprox(0.214 * Eigen::Matrix3d::Identity(), 1e-12));
   // The holding force points up (eq. 1: F = G holds the end-effector still).
   EXPECT_GT(gravity.z(), 0.9 * gravity.norm());
 }
@@ -56,8 +56,9 @@ TEST(PointMassDeviceTest, FieldVariesAcrossTheWorkspaceLikeAMechanism) {
   for (int i = -3; i <= 3; ++i) {
     for (int j = -3; j <= 3; ++j) {
       for (int k = -3; k <= 3; ++k) {
-        const Eigen::Vector3d p = Eigen::Vector3d(i, j, k) * (radius / 3.0);
-        if (p.norm() > radius) continue;
+        const Eigen::Vector3d offset = Eigen::Vector3d(i, j, k) * (radius / 3.0);
+        if (offset.norm() > radius) continue;
+        const Eigen::Vector3d p = device.workspaceCenter_m() + offset;
         const Eigen::Vector3d g = device.trueGravity(p);
         smallest = std::min(smallest, g.norm());
         largest = std::max(largest, g.norm());
@@ -82,38 +83,39 @@ TEST(PointMassDeviceTest, FieldVariesAcrossTheWorkspaceLikeAMechanism) {
   EXPECT_LT(max_gradient, 30.0);
 }
 
-TEST(PointMassDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
+TEST(PointMassDeviceTest, ReleasedFromRestAcceleratesAsMInverseG) {
   PointMassDevice device = makeOpenOmega();
   const Eigen::Vector3d start = paperTargetPoint_m();
   device.resetState(start);
   ASSERT_TRUE(device.setForce(Eigen::Vector3d::Zero()));
   const Eigen::Vector3d gravity = device.trueGravity(start);
-  const double mass = device.trueApparentMass(start)(0, 0);
-  const auto& p = device.parameters();
-  const Eigen::Vector3d acceleration =
-      -(gravity.norm() - p.coulomb_friction_n) / mass * gravity.normalized();
+  const Eigen::Vector3d acceleration = -device.trueApparentMass(start).inverse() * gravity;
   const double h = device.internalStep_s();
   for (int ms = 1; ms <= 5; ++ms) {
     device.advance(kServo_s);
     const double t = ms * kServo_s;
-    // Dry friction opposes the motion, which is along -G; viscous friction is negligible here.
+    // Friction (about 30 mN per axis against 2.1 N), the bristle damping's impulse while the
+    // bristles first deflect (sigma1 z_ss / m, under 1 mm/s) and the change of M over 0.1 mm.
     EXPECT_LT((device.trueVelocity_m_per_s() - acceleration * t).norm(),
-              0.001 * acceleration.norm() * t)
+              0.04 * acceleration.norm() * t + 0.001)
         << "t=" << t;
-    // Semi-implicit Euler lags by half a step: x = x0 + a t (t + h) / 2 exactly.
     const Eigen::Vector3d expected = start + 0.5 * acceleration * t * (t + h);
-    EXPECT_LT((device.truePosition_m() - expected).norm(), 0.001 * (expected - start).norm())
+    EXPECT_LT((device.truePosition_m() - expected).norm(),
+              0.04 * (expected - start).norm() + 0.001 * t)
         << "t=" << t;
   }
-  // 5 ms of free fall at ~g: about 0.12 mm.
-  EXPECT_NEAR((device.truePosition_m() - start).norm(), 0.5 * 0.005 * 0.005 * 9.81, 3e-6);
-  // Without friction the prediction would be off by Fc/|G| = 0.24 %: the check above sees it.
-  EXPECT_GT(p.coulomb_friction_n / gravity.norm(), 0.001);
+  // Friction is visible: the fall is slower than the frictionless one.
+  EXPECT_LT(device.trueVelocity_m_per_s().dot(acceleration.normalized()),
+            0.999 * acceleration.norm() * 0.005);
 }
 
 TEST(PointMassDeviceTest, CommandingTheTrueGravityHoldsItStill) {
   PointMassDevice device = makeOpenOmega();
-  const Eigen::Vector3d start(0.0123, -0.0271, 0.0189);
+  const Eigen::Vector3d start =
+      device.workspaceCenter_m() + Eigen::Vector3d(0.0123, -0.0271, 0.0189);
+  // The force reaches the actuators one servo period after setForce: command it first.
+  ASSERT_TRUE(device.setForce(device.trueGravity(start)));
+  device.advance(kServo_s);
   device.resetState(start);
   Eigen::Vector3d first;
   ASSERT_TRUE(device.getPosition(first));
@@ -134,21 +136,27 @@ TEST(PointMassDeviceTest, SaturationClampsTheMagnitudeKeepsTheDirectionAndCounts
   PointMassDevice device = makeOpenOmega();
   const Eigen::Vector3d small(1.0, -2.0, 3.0);
   ASSERT_TRUE(device.setForce(small));
-  EXPECT_EQ(device.appliedForce_n(), small);
+  device.advance(kServo_s);  // one servo period of transport delay
+  const double dac_count_n = 12.0 * 2.0 / 16384.0;
+  EXPECT_LT((device.appliedForce_n() - small).cwiseAbs().maxCoeff(), 0.5 * dac_count_n + 1e-12);
   EXPECT_EQ(device.saturationCount(), 0u);
   const Eigen::Vector3d large(30.0, 0.0, -40.0);  // 50 N
   ASSERT_TRUE(device.setForce(large));
-  EXPECT_NEAR(device.appliedForce_n().norm(), 12.0, 1e-12);
-  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-12));
+  device.advance(kServo_s);
+  EXPECT_NEAR(device.appliedForce_n().norm(), 12.0, dac_count_n);
+  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-3));
   EXPECT_EQ(device.saturationCount(), 1u);
   ASSERT_TRUE(device.setForce(large));
   EXPECT_EQ(device.saturationCount(), 2u);
   // The clamped force is what moves the mass.
-  device.resetState(Eigen::Vector3d::Zero());
+  const Eigen::Vector3d centre = device.workspaceCenter_m();
+  device.resetState(centre);
   device.advance(0.002);
   const Eigen::Vector3d expected_direction =
-      (device.appliedForce_n() - device.trueGravity(Eigen::Vector3d::Zero())).normalized();
-  EXPECT_GT(device.truePosition_m().normalized().dot(expected_direction), 0.999);
+      (device.trueApparentMass(centre).inverse() *
+       (device.appliedForce_n() - device.trueGravity(centre)))
+          .normalized();
+  EXPECT_GT((device.truePosition_m() - centre).normalized().dot(expected_direction), 0.999);
 }
 
 TEST(PointMassDeviceTest, NonFiniteForceIsRefusedAndZeroed) {
@@ -225,6 +233,9 @@ TEST(PointMassDeviceTest, ServoPathAllocatesNothing) {
 TEST(PointMassDeviceTest, VelocityIsExactlyZeroAtRestAndTracksConstantVelocity) {
   PointMassDevice device = makeOpenOmega();
   // Mid-count on every axis: the encoder noise (0.05 counts) never reaches a transition.
+  // The force reaches the actuators one servo period after setForce: command it first.
+  ASSERT_TRUE(device.setForce(device.trueGravity(Eigen::Vector3d(0.0, 0.0, -0.03))));
+  device.advance(kServo_s);
   device.resetState(Eigen::Vector3d(0.0, 0.0, -0.03));
   Eigen::Vector3d x, v;
   for (int ms = 0; ms < 300; ++ms) {
@@ -252,6 +263,9 @@ TEST(PointMassDeviceTest, VelocityIsExactlyZeroAtRestAndTracksConstantVelocity) 
 TEST(PointMassDeviceTest, VelocityReadsZeroWheneverTheCountsDidNotChangeOverTheWindow) {
   PointMassDevice device = makeOpenOmega(11);
   // Near a count transition on x, so that the noise makes the reading flicker now and then.
+  // The force reaches the actuators one servo period after setForce: command it first.
+  ASSERT_TRUE(device.setForce(device.trueGravity(Eigen::Vector3d(0.000005, 0.0, -0.03))));
+  device.advance(kServo_s);
   device.resetState(Eigen::Vector3d(0.000005, 0.0, -0.03));
   std::vector<Eigen::Vector3d> readings;
   int zero = 0, checked = 0;
@@ -276,7 +290,8 @@ TEST(PointMassDeviceTest, VelocityReadsZeroWheneverTheCountsDidNotChangeOverTheW
   }
   EXPECT_GT(checked, 100);
   EXPECT_LT(zero, 1000);  // the flicker is there, so the check above was not vacuous
-  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.000005, 0.0, -0.03)).norm(), 1e-9);
+  // Held by friction: pre-sliding under the DAC's rounding and cogging only.
+  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.000005, 0.0, -0.03)).norm(), 1e-6);
 }
 
 TEST(PointMassDeviceTest, StopsAnsweringFailsEveryCallAndZeroesTheForce) {
@@ -329,18 +344,18 @@ TEST(PointMassDeviceTest, ReleasedWithZeroForceFallsOntoTheEndStop) {
   device.advance(2.0);
   EXPECT_TRUE(device.endStopHit());
   const double radius = device.specifications().workspace_radius_m;
-  const double distance = device.truePosition_m().norm();
-  EXPECT_GT(distance, radius);
-  EXPECT_LT(distance, radius + 0.002);  // about |G| / k_stop = 1 mm in
-  EXPECT_LT(device.truePosition_m().z(), -0.05);
-  device.resetState(Eigen::Vector3d::Zero());
+  const Eigen::Vector3d offset = device.truePosition_m() - device.workspaceCenter_m();
+  EXPECT_GT(offset.norm(), radius);
+  EXPECT_LT(offset.norm(), radius + 0.002);  // about |G| / k_stop = 1 mm in
+  EXPECT_LT(offset.z(), -0.04);
+  device.resetState(device.workspaceCenter_m());
   EXPECT_FALSE(device.endStopHit());
 }
 
 TEST(PointMassDeviceTest, HandPullsTheEndEffectorAlongItsPath) {
   PointMassDevice device = makeOpenOmega();
   device.hand().grab(device.truePosition_m());
-  const Eigen::Vector3d goal(0.03, -0.02, 0.01);
+  const Eigen::Vector3d goal = device.workspaceCenter_m() + Eigen::Vector3d(0.03, -0.02, 0.01);
   device.hand().moveTo(goal, 0.1);
   device.advance(1.0);
   EXPECT_TRUE(device.hand().atGoal());
@@ -399,13 +414,16 @@ TEST(PointMassDeviceTest, BadParametersAreRefusedWithTheirName) {
   parameters.gravity_gradient_n_per_m(0, 1) = 7.0;  // not symmetric
   EXPECT_THROW(PointMassDevice(parameters, 1), Error);
   parameters = omegaParameters();
-  parameters.static_friction_n = 0.001;  // below Coulomb
+  parameters.friction.stiction[1] = 0.001;  // below Coulomb
   try {
     PointMassDevice device(parameters, 1);
     FAIL() << "expected autograv::Error";
   } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("static_friction_n"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("stiction"), std::string::npos);
   }
+  parameters = omegaParameters();
+  parameters.actuator_directions(0, 0) = 2.0;  // not a unit vector
+  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
 }
 
 TEST(PointMassDeviceTest, SpecificationsDescribeAnOmega3) {
@@ -414,11 +432,11 @@ TEST(PointMassDeviceTest, SpecificationsDescribeAnOmega3) {
   EXPECT_EQ(spec.model_name, "sim:omega");
   EXPECT_FALSE(spec.manufacturer.empty());
   EXPECT_EQ(spec.max_linear_force_n, 12.0);
-  EXPECT_EQ(spec.workspace_radius_m, 0.075);
+  EXPECT_EQ(spec.workspace_radius_m, 0.055);  // 110 mm high
   EXPECT_EQ(spec.max_linear_stiffness_n_per_m, 14500.0);
   EXPECT_EQ(spec.max_linear_damping_n_s_per_m, 20.0);
   EXPECT_EQ(device.internalStep_s(), 1e-4);
-  EXPECT_EQ(device.workspaceCenter_m(), Eigen::Vector3d::Zero());
+  EXPECT_EQ(device.workspaceCenter_m(), paperTargetPoint_m());
 }
 
 }  // namespace

@@ -147,9 +147,8 @@ TEST(SerialArmDeviceTest, GravityAndMassLookLikeAnOmni) {
 // swinging at the given internal rate.
 double relativeEnergyError(double internal_rate_hz) {
   SerialArmParameters parameters = omniParameters();
-  parameters.coulomb_friction_n_m.setZero();
-  parameters.static_friction_n_m.setZero();
-  parameters.viscous_friction_n_m_s_per_rad.setZero();
+  parameters.friction = LuGreParameters{};  // no friction at all
+  parameters.cogging_amplitude_n_m.setZero();
   parameters.driver.internal_rate_hz = internal_rate_hz;
   SerialArmDevice device(parameters, 1);
   EXPECT_TRUE(device.open());
@@ -195,30 +194,28 @@ TEST(SerialArmDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
   device.resetState(start);
   ASSERT_TRUE(device.setForce(Eigen::Vector3d::Zero()));
   const Eigen::Vector3d q = device.jointAngles_rad();
-  // Expected: M qdd = -g(q) - friction, with each joint's dry friction against its motion.
+  // Without friction: -Lambda^-1 G, the Cartesian form of eq. (1).
   const Eigen::Matrix3d m = device.massMatrix(q);
   const Eigen::Vector3d free = -m.inverse() * device.gravityTorque(q);
-  Eigen::Vector3d friction;
-  for (int j = 0; j < 3; ++j) {
-    friction[j] =
-        free[j] == 0.0 ? 0.0 : std::copysign(device.parameters().coulomb_friction_n_m[j], free[j]);
-  }
-  const Eigen::Vector3d joint_acceleration = -m.inverse() * (device.gravityTorque(q) + friction);
-  const Eigen::Vector3d expected = device.jacobian(q) * joint_acceleration;
-  // Without friction this is -Lambda^-1 G, the Cartesian form of eq. (1).
   const Eigen::Vector3d frictionless =
       -device.trueApparentMass(start).inverse() * device.trueGravity(start);
   EXPECT_LT((frictionless - device.jacobian(q) * free).norm(), 1e-9 * frictionless.norm());
-  // Half a millisecond: short enough for the viscous term (velocity-proportional) to stay small.
+  // Half a millisecond. Joint friction (7 mN m against gravity torques of tens of mN m) slows
+  // the fall by several %, cogging and the bristles' build-up by less.
   device.advance(0.0005);
   const Eigen::Vector3d measured = device.trueVelocity_m_per_s() / 0.0005;
-  EXPECT_LT((measured - expected).norm(), 0.005 * expected.norm());
-  EXPECT_GT((measured - frictionless).norm(), 0.002 * expected.norm());  // friction is visible
+  EXPECT_LT((measured - frictionless).norm(), 0.25 * frictionless.norm());
+  EXPECT_GT((measured - frictionless).norm(), 0.01 * frictionless.norm());  // friction is visible
+  EXPECT_GT(measured.normalized().dot(frictionless.normalized()), 0.97);
 }
 
 TEST(SerialArmDeviceTest, CommandingTheTrueGravityHoldsItStill) {
   SerialArmDevice device = makeOpenOmni();
   const Eigen::Vector3d start(0.031, -0.022, -0.04);
+  device.resetState(start);
+  // The force reaches the actuators one servo period after setForce: command it first.
+  ASSERT_TRUE(device.setForce(device.trueGravity(start)));
+  device.advance(kServo_s);
   device.resetState(start);
   Eigen::Vector3d first;
   ASSERT_TRUE(device.getPosition(first));
@@ -241,8 +238,10 @@ TEST(SerialArmDeviceTest, SaturationClampsTheMagnitudeAndCounts) {
   EXPECT_EQ(device.saturationCount(), 0u);
   const Eigen::Vector3d large(4.0, 0.0, 3.0);  // 5 N
   ASSERT_TRUE(device.setForce(large));
-  EXPECT_NEAR(device.appliedForce_n().norm(), 3.3, 1e-12);
-  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-12));
+  device.advance(kServo_s);  // one servo period of transport delay
+  // The clamp keeps the direction; the DAC rounds each joint torque to 0.22 mN m.
+  EXPECT_NEAR(device.appliedForce_n().norm(), 3.3, 0.01);
+  EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-3));
   EXPECT_EQ(device.saturationCount(), 1u);
 }
 

@@ -26,11 +26,11 @@ TEST(SimulatedDeviceFactoryTest, EveryListedNameBuildsADeviceThatSaysItsName) {
 
 TEST(SimulatedDeviceFactoryTest, UnknownNameThrowsWithTheValidNames) {
   try {
-    makeSimulatedDevice("sim:falcon", 1);
+    makeSimulatedDevice("sim:phantom-premium", 1);
     FAIL() << "expected autograv::Error";
   } catch (const Error& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("sim:falcon"), std::string::npos);
+    EXPECT_NE(message.find("sim:phantom-premium"), std::string::npos);
     for (const auto& name : simulatedDeviceNames()) {
       EXPECT_NE(message.find(name), std::string::npos) << message;
     }

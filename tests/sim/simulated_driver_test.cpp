@@ -144,7 +144,13 @@ TEST_P(EveryPresetTest, ReleasedDeviceSettlesOnTheEndStop) {
   EXPECT_TRUE(device->endStopHit());
   EXPECT_LT(device->trueVelocity_m_per_s().norm(), 0.005);  // settled, not sliding round
   const double radius = device->specifications().workspace_radius_m;
-  EXPECT_NEAR((device->truePosition_m() - device->workspaceCenter_m()).norm(), radius, 0.002);
+  const double distance = (device->truePosition_m() - device->workspaceCenter_m()).norm();
+  EXPECT_GT(distance, radius - 0.002);
+  // sim:omega and sim:omni stop on the workspace sphere; sim:falcon's arms stop in joint space,
+  // beyond the sphere inscribed in its cubic workspace.
+  if (GetParam() != "sim:falcon") {
+    EXPECT_LT(distance, radius + 0.002);
+  }
 }
 
 TEST_P(EveryPresetTest, GettersAndAdvanceAllocateNothing) {
@@ -166,10 +172,10 @@ TEST_P(EveryPresetTest, GettersAndAdvanceAllocateNothing) {
   EXPECT_EQ(counter.count(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Presets, EveryPresetTest, ::testing::Values("sim:omega", "sim:omni"),
+INSTANTIATE_TEST_SUITE_P(Presets, EveryPresetTest,
+                         ::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
                          [](const auto& info) {
-                           return info.param == "sim:omega" ? std::string("Omega")
-                                                            : std::string("Omni");
+                           return std::string(info.param).substr(4);  // "omega", "omni", ...
                          });
 
 }  // namespace

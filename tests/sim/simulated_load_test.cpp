@@ -55,11 +55,15 @@ TEST_P(SimulatedLoadTest, PayloadAddsItsWeightAlongUpAndItsMass) {
   EXPECT_TRUE(device->trueGravity(x_m).isApprox(unloaded_n, 1e-12));
 }
 
-TEST_P(SimulatedLoadTest, TheLoadedTruthHoldsTheLoadedDeviceStill) {
+TEST_P(SimulatedLoadTest, TheLoadedTruthHoldsTheLoadedDeviceAsStillAsTheUnloadedOne) {
+  // Cogging and friction move a device held by its true gravity a little anyway: the loaded
+  // truth must hold the loaded device as well as the plain truth holds the plain device.
+  auto plain = openDevice(GetParam());
+  const double plain_drift_m = driftWhenHeldByTrueGravity(*plain, 1.0);
   auto device = openDevice(GetParam());
   device->setPayload_kg(kPayload_kg);
   device->setTilt_rad(10.0 * M_PI / 180.0);
-  EXPECT_LT(driftWhenHeldByTrueGravity(*device, 1.0), 1e-4);
+  EXPECT_LT(driftWhenHeldByTrueGravity(*device, 1.0), plain_drift_m + 2e-4);
 }
 
 TEST_P(SimulatedLoadTest, UnloadedTruthLetsTheLoadedDeviceSag) {
@@ -110,7 +114,7 @@ TEST_P(SimulatedLoadTest, AdvanceWithALoadAllocatesNothing) {
   EXPECT_EQ(counter.count(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, SimulatedLoadTest, ::testing::Values("sim:omega", "sim:omni"),
+INSTANTIATE_TEST_SUITE_P(Devices, SimulatedLoadTest, ::testing::ValuesIn(simulatedDeviceNames()),
                          [](const auto& info) { return info.param.substr(4); });
 
 }  // namespace

@@ -142,7 +142,8 @@ MapCheckResult cGravityCompensatedDevice::checkPublishedMap(const MapCheckOption
   const std::shared_ptr<const GravityMap> map = compensated_->publishedMap();
   if (!map) throw Error("checkPublishedMap: publish a map first (loadAndPublishMapForDevice)");
   MapCheckOptions check = options;
-  check.measurement.parameters.servo_period_s = map->metadata().parameters.servo_period_s;
+  // Measure as the map was made (same method, gains and thresholds).
+  check.measurement.parameters = map->metadata().parameters;
   std::unique_ptr<WallClockTickSource> wall_clock;
   if (ticks == nullptr) {
     wall_clock = std::make_unique<WallClockTickSource>(check.measurement.parameters.servo_period_s);

@@ -37,11 +37,11 @@ std::vector<DeviceListing> listDevices() {
   return listings;
 }
 
-DeviceHandle makeDevice(const std::string& name, std::uint64_t seed) {
+DeviceHandle makeDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction) {
   if (startsWith(name, "sim:")) {
     DeviceHandle handle;
     handle.name = name;
-    handle.simulation = sim::makeSimulatedDevice(name, seed);
+    handle.simulation = sim::makeSimulatedDevice(name, seed, friction);
     handle.device = handle.simulation;
     return handle;
   }
@@ -59,8 +59,8 @@ DeviceHandle makeDevice(const std::string& name, std::uint64_t seed) {
   throw Error("unknown device '" + name + "'; valid names: " + knownNames());
 }
 
-DeviceHandle openDevice(const std::string& name, std::uint64_t seed) {
-  DeviceHandle handle = makeDevice(name, seed);
+DeviceHandle openDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction) {
+  DeviceHandle handle = makeDevice(name, seed, friction);
   if (!handle.device->open()) throw Error("device " + name + ": open() failed");
   if (!handle.device->calibrate()) {
     throw Error("device " + name +

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/LU>
+
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 
@@ -27,15 +29,53 @@ void requirePositive(double value, const char* name) {
 
 }  // namespace
 
-PointMassParameters omegaParameters() {
+LuGreParameters omegaAxisFriction(FrictionLevel level) {
+  // Force Dimension publishes no friction figure for the omega.3. ASSUMED: its direct capstan
+  // drives and ball bearings make it smoother than the PHANToM Omni (backdrive friction
+  // < 0.26 N, SensAble), about 30 mN of stiction per axis, i.e. a breakaway of 30 mN along an
+  // axis and 52 mN along a diagonal, sliding friction 70 % of that, a 2 mm/s Stribeck speed and
+  // 5 um of pre-sliding (half an encoder count). kLow and kHigh scale it (dryFrictionScale).
+  // The viscous term is the motors' back-EMF and the amplifiers' damping, kept at every level:
+  // 1.5 N s/m, ASSUMED, what a spring of k = 500 N/m (the paper's k0) rendered at 1 kHz with one
+  // period of transport delay needs to stay passive (more than k (T/2 + T) = 0.75 N s/m); a real
+  // omega.3 renders 14.5 N/mm through its own faster loop.
+  const Eigen::Vector3d stiction_n = Eigen::Vector3d::Constant(0.030);
+  return makeLuGreParameters(0.7 * stiction_n, stiction_n, Eigen::Vector3d::Constant(0.002),
+                             Eigen::Vector3d::Constant(5e-6), Eigen::Vector3d::Constant(0.2), 0.5,
+                             Eigen::Vector3d::Constant(1.5))
+      .scaledDry(dryFrictionScale(level));
+}
+
+PointMassParameters omegaParameters(FrictionLevel friction) {
   PointMassParameters parameters;
+  parameters.friction = omegaAxisFriction(friction);
+  // Force Dimension quotes the omega.3's workspace as 160 mm across by 110 mm high: the sphere
+  // that fits its height, 55 mm, centred on the paper's X_D = [0, -30, 0] mm (paper frame), holds
+  // the paper's start point [-9.2, -68.3, 11.6] mm 41 mm from the centre, about 45 mm after the
+  // sag in the k0 field.
+  parameters.specifications.workspace_radius_m = 0.055;
+  parameters.workspace_center_m = Eigen::Vector3d(0.0, 0.0, -0.030);
+  // The three motors drive the end-effector along directions 120 degrees apart around the
+  // vertical, tilted 30 degrees up (a delta's arms); with 120 g moving with the handle and 70 g of
+  // rotor and arm inertia per motor the end-effector weighs about 200 g across and 170 g along the
+  // vertical at the centre, 120-400 g over the workspace. ASSUMED figures, not published ones.
+  constexpr double kTilt_rad = 0.5235987755982988;  // 30 degrees
+  for (int i = 0; i < 3; ++i) {
+    const double azimuth_rad = 2.0943951023931957 * i;  // 120 degrees apart
+    parameters.actuator_directions.col(i) =
+        Eigen::Vector3d(std::cos(azimuth_rad) * std::cos(kTilt_rad),
+                        std::sin(azimuth_rad) * std::cos(kTilt_rad), std::sin(kTilt_rad));
+  }
+  // One amplifier per axis over the full force range through a 14-bit DAC (1.5 mN per count).
+  // ASSUMED: Force Dimension does not publish its electronics' resolution.
+  parameters.driver.motor_limit = Eigen::Vector3d::Constant(12.0);
+  parameters.driver.dac_bits = 14;
   parameters.specifications.model_name = "sim:omega";
   parameters.specifications.manufacturer = "autograv simulation (Force Dimension omega.3-like)";
   parameters.specifications.serial_number = "SIM-OMEGA-0001";
   parameters.specifications.max_linear_force_n = 12.0;
   parameters.specifications.max_linear_stiffness_n_per_m = 14500.0;
   parameters.specifications.max_linear_damping_n_s_per_m = 20.0;
-  parameters.specifications.workspace_radius_m = 0.075;
   // A symmetric gradient (the field is conservative) of 3-10 N/m per entry: the 214 g of the
   // paper's point become about 150-290 g across the workspace, with x/y components of a few
   // tenths of a newton.
@@ -68,12 +108,23 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
     throw Error("sim point-mass device: reference_point_m and workspace_center_m must be finite");
   }
   requirePositive(parameters.reference_mass_kg, "reference_mass_kg");
-  requireNonNegative(parameters.coulomb_friction_n, "coulomb_friction_n");
-  requireNonNegative(parameters.static_friction_n, "static_friction_n");
-  if (parameters.static_friction_n < parameters.coulomb_friction_n) {
-    throw Error("sim point-mass device: static_friction_n must be >= coulomb_friction_n");
+  requirePositive(parameters.base_mass_kg, "base_mass_kg");
+  requireNonNegative(parameters.rotor_mass_kg, "rotor_mass_kg");
+  requirePositive(parameters.inertia_length_m, "inertia_length_m");
+  for (int i = 0; i < 3; ++i) {
+    if (!parameters.actuator_directions.col(i).allFinite() ||
+        std::abs(parameters.actuator_directions.col(i).norm() - 1.0) > 1e-9) {
+      throw Error("sim point-mass device: actuator_directions must be unit column vectors");
+    }
+    requireNonNegative(parameters.cogging_amplitude_n[i], "cogging_amplitude_n");
+    requirePositive(parameters.cogging_period_m[i], "cogging_period_m");
   }
-  requireNonNegative(parameters.viscous_friction_n_s_per_m, "viscous_friction_n_s_per_m");
+  if (!parameters.cogging_phase_rad.allFinite()) {
+    throw Error("sim point-mass device: cogging_phase_rad must be finite");
+  }
+  parameters.friction.validate("sim point-mass device");
+  friction_ = LuGreFriction(parameters.friction);
+  cogging_ = CoggingRipple(parameters.cogging_amplitude_n);
   requirePositive(parameters.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
   requireNonNegative(parameters.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
   requirePositive(parameters.encoder_resolution_m, "encoder_resolution_m");
@@ -132,22 +183,46 @@ Eigen::Vector3d PointMassDevice::trueGravity(const Eigen::Vector3d& position_m) 
   return loadedGravity_n(gravityAt(position_m));
 }
 
+Eigen::Matrix3d PointMassDevice::massAt(const Eigen::Vector3d& position_m) const noexcept {
+  const Eigen::Vector3d p = position_m - parameters_.workspace_center_m;
+  Eigen::Matrix3d mass = (parameters_.base_mass_kg + payload_kg_) * Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d u = parameters_.actuator_directions.col(i);
+    const double lever = 1.0 + u.dot(p) / parameters_.inertia_length_m;
+    mass += (parameters_.rotor_mass_kg * lever * lever) * (u * u.transpose());
+  }
+  return mass;
+}
+
 Eigen::Matrix3d PointMassDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {
-  const double mass_kg = std::max(kMinimumMass_kg, gravityAt(position_m).norm() / kStandardGravity);
-  return mass_kg * Eigen::Matrix3d::Identity();
+  return massAt(position_m);
 }
 
 Eigen::Vector3d PointMassDevice::mechanismGravity_n() const noexcept {
   return gravityAt(position_m_);
 }
 
-void PointMassDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
-  const Eigen::Vector3d gravity_n = gravityAt(position_m_);
-  const double mass_kg = std::max(kMinimumMass_kg, gravity_n.norm() / kStandardGravity);
-  Eigen::Vector3d net_n =
-      force_n - gravity_n - parameters_.viscous_friction_n_s_per_m * velocity_m_per_s_;
-
+void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
+                                    const Eigen::Vector3d& external_force_n, double dt_s) noexcept {
+  const Eigen::Vector3d& v = velocity_m_per_s_;
   const Eigen::Vector3d from_center = position_m_ - parameters_.workspace_center_m;
+  // Friction against the velocity held over the step (semi-implicit Euler).
+  Eigen::Vector3d net_n =
+      motor_force_n + external_force_n - gravityAt(position_m_) - friction_.step(v, dt_s);
+  // Coriolis and centrifugal forces of M(X): with M = m_b I + sum_i c_i(X) u_i u_i^T,
+  // C(X, Xd) Xd = dM/dt Xd - 1/2 d(Xd^T M Xd)/dX = sum_i 1/2 (dc_i/dX . u_i) (u_i . Xd)^2 u_i.
+  Eigen::Matrix3d mass = (parameters_.base_mass_kg + payload_kg_) * Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d u = parameters_.actuator_directions.col(i);
+    const double lever = 1.0 + u.dot(from_center) / parameters_.inertia_length_m;
+    const double along = u.dot(v);
+    mass += (parameters_.rotor_mass_kg * lever * lever) * (u * u.transpose());
+    net_n -= (parameters_.rotor_mass_kg * lever / parameters_.inertia_length_m * along * along) * u;
+  }
+  constexpr double kTwoPi = 6.283185307179586476925286766559;
+  net_n += cogging_.at(kTwoPi * from_center.cwiseQuotient(parameters_.cogging_period_m) +
+                       parameters_.cogging_phase_rad);
+
   const double radius_m = parameters_.specifications.workspace_radius_m;
   const double distance2 = from_center.squaredNorm();
   if (distance2 > radius_m * radius_m) {
@@ -157,24 +232,10 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s)
     // The rubber stop pushes back along the normal and drags on the whole velocity, so an
     // end-effector resting on it settles instead of sliding round the sphere.
     net_n -= parameters_.end_stop_stiffness_n_per_m * penetration_m * normal +
-             parameters_.end_stop_damping_n_s_per_m * velocity_m_per_s_;
+             parameters_.end_stop_damping_n_s_per_m * v;
     end_stop_hit_ = true;
   }
-
-  // Semi-implicit Euler; dry friction enters as an impulse bounded by the friction level, which
-  // sticks exactly (velocity 0) instead of chattering around zero.
-  const double impulse_scale = dt_s / mass_kg;
-  const Eigen::Vector3d free_velocity = velocity_m_per_s_ + impulse_scale * net_n;
-  const bool at_rest = velocity_m_per_s_.isZero(0.0);
-  const double friction_n =
-      at_rest ? parameters_.static_friction_n : parameters_.coulomb_friction_n;
-  const double friction_step = impulse_scale * friction_n;
-  const double free_speed = free_velocity.norm();
-  if (free_speed <= friction_step) {
-    velocity_m_per_s_.setZero();
-  } else {
-    velocity_m_per_s_ = free_velocity * (1.0 - friction_step / free_speed);
-  }
+  velocity_m_per_s_ += dt_s * (mass.inverse() * net_n);  // closed-form 3x3 inverse
   position_m_ += dt_s * velocity_m_per_s_;
 }
 
@@ -198,6 +259,8 @@ void PointMassDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   }
   position_m_ = position_m;
   velocity_m_per_s_.setZero();
+  friction_.reset();
+  cogging_.reset();
 }
 
 }  // namespace autograv::sim

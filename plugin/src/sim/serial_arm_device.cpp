@@ -16,8 +16,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 // Damping of the elbow joint stop, so that a hit does not ring. Unit: [N m s/rad]
 constexpr double kElbowStopDamping = 0.02;
-// Gauss-Seidel sweeps of the coupled (q2, q3) dry-friction problem; 2x2, converges in a few.
-constexpr int kFrictionSweeps = 6;
 
 void requirePositive(double value, const char* name) {
   if (!std::isfinite(value) || value <= 0.0) {
@@ -31,12 +29,35 @@ void requireNonNegative(double value, const char* name) {
   }
 }
 
-double sign(double value) noexcept { return value > 0.0 ? 1.0 : (value < 0.0 ? -1.0 : 0.0); }
-
 }  // namespace
 
-SerialArmParameters omniParameters() {
+LuGreParameters omniJointFriction(FrictionLevel level) {
+  // SensAble's PHANToM Omni datasheet bounds the backdrive friction at the tip by 0.26 N. With
+  // 133 mm links a joint torque T is felt at the tip as about T / 0.133 m along the direction
+  // that joint moves, and the force breaks a joint loose when its projection on that direction
+  // does; 7 mN m per joint gives 45-55 mN along a joint's own direction and at most about
+  // 120 mN where all three joints must slip together (the parallelepiped's corners), inside
+  // the bound in every direction. kLow and kHigh scale it by 1/3 and 2.5 (see dryFrictionScale).
+  // Sliding (Coulomb) friction is 70 % of stiction; the Stribeck speed of 0.01 rad/s (1.3 mm/s at
+  // the tip) and the 0.1 mrad pre-sliding range (13 um at the tip, a quarter of an encoder count)
+  // are typical of ball bearings and capstan cables, not Omni measurements.
+  const Eigen::Vector3d stiction_n_m = Eigen::Vector3d::Constant(7.0e-3);
+  // Joint inertias of the preset at the home pose, for the bristle damping. Unit: [kg m^2]
+  const Eigen::Vector3d inertia_kg_m2(1.0e-3, 9.0e-4, 8.0e-4);
+  return makeLuGreParameters(0.7 * stiction_n_m, stiction_n_m, Eigen::Vector3d::Constant(0.01),
+                             Eigen::Vector3d::Constant(1.0e-4), inertia_kg_m2, 0.5,
+                             Eigen::Vector3d::Constant(6.0e-3))
+      .scaledDry(dryFrictionScale(level));
+}
+
+SerialArmParameters omniParameters(FrictionLevel friction) {
   SerialArmParameters parameters;
+  parameters.friction = omniJointFriction(friction);
+  // Each motor's amplifier: 0.45 N m (3.3 N at the tip along a joint's direction at the home
+  // pose, so that near the edges of the workspace a joint saturates before the Cartesian clamp),
+  // through a 12-bit DAC (0.22 mN m, about 1.7 mN at the tip, per count). ASSUMED figures.
+  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.45);
+  parameters.driver.dac_bits = 12;
   parameters.specifications.model_name = "sim:omni";
   parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
   parameters.specifications.serial_number = "SIM-OMNI-0001";
@@ -72,14 +93,15 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
   }
   for (int j = 0; j < 3; ++j) {
     requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
-    requireNonNegative(p.coulomb_friction_n_m[j], "coulomb_friction_n_m");
-    requireNonNegative(p.static_friction_n_m[j], "static_friction_n_m");
-    requireNonNegative(p.viscous_friction_n_m_s_per_rad[j], "viscous_friction_n_m_s_per_rad");
     requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
-    if (p.static_friction_n_m[j] < p.coulomb_friction_n_m[j]) {
-      throw Error("sim serial-arm device: static_friction_n_m must be >= coulomb_friction_n_m");
-    }
+    requireNonNegative(p.cogging_amplitude_n_m[j], "cogging_amplitude_n_m");
+    requireNonNegative(p.cogging_cycles_per_rev[j], "cogging_cycles_per_rev");
   }
+  if (!p.cogging_phase_rad.allFinite()) {
+    throw Error("sim serial-arm device: cogging_phase_rad must be finite");
+  }
+  friction_ = LuGreFriction(p.friction);  // validates
+  cogging_ = CoggingRipple(p.cogging_amplitude_n_m);
   if (!p.home_joint_angles_rad.allFinite()) {
     throw Error("sim serial-arm device: home_joint_angles_rad must be finite");
   }
@@ -301,14 +323,15 @@ Eigen::Matrix3d SerialArmDevice::trueApparentMass(const Eigen::Vector3d& positio
   return 0.5 * (lambda + lambda.transpose());
 }
 
-void SerialArmDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept {
+void SerialArmDevice::integrateStep(const Eigen::Vector3d& motor_torque_n_m,
+                                    const Eigen::Vector3d& external_force_n, double dt_s) noexcept {
   // The same model as jacobian(), massMatrix(), gravityTorque() and coriolisTorque(), written out
   // in scalars with shared subexpressions: this runs 10,000 times per simulated second.
   const auto& p = parameters_;
   const Inertia& k = inertia_;
   const Trig& t = trig_;
   const Eigen::Vector3d& qd = qd_rad_per_s_;
-  Eigen::Vector3d cartesian_n = force_n;
+  Eigen::Vector3d cartesian_n = external_force_n;
   const double radius_m = p.specifications.workspace_radius_m;
   const double distance2 = tip_m_.squaredNorm();  // the workspace sphere is centred on home
   if (distance2 > radius_m * radius_m) {
@@ -336,13 +359,15 @@ void SerialArmDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s)
   const double dm11_dq3 =
       2.0 * t.c3 * (t.s3 * k.forearm_yaw + k.m3 * k.a3 * forearm_reach + k.mt * k.l2 * reach);
   const double k_cos = k.coupling * cos_offset;
-  const Eigen::Vector3d& viscous = p.viscous_friction_n_m_s_per_rad;
-  Eigen::Vector3d torque(
-      reach * tangential_n - qd[0] * (dm11_dq2 * qd[1] + dm11_dq3 * qd[2]) - viscous[0] * qd[0],
-      k.l1 * (t.c2 * cartesian_n.z() - t.s2 * radial_n) - k.gravity2 * t.c2 -
-          (k_cos * qd[2] * qd[2] - 0.5 * dm11_dq2 * qd[0] * qd[0]) - viscous[1] * qd[1],
-      k.l2 * (t.s3 * cartesian_n.z() + t.c3 * radial_n) - k.gravity3 * t.s3 -
-          (-k_cos * qd[1] * qd[1] - 0.5 * dm11_dq3 * qd[0] * qd[0]) - viscous[2] * qd[2]);
+  // Friction (LuGre, viscous included) against the velocity held over the step.
+  const Eigen::Vector3d friction_n_m = friction_.step(qd, dt_s);
+  Eigen::Vector3d torque(reach * tangential_n - qd[0] * (dm11_dq2 * qd[1] + dm11_dq3 * qd[2]),
+                         k.l1 * (t.c2 * cartesian_n.z() - t.s2 * radial_n) - k.gravity2 * t.c2 -
+                             (k_cos * qd[2] * qd[2] - 0.5 * dm11_dq2 * qd[0] * qd[0]),
+                         k.l2 * (t.s3 * cartesian_n.z() + t.c3 * radial_n) - k.gravity3 * t.s3 -
+                             (-k_cos * qd[1] * qd[1] - 0.5 * dm11_dq3 * qd[0] * qd[0]));
+  torque += motor_torque_n_m - friction_n_m;
+  torque += cogging_.at(p.cogging_cycles_per_rev.cwiseProduct(q_rad_) + p.cogging_phase_rad);
   const double offset = q_rad_[2] - q_rad_[1];
   const double excess =
       offset - std::clamp(offset, -p.max_elbow_offset_rad, p.max_elbow_offset_rad);
@@ -359,56 +384,8 @@ void SerialArmDevice::integrateStep(const Eigen::Vector3d& force_n, double dt_s)
   // w = dt M^-1: joint velocity change per unit of joint torque held one step.
   const double w00 = scale * det23;
   const double w11 = scale * m11 * k.m33, w12 = -scale * m11 * m23, w22 = scale * m11 * k.m22;
-  const Eigen::Vector3d free_velocity(qd[0] + w00 * torque[0],
-                                      qd[1] + w11 * torque[1] + w12 * torque[2],
-                                      qd[2] + w12 * torque[1] + w22 * torque[2]);
-
-  // Dry friction as bounded joint torques: a joint sticks (velocity exactly 0) when the torque
-  // needed to hold it is within its friction level, otherwise it slides against its motion.
-  const double limit0 = qd[0] == 0.0 ? p.static_friction_n_m[0] : p.coulomb_friction_n_m[0];
-  const double limit2 = qd[1] == 0.0 ? p.static_friction_n_m[1] : p.coulomb_friction_n_m[1];
-  const double limit3 = qd[2] == 0.0 ? p.static_friction_n_m[2] : p.coulomb_friction_n_m[2];
-  Eigen::Vector3d velocity;
-  // The yaw joint is decoupled: exact in one step.
-  const double reach0 = w00 * limit0;
-  velocity[0] = std::abs(free_velocity[0]) <= reach0
-                    ? 0.0
-                    : free_velocity[0] - reach0 * sign(free_velocity[0]);
-  // The coupled (q2, q3) pair: the two common cases have closed forms, transitions iterate.
-  const double v2 = free_velocity[1], v3 = free_velocity[2];
-  const double reach2 = std::abs(w11) * limit2 + std::abs(w12) * limit3;
-  const double reach3 = std::abs(w12) * limit2 + std::abs(w22) * limit3;
-  if (std::abs(v2) > reach2 && std::abs(v3) > reach3) {
-    // Both slide: friction cannot reverse either joint within the step.
-    const double f2 = -limit2 * sign(v2), f3 = -limit3 * sign(v3);
-    velocity[1] = v2 + w11 * f2 + w12 * f3;
-    velocity[2] = v3 + w12 * f2 + w22 * f3;
-  } else {
-    // Torques that stop both joints: (dt M^-1)^-1 = M / dt on the block.
-    const double hold2 = -(k.m22 * v2 + m23 * v3) / dt_s;
-    const double hold3 = -(m23 * v2 + k.m33 * v3) / dt_s;
-    if (std::abs(hold2) <= limit2 && std::abs(hold3) <= limit3) {
-      velocity[1] = 0.0;
-      velocity[2] = 0.0;
-    } else {
-      // Projected Gauss-Seidel on the 2x2 problem.
-      double f2 = std::clamp(hold2, -limit2, limit2);
-      double f3 = std::clamp(hold3, -limit3, limit3);
-      bool stuck2 = false, stuck3 = false;
-      for (int sweep = 0; sweep < kFrictionSweeps; ++sweep) {
-        const double without2 = v2 + w12 * f3;
-        const double stop2 = -without2 / w11;
-        stuck2 = std::abs(stop2) <= limit2;
-        f2 = stuck2 ? stop2 : -limit2 * sign(without2);
-        const double without3 = v3 + w12 * f2;
-        const double stop3 = -without3 / w22;
-        stuck3 = std::abs(stop3) <= limit3;
-        f3 = stuck3 ? stop3 : -limit3 * sign(without3);
-      }
-      velocity[1] = stuck2 ? 0.0 : v2 + w11 * f2 + w12 * f3;
-      velocity[2] = stuck3 ? 0.0 : v3 + w12 * f2 + w22 * f3;
-    }
-  }
+  const Eigen::Vector3d velocity(qd[0] + w00 * torque[0], qd[1] + w11 * torque[1] + w12 * torque[2],
+                                 qd[2] + w12 * torque[1] + w22 * torque[2]);
   qd_rad_per_s_ = velocity;
   const Eigen::Vector3d step_rad = dt_s * velocity;
   q_rad_ += step_rad;
@@ -443,6 +420,15 @@ void SerialArmDevice::advanceTrig(const Eigen::Vector3d& step_rad) noexcept {
   if (step_rad[2] != 0.0) rotateSmall(step_rad[2], trig_.s3, trig_.c3);
 }
 
+Eigen::Vector3d SerialArmDevice::cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept {
+  return jacobian(trig_).transpose() * force_n;
+}
+
+Eigen::Vector3d SerialArmDevice::motorToCartesian(
+    const Eigen::Vector3d& torque_n_m) const noexcept {
+  return jacobian(trig_).transpose().inverse() * torque_n_m;
+}
+
 Eigen::Vector3d SerialArmDevice::readEncoders(const Eigen::Vector3d& noise_counts) const noexcept {
   Eigen::Vector3d measured_q;
   for (int j = 0; j < 3; ++j) {
@@ -463,6 +449,8 @@ void SerialArmDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   }
   q_rad_ = q;
   qd_rad_per_s_.setZero();
+  friction_.reset();
+  cogging_.reset();
   trig_ = trig(q_rad_);
   steps_since_exact_trig_ = 0;
   updateTip();

@@ -129,7 +129,9 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
       noise_sigma_counts_(parameters.noise_sigma_counts),
       noise_correlation_time_s_(parameters.noise_correlation_time_s),
       uncalibrated_offset_m_(parameters.uncalibrated_offset_m),
-      velocity_(parameters.velocity_window_s, parameters.velocity_time_constant_s) {
+      velocity_(parameters.velocity_window_s, parameters.velocity_time_constant_s),
+      motor_limit_(parameters.motor_limit),
+      dac_step_(Eigen::Vector3d::Zero()) {
   validateSpecifications(specifications_);
   const std::string name = specifications_.model_name;
   if (!finitePositive(parameters.internal_rate_hz) || parameters.internal_rate_hz < 1000.0) {
@@ -151,6 +153,22 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
   if (!parameters.uncalibrated_offset_m.allFinite()) {
     throw Error(name + ": uncalibrated_offset_m must be finite");
   }
+  if ((parameters.motor_limit.array().isNaN()).any() ||
+      (parameters.motor_limit.array() <= 0.0).any()) {
+    throw Error(name + ": motor_limit must be > 0 on every motor");
+  }
+  if (parameters.dac_bits < 0 || parameters.dac_bits > 24 ||
+      (parameters.dac_bits > 0 && !parameters.motor_limit.allFinite())) {
+    throw Error(name + ": dac_bits must be in [0, 24], and > 0 only with a finite motor_limit");
+  }
+  if (parameters.dac_bits > 0) {
+    dac_step_ = parameters.motor_limit * (2.0 / std::ldexp(1.0, parameters.dac_bits));
+  }
+  if (!std::isfinite(parameters.transport_delay_s) || parameters.transport_delay_s < 0.0 ||
+      parameters.transport_delay_s > 0.01) {
+    throw Error(name + ": transport_delay_s must be in [0, 0.01] s");
+  }
+  delay_steps_ = static_cast<std::uint64_t>(std::llround(parameters.transport_delay_s / step_s_));
   // Start the noise in its stationary distribution so that the first samples are typical.
   for (int axis = 0; axis < 3; ++axis)
     noise_counts_[axis] = noise_sigma_counts_ * random_.gaussian();
@@ -162,7 +180,7 @@ bool SimulatedDriver::open() {
 }
 
 bool SimulatedDriver::close() {
-  applied_force_n_.setZero();
+  zeroActuators();
   open_ = false;
   return true;
 }
@@ -231,23 +249,50 @@ bool SimulatedDriver::getUserSwitch(int index, bool& pressed) {
   return true;
 }
 
+void SimulatedDriver::zeroActuators() noexcept {
+  active_motor_command_.setZero();
+  pending_count_ = 0;
+}
+
 bool SimulatedDriver::setForce(const Eigen::Vector3d& force_n) {
-  if (!open_ || fault_ == DeviceFault::kStopsAnswering) {
-    applied_force_n_.setZero();
-    return false;
-  }
-  if (!force_n.allFinite()) {
-    applied_force_n_.setZero();
+  if (!open_ || fault_ == DeviceFault::kStopsAnswering || !force_n.allFinite()) {
+    zeroActuators();
     return false;
   }
   const double max_n = specifications_.max_linear_force_n;
   const double norm_n = force_n.norm();
-  if (norm_n > max_n) {
-    applied_force_n_ = force_n * (max_n / norm_n);
-    ++saturation_count_;
-  } else {
-    applied_force_n_ = force_n;
+  bool saturated = norm_n > max_n;
+  Eigen::Vector3d motor =
+      cartesianToMotor(saturated ? Eigen::Vector3d(force_n * (max_n / norm_n)) : force_n);
+  for (int j = 0; j < 3; ++j) {
+    if (std::abs(motor[j]) > motor_limit_[j]) {
+      motor[j] = std::copysign(motor_limit_[j], motor[j]);
+      saturated = true;
+    }
+    if (dac_step_[j] > 0.0) motor[j] = std::round(motor[j] / dac_step_[j]) * dac_step_[j];
   }
+  if (saturated) ++saturation_count_;
+
+  const std::uint64_t due = steps_ + delay_steps_;
+  if (delay_steps_ == 0) {
+    active_motor_command_ = motor;
+    return true;
+  }
+  if (pending_count_ > 0) {
+    PendingCommand& last = pending_[static_cast<std::size_t>((pending_first_ + pending_count_ - 1) %
+                                                             kPendingCapacity)];
+    if (last.step == due) {  // the later command of the same step wins
+      last.motor = motor;
+      return true;
+    }
+  }
+  if (pending_count_ == kPendingCapacity) {  // never advanced: the oldest command is lost
+    pending_first_ = (pending_first_ + 1) % kPendingCapacity;
+    --pending_count_;
+  }
+  const int slot = (pending_first_ + pending_count_) % kPendingCapacity;
+  pending_[static_cast<std::size_t>(slot)] = {due, motor};
+  ++pending_count_;
   return true;
 }
 
@@ -260,15 +305,23 @@ void SimulatedDriver::advance(double dt_s) noexcept {
   const auto steps = static_cast<std::uint64_t>(whole);
   pending_s_ = std::max(0.0, pending_s_ - whole * step_s_);
   for (std::uint64_t i = 0; i < steps; ++i) {
-    Eigen::Vector3d force_n = applied_force_n_;
+    Eigen::Vector3d hand_n = Eigen::Vector3d::Zero();
     if (hand_.holding()) {
-      force_n += hand_.update(step_s_, truePosition_m(), trueVelocity_m_per_s());
+      hand_n = hand_.update(step_s_, truePosition_m(), trueVelocity_m_per_s());
     } else if (!hand_.atGoal()) {  // a released hand's target may still be gliding
       hand_.update(step_s_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
     }
-    if (tilted_) force_n += tiltForce_n();
-    integrateStep(force_n, step_s_);
+    // A tilted base turns the mechanism's gravity: one more external force on the end-effector.
+    integrateStep(active_motor_command_, tilted_ ? Eigen::Vector3d(hand_n + tiltForce_n()) : hand_n,
+                  step_s_);
     ++steps_;
+    // Commands due now act from here on (and show in appliedForce_n from this time).
+    while (pending_count_ > 0 &&
+           pending_[static_cast<std::size_t>(pending_first_)].step <= steps_) {
+      active_motor_command_ = pending_[static_cast<std::size_t>(pending_first_)].motor;
+      pending_first_ = (pending_first_ + 1) % kPendingCapacity;
+      --pending_count_;
+    }
   }
 }
 
@@ -280,7 +333,7 @@ void SimulatedDriver::injectFault(DeviceFault fault) noexcept {
     frozen_position_m_ = measured_position_m_;
     frozen_velocity_m_per_s_ = velocity_.estimate_m_per_s();
   }
-  if (fault == DeviceFault::kStopsAnswering) applied_force_n_.setZero();
+  if (fault == DeviceFault::kStopsAnswering) zeroActuators();
   fault_ = fault;
 }
 

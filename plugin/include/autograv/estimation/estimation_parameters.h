@@ -1,13 +1,35 @@
 #pragma once
 
+#include <cstdint>
+#include <string>
+
 namespace autograv {
 
 /// Standard gravity used by the paper to turn a force into an apparent mass. Unit: [m/s^2]
 inline constexpr double kStandardGravity = 9.81;
 
+/// How each iteration reaches its steady state (README, "Calibrating through friction").
+enum class EstimationMethod : std::uint8_t {
+  /// Eqs. 7-13 as written: the steady state is n_S consecutive velocity samples under eps_S, and
+  /// eq. 12 reads the position there. Dry friction stops the end-effector anywhere in its dead
+  /// band, so each update is off by up to the breakaway force.
+  kPaper,
+  /// The same recursion (eqs. 10-13) with a zero-mean, half-wave-symmetric dither force added to
+  /// eq. 10 so that the joints keep sliding and the friction averages out; the steady state is
+  /// the mean position over whole dither periods, which eq. 12 uses.
+  kDither,
+};
+
+/// "paper" or "dither".
+const char* toString(EstimationMethod method) noexcept;
+/// Inverse of toString; throws autograv::Error listing the valid names.
+EstimationMethod parseEstimationMethod(const std::string& name);
+
 /// User-defined parameters of the iterative estimation (paper Sections II-III). Defaults are the
-/// paper's Section V values converted to SI units.
+/// paper's Section V values converted to SI units, with the paper's method; frictionRobust()
+/// gives the dither method that the tools use by default.
 struct EstimationParameters {
+  EstimationMethod method = EstimationMethod::kPaper;
   /// Closed-loop damping of Xdd = beta (X_D - X) - alpha Xd; K_D = alpha M. Unit: [1/s]
   double alpha_per_s = 40.0;
   /// Closed-loop stiffness; K_P = beta M. Unit: [1/s^2]
@@ -33,6 +55,32 @@ struct EstimationParameters {
   /// Prior on the Lipschitz constant c of G(X), used by the convergence check before any data
   /// exists; refined from neighbouring vertices as the grid fills. Unit: [N/m]
   double lipschitz_prior_n_per_m = 10.0;
+
+  // Dither method only (kDither).
+  /// Amplitude of the dither force on each axis; 0 picks kAutoDitherFraction of the device's
+  /// maximum force, which is above the breakaway force of the devices we model. Unit: [N]
+  double dither_amplitude_n = 0.0;
+  /// Base frequency: x and y are driven in quadrature at f, z at 3f (odd harmonics only, so the
+  /// force and hence the motion are half-wave symmetric and the friction cancels). Well above the
+  /// PD's bandwidth (sqrt(beta)/(2 pi), about 4 Hz with the paper's beta). Unit: [Hz]
+  double dither_frequency_hz = 20.0;
+  /// Whole dither periods in one averaging window.
+  int dither_periods_per_window = 1;
+  /// Consecutive window pairs whose means agree within eps_S times the window duration that
+  /// make a steady state (the counterpart of n_S).
+  int steady_windows = 2;
+
+  static constexpr double kAutoDitherFraction = 0.06;
+
+  /// The paper's values with the friction-robust dither method, and n_G = 3: every dithered
+  /// update is an average over whole periods, so three small updates in a row are as telling as
+  /// the paper's five noisy ones.
+  static EstimationParameters frictionRobust() {
+    EstimationParameters parameters;
+    parameters.method = EstimationMethod::kDither;
+    parameters.n_g = 3;
+    return parameters;
+  }
 };
 
 }  // namespace autograv

@@ -16,6 +16,10 @@ namespace autograv {
 ///   K_P(i,j) = beta M_hat_{j-1},  K_D(i,j) = alpha M_hat_{j-1},  M_hat = |G_hat|/g  (eq. 11)
 ///   at steady state: G_hat_{j+1} = K_P(i,j) (X_i - X_inf) + G_hat_j        (eq. 12)
 /// until n_G consecutive updates change G_hat by at most eps_G.
+///
+/// With EstimationMethod::kDither, eq. 10 also carries a zero-mean dither force and the steady
+/// state is that of the mean position over whole dither periods (SteadyStateDetector), so dry
+/// friction averages out of eq. 12 instead of biasing it by up to the breakaway force.
 class VertexEstimator {
  public:
   enum class Status : std::uint8_t {
@@ -48,6 +52,8 @@ class VertexEstimator {
   double lastPositionError_m() const noexcept { return last_error_m_; }
   /// Current proportional gain K_P(i,j). Unit: [N/m]
   double stiffness_n_per_m() const noexcept { return stiffness_n_per_m_; }
+  /// Dither amplitude per axis in use (0 with the paper's method). Unit: [N]
+  double ditherAmplitude_n() const noexcept { return dither_amplitude_n_; }
 
   /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6). Unit: [N]
   static constexpr double kMinGravityN = 0.01;
@@ -55,6 +61,7 @@ class VertexEstimator {
  private:
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
   void finish(VertexOutcome outcome) noexcept;
+  Eigen::Vector3d ditherForce_n() const noexcept;
 
   EstimationParameters parameters_;
   double max_force_n_;
@@ -71,6 +78,9 @@ class VertexEstimator {
   int saturated_ticks_ = 0;
   int invalid_samples_ = 0;
   bool finished_ = true;
+  double dither_amplitude_n_ = 0.0;  // 0: no dither (paper's method)
+  double dither_step_rad_ = 0.0;     // dither phase advance per servo tick
+  long dither_ticks_ = 0;
 };
 
 const char* toString(VertexEstimator::Status status) noexcept;

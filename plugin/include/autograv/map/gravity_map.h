@@ -55,12 +55,17 @@ struct MapMetadata {
   EstimationParameters parameters;
 };
 
+/// Largest magnitude of a vertex estimate's component that a map accepts. No device's gravity
+/// comes near it; the bound keeps interpolation, ramps and the application's force plus the
+/// compensation far from overflow in the servo path. Unit: [N]
+inline constexpr double kMaxGravityEstimate_n = 1e9;
+
 /// Apparent gravity estimated on the grid vertices, and its trilinear interpolation (the on-line
 /// phase). Immutable once built, so one instance can be shared by a servo thread and others.
 class GravityMap {
  public:
   /// Throws autograv::Error when vertices.size() != grid.vertexCount() or an estimate is not
-  /// finite. Not real-time safe.
+  /// finite or has a component beyond kMaxGravityEstimate_n. Not real-time safe.
   GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices, MapMetadata metadata);
 
   const WorkspaceGrid& grid() const noexcept { return grid_; }

@@ -4,9 +4,14 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
+
+/// Friction of the "sim:omega" preset at `level`, per Cartesian axis (see the .cpp for the
+/// assumptions).
+LuGreParameters omegaAxisFriction(FrictionLevel level);
 
 /// Parameters of PointMassDevice. Defaults are the "sim:omega" preset (omegaParameters()).
 struct PointMassParameters {
@@ -27,12 +32,25 @@ struct PointMassParameters {
   /// Unit: [kg]
   double reference_mass_kg = 0.214;
 
-  /// Dry friction while sliding, at the end-effector. Unit: [N]
-  double coulomb_friction_n = 0.005;
-  /// Dry friction to overcome from rest (stiction). Unit: [N]
-  double static_friction_n = 0.007;
-  /// Unit: [N s/m]
-  double viscous_friction_n_s_per_m = 0.02;
+  /// Inertia reflected to the end-effector, symmetric positive definite and position dependent:
+  ///   M(X) = m_b I + sum_i m_r (1 + u_i . (X - c) / L)^2 u_i u_i^T
+  /// m_b: handle, links and parallelograms moving with the end-effector; for each of the three
+  /// motors, m_r: its rotor and arm inertia reflected along u_i, the direction its arm drives the
+  /// end-effector (unit vectors, columns of actuator_directions), growing as the arm's lever
+  /// shortens over a length L. Units: [kg], [kg], [m]
+  double base_mass_kg = 0.12;
+  double rotor_mass_kg = 0.07;
+  Eigen::Matrix3d actuator_directions = Eigen::Matrix3d::Identity();
+  double inertia_length_m = 0.12;
+
+  /// Friction per Cartesian axis (LuGre: pre-sliding, Stribeck, viscous). Units: [N], [m/s],
+  /// [N/m], [N s/m]
+  LuGreParameters friction = omegaAxisFriction(FrictionLevel::kTypical);
+  /// Cogging and torque ripple per axis, a position-periodic force A sin(2 pi x / period + phase).
+  /// Units: [N], [m], [rad]
+  Eigen::Vector3d cogging_amplitude_n = Eigen::Vector3d::Constant(1.5e-3);
+  Eigen::Vector3d cogging_period_m = Eigen::Vector3d::Constant(0.004);
+  Eigen::Vector3d cogging_phase_rad = Eigen::Vector3d(0.0, 2.1, 4.2);
   /// Soft mechanical end stop beyond the workspace radius: a spring along the normal and, while in
   /// contact, a drag on the whole velocity (a rubber stop). Units: [N/m], [N s/m]
   double end_stop_stiffness_n_per_m = 2000.0;
@@ -40,17 +58,21 @@ struct PointMassParameters {
   /// Position resolution of each Cartesian axis. Unit: [m]
   double encoder_resolution_m = 1e-5;
   /// Centre of the workspace sphere. Unit: [m]
-  Eigen::Vector3d workspace_center_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d workspace_center_m = Eigen::Vector3d(0.0, 0.0, -0.030);
 };
 
-/// The "sim:omega" preset: an Omega.3-like device (12 N, 75 mm workspace radius, 14.5 N/mm),
-/// 214 g apparent mass at the paper's X_D.
-PointMassParameters omegaParameters();
+/// The "sim:omega" preset: an Omega.3-like device (12 N, 14.5 N/mm, a 55 mm workspace radius
+/// centred on the paper's X_D), |G|/g = 214 g at X_D, friction at `friction`.
+PointMassParameters omegaParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
-/// The paper's model, eq. (1): M(X) Xdd + G(X) = F with M(X) = ||G(X)||/g I and a smooth,
-/// position-dependent, conservative G(X) (PointMassParameters). Added to what the paper models,
-/// like a real device: Coulomb friction with stiction and viscous friction, soft end stops,
-/// quantized Cartesian encoders with noise, an estimated velocity and actuator saturation.
+/// The paper's model, eq. (1), M(X) Xdd + C(X, Xd) Xd + G(X) = F, with a smooth,
+/// position-dependent, conservative G(X), and an inertia M(X) of its own (rotor and arm inertia
+/// reflected to the end-effector, anisotropic and position dependent), not the paper's
+/// assumption ||G(X)||/g I. ASSUMPTION: the Omega.3 is a parallel (delta) mechanism; this model
+/// keeps its Cartesian structure and applies friction, cogging and the motors per Cartesian axis.
+/// Added to what the paper models, like a real device: LuGre friction, cogging, soft end stops,
+/// quantized Cartesian encoders with noise, an estimated velocity, and (in SimulatedDriver) force
+/// DAC quantization, one servo period of transport delay and actuator saturation.
 class PointMassDevice final : public SimulatedDriver {
  public:
   /// Throws autograv::Error for parameters that are not usable (say which one). Not real-time safe.
@@ -58,7 +80,7 @@ class PointMassDevice final : public SimulatedDriver {
 
   /// Real-time safe. Unit: [N]
   Eigen::Vector3d trueGravity(const Eigen::Vector3d& position_m) const override;
-  /// ||G(X)||/g times the identity. Real-time safe. Unit: [kg]
+  /// M(X). Real-time safe. Unit: [kg]
   Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const override;
   /// Real-time safe.
   Eigen::Vector3d truePosition_m() const noexcept override { return position_m_; }
@@ -71,7 +93,15 @@ class PointMassDevice final : public SimulatedDriver {
   const PointMassParameters& parameters() const noexcept { return parameters_; }
 
  protected:
-  void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
+  void integrateStep(const Eigen::Vector3d& motor_force_n, const Eigen::Vector3d& external_force_n,
+                     double dt_s) noexcept override;
+  /// The motors act per Cartesian axis: the identity.
+  Eigen::Vector3d cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept override {
+    return force_n;
+  }
+  Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& command) const noexcept override {
+    return command;
+  }
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
   Eigen::Vector3d mechanismGravity_n() const noexcept override;
@@ -79,11 +109,14 @@ class PointMassDevice final : public SimulatedDriver {
 
  private:
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
+  Eigen::Matrix3d massAt(const Eigen::Vector3d& position_m) const noexcept;
 
   PointMassParameters parameters_;
   double vertical_offset_n_ = 0.0;  // w
   Eigen::Vector3d position_m_;
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
+  LuGreFriction friction_;
+  CoggingRipple cogging_;
   double payload_kg_ = 0.0;  // setPayload_kg
 };
 

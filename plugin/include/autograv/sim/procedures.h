@@ -23,11 +23,15 @@ struct InitializationResult {
   Eigen::Vector3d center_m = Eigen::Vector3d::Zero();   ///< X0. Unit: [m]
   Eigen::Vector3d settled_m = Eigen::Vector3d::Zero();  ///< X_inf. Unit: [m]
   double seconds = 0.0;                                 ///< Simulated. Unit: [s]
+  /// The end-effector touched a mechanical end stop after the hand let go: X_inf is not where the
+  /// k0 field alone put it, so eq. (7) does not hold (then ok is false and message says so).
+  bool end_stop_hit = false;
 };
 
 /// The manual step as a person would do it: the simulated hand grabs the end-effector, carries it
 /// to `center_m`, the k0 field fades in, the hand lets go, and eq. (7) gives G_hat_0 once the
-/// end-effector settles. Runs the servo loop on simulated time. Not real-time safe.
+/// end-effector settles. Fails (ok false, with a message) when the end-effector rested on an end
+/// stop meanwhile. Runs the servo loop on simulated time. Not real-time safe.
 InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
                                                  const EstimationParameters& parameters,
                                                  const Eigen::Vector3d& center_m,
@@ -96,6 +100,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
 struct AccuracyReport {
   double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
   int worst_vertex = -1;
+  double max_error_n = 0.0;       ///< Worst converged vertex |G_hat - G|. Unit: [N]
   double rms_residual_rel = 0.0;  ///< RMS of |G_hat(X) - G(X)| at random points / mean |G|.
   double mean_true_norm_n = 0.0;  ///< Unit: [N]
   int samples = 0;

@@ -4,9 +4,14 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
+
+/// Joint friction of the "sim:omni" preset at `level` (LuGre per joint, see the .cpp for the
+/// sources and the assumptions).
+LuGreParameters omniJointFriction(FrictionLevel level);
 
 /// Parameters of SerialArmDevice. Defaults are the "sim:omni" preset (omniParameters()).
 ///
@@ -45,13 +50,16 @@ struct SerialArmParameters {
   /// Motor rotor inertia reflected through each capstan (J_rotor * ratio^2). Unit: [kg m^2]
   Eigen::Vector3d rotor_inertia_kg_m2 = Eigen::Vector3d(5.0e-5, 5.0e-5, 5.0e-5);
 
-  /// Joint dry friction while sliding and from rest, and joint viscous friction. The viscous term
-  /// stands for motor back-EMF and amplifier damping too: about 0.35 N s/m at the tip, which is
-  /// what lets a 1 kHz loop render the quoted 1 N/mm (a sampled spring k needs physical damping
-  /// above k T / 2 to stay passive). Units: [N m], [N m], [N m s/rad]
-  Eigen::Vector3d coulomb_friction_n_m = Eigen::Vector3d(4.0e-4, 4.0e-4, 4.0e-4);
-  Eigen::Vector3d static_friction_n_m = Eigen::Vector3d(5.5e-4, 5.5e-4, 5.5e-4);
-  Eigen::Vector3d viscous_friction_n_m_s_per_rad = Eigen::Vector3d(6.0e-3, 6.0e-3, 6.0e-3);
+  /// Joint friction: LuGre dry friction (pre-sliding, Stribeck) and viscous friction. The viscous
+  /// term stands for motor back-EMF and amplifier damping too: about 0.35 N s/m at the tip, which
+  /// is what lets a 1 kHz loop render the quoted 1 N/mm (a sampled spring k needs physical
+  /// damping above k T / 2 to stay passive). Units: [N m], [rad/s], [N m/rad], [N m s/rad]
+  LuGreParameters friction = omniJointFriction(FrictionLevel::kTypical);
+  /// Cogging and torque ripple of each motor, seen at its joint as a position-periodic torque
+  /// A sin(N q + phase): amplitude A, N cycles per joint revolution, phase. Units: [N m], [rad]
+  Eigen::Vector3d cogging_amplitude_n_m = Eigen::Vector3d::Constant(2.5e-4);
+  Eigen::Vector3d cogging_cycles_per_rev = Eigen::Vector3d(186.0, 186.0, 186.0);
+  Eigen::Vector3d cogging_phase_rad = Eigen::Vector3d(0.0, 2.1, 4.2);
 
   /// Encoder counts per joint revolution (motor encoder counts times the capstan ratio).
   Eigen::Vector3d joint_counts_per_rev = Eigen::Vector3d(15360.0, 15360.0, 15360.0);
@@ -69,8 +77,9 @@ struct SerialArmParameters {
   double elbow_stop_stiffness_n_m_per_rad = 5.0;
 };
 
-/// The "sim:omni" preset: a PHANToM-Omni-like 3R arm (3.3 N, about 0.10 m workspace radius).
-SerialArmParameters omniParameters();
+/// The "sim:omni" preset: a PHANToM-Omni-like 3R arm (3.3 N, about 0.10 m workspace radius) with
+/// joint friction at `friction`.
+SerialArmParameters omniParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// A 3R arm with PHANToM kinematics and rigid-body dynamics in joint space,
 ///   M(q) qdd + C(q, qd) qd + g(q) + friction(qd) = J(q)^T (F_actuators + F_hand),
@@ -86,8 +95,9 @@ SerialArmParameters omniParameters();
 /// ESTIMATES, not published Omni values: every mass, centre of mass, inertia, friction level and
 /// capstan ratio above. They were chosen so that the apparent mass at the tip is about the 45 g
 /// SensAble quotes for the Omni, the tip gravity is about 0.5 N (within the Omni's 0.88 N
-/// continuous force), the friction at the tip is a few mN, and the encoders resolve about
-/// 0.055 mm at the tip (SensAble's nominal "> 450 dpi").
+/// continuous force), the breakaway force at the tip is 40-120 mN depending on the direction
+/// (within SensAble's < 0.26 N backdrive friction), and the encoders resolve about 0.055 mm at
+/// the tip (SensAble's nominal "> 450 dpi").
 class SerialArmDevice final : public SimulatedDriver {
  public:
   /// Throws autograv::Error for parameters that are not usable (say which one). Not real-time safe.
@@ -129,7 +139,12 @@ class SerialArmDevice final : public SimulatedDriver {
   const SerialArmParameters& parameters() const noexcept { return parameters_; }
 
  protected:
-  void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept override;
+  void integrateStep(const Eigen::Vector3d& motor_torque_n_m,
+                     const Eigen::Vector3d& external_force_n, double dt_s) noexcept override;
+  /// J^T F at the current pose. Unit: [N m]
+  Eigen::Vector3d cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept override;
+  /// J^-T tau at the current pose. Unit: [N]
+  Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& torque_n_m) const noexcept override;
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
   Eigen::Vector3d mechanismGravity_n() const noexcept override;
@@ -167,6 +182,8 @@ class SerialArmDevice final : public SimulatedDriver {
   Eigen::Vector3d tip_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d counts_per_rad_;
   Inertia inertia_;
+  LuGreFriction friction_;
+  CoggingRipple cogging_;
 };
 
 }  // namespace autograv::sim

@@ -9,6 +9,7 @@
 
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/tick_source.h"
+#include "autograv/sim/friction.h"
 #include "autograv/sim/simulated_hand.h"
 
 namespace autograv::sim {
@@ -41,10 +42,13 @@ class SimulatedDevice : public HapticDevice {
   /// True, unquantized end-effector position and velocity. Unit: [m], [m/s]
   virtual Eigen::Vector3d truePosition_m() const noexcept = 0;
   virtual Eigen::Vector3d trueVelocity_m_per_s() const noexcept = 0;
-  /// Puts the end-effector at rest at `position_m` (tests and scripted demos). Unit: [m]
+  /// Puts the end-effector at rest at `position_m` (tests and scripted demos). The actuators keep
+  /// their command: a force sent now reaches them one transport delay later, so send the force
+  /// that should hold it there and advance one servo period before the reset. Unit: [m]
   virtual void resetState(const Eigen::Vector3d& position_m) = 0;
 
-  /// Force the actuators actually produced after saturation, last step. Unit: [N]
+  /// Force the actuators produce now: the command of one transport delay ago, after saturation
+  /// and the force DAC's quantization. Unit: [N]
   virtual Eigen::Vector3d appliedForce_n() const noexcept = 0;
   /// Number of setForce calls whose force was clamped by actuator saturation.
   virtual std::uint64_t saturationCount() const noexcept = 0;
@@ -59,6 +63,9 @@ class SimulatedDevice : public HapticDevice {
   /// True when the end-effector has pressed against the mechanical end stops (a stiff spring
   /// beyond the workspace radius) since construction or the last resetState.
   virtual bool endStopHit() const noexcept = 0;
+  /// Forgets that the end stops were hit, so that a procedure can tell whether they are hit from
+  /// now on. Real-time safe.
+  virtual void clearEndStopHit() noexcept = 0;
   /// Centre of the workspace sphere of radius specifications().workspace_radius_m. Unit: [m]
   virtual Eigen::Vector3d workspaceCenter_m() const noexcept = 0;
   /// Step of the fixed-step integration inside advance(). Unit: [s]
@@ -82,10 +89,12 @@ class SimulatedDevice : public HapticDevice {
 /// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.
 std::vector<std::string> simulatedDeviceNames();
 
-/// Builds a preset simulated device; the same seed gives the same run, bit for bit.
-/// Throws autograv::Error listing the valid names for an unknown one. Not real-time safe.
-std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name,
-                                                     std::uint64_t seed = 1);
+/// Builds a preset simulated device with the given friction level; the same seed gives the same
+/// run, bit for bit. Throws autograv::Error listing the valid names for an unknown one.
+/// Not real-time safe.
+std::unique_ptr<SimulatedDevice> makeSimulatedDevice(
+    const std::string& name, std::uint64_t seed = 1,
+    FrictionLevel friction = FrictionLevel::kTypical);
 
 /// Paces a servo loop on a simulated device: each tick advances the physics by one period,
 /// either as fast as the CPU allows (tests) or locked to the wall clock (demos).

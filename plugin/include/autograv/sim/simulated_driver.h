@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -70,6 +71,15 @@ struct DriverParameters {
   double velocity_time_constant_s = 0.001;
   /// Position offset the readings carry until the device is homed (see setCalibrated). Unit: [m]
   Eigen::Vector3d uncalibrated_offset_m = Eigen::Vector3d(0.012, -0.007, 0.021);
+  /// Range of each motor's command, in the mechanism's actuator units (joint torque [N m] for an
+  /// arm, axis force [N] for a Cartesian mechanism): a command beyond it saturates that motor
+  /// alone, as an amplifier clips. Infinite: no per-motor saturation.
+  Eigen::Vector3d motor_limit = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  /// Resolution of the force DAC, bipolar over [-motor_limit, motor_limit]; 0: an ideal DAC.
+  int dac_bits = 0;
+  /// Transport delay between setForce and the actuators: the driver ships a command to the
+  /// device once per servo period. Unit: [s]
+  double transport_delay_s = 0.001;
 };
 
 /// The driver side shared by the simulated devices: open/close, homing, encoder sampling with
@@ -99,9 +109,11 @@ class SimulatedDriver : public SimulatedDevice {
   /// Switches 0..kSwitchCount-1; false for other indices, when closed or not answering.
   /// Real-time safe.
   bool getUserSwitch(int index, bool& pressed) override;
-  /// Commands a force, clamped to the maximum force keeping its direction (counted). A non-finite
-  /// force is refused: false, and the actuators go to zero. False when closed or not answering
-  /// (the device's watchdog then zeroes the force). Real-time safe.
+  /// Commands a force, clamped to the maximum force keeping its direction (counted), then turned
+  /// into motor commands that each saturate at their own limit (counted too, once per call) and
+  /// are quantized by the DAC. The actuators apply them `transport_delay_s` later. A non-finite
+  /// force is refused: false, and the actuators go to zero at once. False when closed or not
+  /// answering (the device's watchdog then zeroes the force). Real-time safe.
   bool setForce(const Eigen::Vector3d& force_n) override;
   /// Real-time safe.
   const DeviceSpecifications& specifications() const override { return specifications_; }
@@ -110,8 +122,13 @@ class SimulatedDriver : public SimulatedDevice {
   void advance(double dt_s) noexcept override;
   /// Real-time safe. Unit: [s]
   double time_s() const noexcept override;
-  /// Real-time safe. Unit: [N]
-  Eigen::Vector3d appliedForce_n() const noexcept override { return applied_force_n_; }
+  /// The Cartesian force of the motor commands now acting (saturated, quantized, delayed), at the
+  /// current pose. Real-time safe. Unit: [N]
+  Eigen::Vector3d appliedForce_n() const noexcept override {
+    return motorToCartesian(active_motor_command_);
+  }
+  /// The motor commands now acting, in the mechanism's actuator units. Real-time safe.
+  const Eigen::Vector3d& activeMotorCommand() const noexcept { return active_motor_command_; }
   /// Real-time safe.
   std::uint64_t saturationCount() const noexcept override { return saturation_count_; }
   /// Real-time safe.
@@ -125,6 +142,8 @@ class SimulatedDriver : public SimulatedDevice {
   void resetState(const Eigen::Vector3d& position_m) override;
   /// Real-time safe.
   bool endStopHit() const noexcept override { return end_stop_hit_; }
+  /// Real-time safe.
+  void clearEndStopHit() noexcept override { end_stop_hit_ = false; }
   /// Real-time safe. Unit: [s]
   double internalStep_s() const noexcept override { return step_s_; }
   /// Not real-time safe.
@@ -145,9 +164,16 @@ class SimulatedDriver : public SimulatedDevice {
   SimulatedDriver(DeviceSpecifications specifications, const DriverParameters& parameters,
                   std::uint64_t seed);
 
-  /// One fixed integration step of the mechanism under the Cartesian force `force_n` (actuators
-  /// plus hand). Sets end_stop_hit_ when the end stops act. Real-time safe. Units: [N], [s]
-  virtual void integrateStep(const Eigen::Vector3d& force_n, double dt_s) noexcept = 0;
+  /// One fixed integration step of the mechanism under the motor commands `motor_command` (held
+  /// over the step, actuator units) and the Cartesian force `external_force_n` (the hand). Sets
+  /// end_stop_hit_ when the end stops act. Real-time safe. Units: [N], [s]
+  virtual void integrateStep(const Eigen::Vector3d& motor_command,
+                             const Eigen::Vector3d& external_force_n, double dt_s) noexcept = 0;
+  /// Motor commands that produce the Cartesian force `force_n` at the current pose (J^T F for an
+  /// arm). Real-time safe.
+  virtual Eigen::Vector3d cartesianToMotor(const Eigen::Vector3d& force_n) const noexcept = 0;
+  /// Cartesian force that motor commands produce at the current pose. Real-time safe. Unit: [N]
+  virtual Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& command) const noexcept = 0;
   /// Quantized end-effector position from the encoders, each encoder reading perturbed by
   /// `noise_counts` (encoder counts) before quantization. Real-time safe. Unit: [m]
   virtual Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept = 0;
@@ -171,6 +197,15 @@ class SimulatedDriver : public SimulatedDevice {
   /// Force that turns the mechanism's gravity G into the tilted R G for one internal step.
   /// Real-time safe. Unit: [N]
   Eigen::Vector3d tiltForce_n() const noexcept;
+  /// Stops the actuators now and forgets the commands in flight.
+  void zeroActuators() noexcept;
+
+  /// A motor command on its way to the device, and the internal step at which it takes effect.
+  struct PendingCommand {
+    std::uint64_t step = 0;
+    Eigen::Vector3d motor = Eigen::Vector3d::Zero();
+  };
+  static constexpr int kPendingCapacity = 16;
 
   DeviceSpecifications specifications_;
   double step_s_;
@@ -183,7 +218,13 @@ class SimulatedDriver : public SimulatedDevice {
   Eigen::Vector3d uncalibrated_offset_m_;
   VelocityEstimator velocity_;
   SimulatedHand hand_;
-  Eigen::Vector3d applied_force_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d motor_limit_;
+  Eigen::Vector3d dac_step_;  // one DAC count per motor; 0: ideal
+  std::uint64_t delay_steps_ = 0;
+  std::array<PendingCommand, kPendingCapacity> pending_{};
+  int pending_first_ = 0;
+  int pending_count_ = 0;
+  Eigen::Vector3d active_motor_command_ = Eigen::Vector3d::Zero();
   std::uint64_t saturation_count_ = 0;
   std::uint64_t last_sample_step_ = 0;
   bool has_sample_ = false;

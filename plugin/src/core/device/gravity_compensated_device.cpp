@@ -168,7 +168,10 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   // Squared norms first: the square root is paid only when the force is actually clamped.
   const double squared_n2 = commanded_n.squaredNorm();
   if (squared_n2 > max_force_n * max_force_n) {
-    commanded_n *= max_force_n / std::sqrt(squared_n2);
+    // Divided by its largest component first: a finite force whose square overflows (1e200 N)
+    // is clamped along its own direction too, instead of being scaled by max / inf = 0.
+    const Eigen::Vector3d direction = commanded_n / commanded_n.cwiseAbs().maxCoeff();
+    commanded_n = direction * (max_force_n / direction.norm());
     increment(clamp_count_);
   }
   if (!inner_->setForce(commanded_n)) {

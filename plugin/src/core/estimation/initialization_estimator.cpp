@@ -20,11 +20,12 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
       max_force_n_(max_force_n),
       damping_n_s_per_m_(damping_n_s_per_m),
       ramp_ticks_(std::max(1L, std::lround(ramp_s / parameters.servo_period_s))),
-      detector_(parameters.n_s, parameters.eps_s_m_per_s, parameters.min_step_duration_s,
-                parameters.servo_period_s) {
+      detector_(SteadyStateDetector::forParameters(parameters)) {
   if (!(parameters.k0_n_per_m > 0.0)) throw Error("initialization: k0 must be positive (N/m)");
   if (!(max_force_n > 0.0)) throw Error("initialization: the device's max force must be positive");
   if (!(damping_n_s_per_m >= 0.0)) throw Error("initialization: damping must be >= 0 (N s/m)");
+  // Eq. 7 turns the settled position into a force through k0 (see VertexEstimator::setGains).
+  detector_.setWindowTolerance_m(0.25 * parameters.eps_g_n / parameters.k0_n_per_m);
 }
 
 void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {

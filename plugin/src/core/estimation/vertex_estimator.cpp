@@ -26,16 +26,31 @@ void validate(const EstimationParameters& p, double max_force_n) {
     problem << "max step duration must exceed the minimum step duration; ";
   }
   if (!(max_force_n > 0.0)) problem << "the device's max force must be positive (N); ";
+  if (p.method == EstimationMethod::kDither) {
+    if (!(p.dither_amplitude_n >= 0.0)) problem << "dither amplitude must be >= 0 (N); ";
+    if (!(p.dither_amplitude_n < 0.5 * max_force_n)) {
+      problem << "dither amplitude must stay below half the device's max force; ";
+    }
+    if (p.steady_windows < 1) problem << "steady windows must be at least 1; ";
+  }
   if (!problem.str().empty()) throw Error("vertex estimator: " + problem.str());
 }
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kWindowToleranceOfEpsG = 0.25;
 }  // namespace
 
 VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double max_force_n)
     : parameters_(parameters),
       max_force_n_(max_force_n),
-      detector_(parameters.n_s, parameters.eps_s_m_per_s, parameters.min_step_duration_s,
-                parameters.servo_period_s) {
+      detector_(SteadyStateDetector::forParameters(parameters)) {
   validate(parameters, max_force_n);
+  if (parameters.method == EstimationMethod::kDither) {
+    dither_amplitude_n_ = parameters.dither_amplitude_n > 0.0
+                              ? parameters.dither_amplitude_n
+                              : EstimationParameters::kAutoDitherFraction * max_force_n;
+    dither_step_rad_ = 2.0 * kPi * parameters.dither_frequency_hz * parameters.servo_period_s;
+  }
   estimate_.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
 }
 
@@ -44,6 +59,9 @@ void VertexEstimator::setGains(const Eigen::Vector3d& gravity_n) noexcept {
   const double mass_kg = std::max(gravity_n.norm(), kMinGravityN) / kStandardGravity;
   stiffness_n_per_m_ = parameters_.beta_per_s2 * mass_kg;
   damping_n_s_per_m_ = parameters_.alpha_per_s * mass_kg;
+  // Eq. 12 turns a mean position into a force through K_P: window means that would move the update
+  // by less than a quarter of eps_G already agree, however soft K_P makes that in millimetres.
+  detector_.setWindowTolerance_m(kWindowToleranceOfEpsG * parameters_.eps_g_n / stiffness_n_per_m_);
 }
 
 void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
@@ -64,6 +82,18 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   invalid_samples_ = 0;
   finished_ = false;
   detector_.reset();
+  dither_ticks_ = 0;
+}
+
+Eigen::Vector3d VertexEstimator::ditherForce_n() const noexcept {
+  // x and y in quadrature at f, z at 3f: only odd harmonics, so d(t + T/2) = -d(t). Every joint
+  // torque J^T d is then half-wave symmetric too, the motion it drives is symmetric and the dry
+  // friction averages to zero over whole periods; the force direction sweeps all of space, so no
+  // joint is left undithered.
+  const double angle_rad = dither_step_rad_ * static_cast<double>(dither_ticks_);
+  const double sine = std::sin(angle_rad);
+  const double triple = sine * (3.0 - 4.0 * sine * sine);  // sin(3 angle)
+  return dither_amplitude_n_ * Eigen::Vector3d(sine, std::cos(angle_rad), triple);
 }
 
 void VertexEstimator::finish(VertexOutcome outcome) noexcept {
@@ -92,9 +122,13 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   }
   invalid_samples_ = 0;
 
-  // eq. (10)
+  // eq. (10), plus the zero-mean dither of the dither method
   force_n = stiffness_n_per_m_ * (vertex_m_ - sample.position_m) -
             damping_n_s_per_m_ * sample.velocity_m_per_s + gravity_n_;
+  if (dither_amplitude_n_ > 0.0) {
+    force_n += ditherForce_n();
+    ++dither_ticks_;
+  }
   saturated_ticks_ = clampForce(force_n, max_force_n_) ? saturated_ticks_ + 1 : 0;
   last_force_n_ = force_n;
   if (saturated_ticks_ > kMaxSaturatedTicks) {
@@ -126,6 +160,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   gravity_n_ = updated_n;
   estimate_.gravity_n = updated_n;
   detector_.reset();
+  dither_ticks_ = 0;  // the next window starts at phase 0 again
 
   small_updates_ = (updated_n - previous_n).norm() <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
   if (small_updates_ >= parameters_.n_g) {
@@ -137,6 +172,23 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     return Status::kIterationCap;
   }
   return Status::kUpdated;
+}
+
+const char* toString(EstimationMethod method) noexcept {
+  switch (method) {
+    case EstimationMethod::kPaper:
+      return "paper";
+    case EstimationMethod::kDither:
+      return "dither";
+  }
+  return "unknown";
+}
+
+EstimationMethod parseEstimationMethod(const std::string& name) {
+  for (const EstimationMethod method : {EstimationMethod::kPaper, EstimationMethod::kDither}) {
+    if (name == toString(method)) return method;
+  }
+  throw Error("unknown estimation method '" + name + "'; valid: paper, dither");
 }
 
 const char* toString(VertexEstimator::Status status) noexcept {

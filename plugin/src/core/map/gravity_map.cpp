@@ -69,6 +69,13 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
       message << "gravity map: vertex " << i << " has a non-finite gravity estimate";
       throw Error(message.str());
     }
+    if (gravity_n.cwiseAbs().maxCoeff() > kMaxGravityEstimate_n) {
+      std::ostringstream message;
+      message << "gravity map: vertex " << i << " has a gravity estimate of [" << gravity_n.x()
+              << ", " << gravity_n.y() << ", " << gravity_n.z() << "] N, beyond the "
+              << kMaxGravityEstimate_n << " N that any device could need";
+      throw Error(message.str());
+    }
     packed_gravity_n_.emplace_back(gravity_n.x(), gravity_n.y(), gravity_n.z(), 0.0);
   }
 }

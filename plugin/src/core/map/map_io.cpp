@@ -35,6 +35,83 @@ class TemporaryFileGuard {
   std::string path_;
 };
 
+/// Follows the parser through the document, so that an error can name the field it was reading.
+class ParsePosition {
+ public:
+  void onEvent(nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    switch (event) {
+      case Event::object_start:
+        frames_.push_back(Frame{false, 0, {}});
+        break;
+      case Event::array_start:
+        frames_.push_back(Frame{true, 0, {}});
+        break;
+      case Event::key:
+        if (!frames_.empty()) frames_.back().key = parsed.get<std::string>();
+        break;
+      case Event::object_end:
+      case Event::array_end:
+        if (!frames_.empty()) frames_.pop_back();
+        elementDone();
+        break;
+      case Event::value:
+        elementDone();
+        break;
+    }
+  }
+
+  /// JSON pointer of the value being read, e.g. "/grid/side_m"; "/" at the top level.
+  std::string pointer() const {
+    nlohmann::json::json_pointer pointer;
+    for (const Frame& frame : frames_) {
+      if (frame.array) {
+        pointer /= frame.index;
+      } else {
+        pointer /= frame.key;
+      }
+    }
+    const std::string text = pointer.to_string();
+    return text.empty() ? "/" : text;
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    std::size_t index;  // of the element being read, in an array
+    std::string key;    // of the member being read, in an object
+  };
+
+  void elementDone() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+  }
+
+  std::vector<Frame> frames_;
+};
+
+/// Parses `text` as JSON. Every failure, a syntax error or a number beyond the range of double
+/// alike, becomes an autograv::Error naming `source` and the field being read.
+nlohmann::json parseJsonDocument(const std::string& text, const std::string& source) {
+  ParsePosition position;
+  const auto follow = [&position](int /*depth*/, nlohmann::json::parse_event_t event,
+                                  nlohmann::json& parsed) {
+    position.onEvent(event, parsed);
+    return true;
+  };
+  try {
+    return nlohmann::json::parse(text, follow);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw Error("map file '" + source + "': not valid JSON (truncated or corrupted?) in field " +
+                position.pointer() + ": " + error.what());
+  } catch (const nlohmann::json::out_of_range& error) {
+    throw Error("map file '" + source + "': field " + position.pointer() +
+                ": a number beyond the range of double (about 1.8e308): " + error.what());
+  } catch (const nlohmann::json::exception& error) {
+    throw Error("map file '" + source + "': cannot read field " + position.pointer() + ": " +
+                error.what());
+  }
+}
+
 }  // namespace
 
 void writeFileAtomically(const std::string& path, const std::string& text,
@@ -109,14 +186,7 @@ std::string mapToJson(const GravityMap& map) { return detail::mapToDocument(map)
 
 GravityMap mapFromJson(const std::string& text, const std::string& source,
                        const MapLoadOptions& options) {
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& error) {
-    throw Error("map file '" + source +
-                "': not valid JSON (truncated or corrupted?): " + error.what());
-  }
-  return detail::mapFromDocument(document, source, options);
+  return detail::mapFromDocument(parseJsonDocument(text, source), source, options);
 }
 
 GravityMap loadMap(const std::string& path, const MapLoadOptions& options) {

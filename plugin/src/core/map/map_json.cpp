@@ -35,7 +35,12 @@ json parametersDocument(const EstimationParameters& p) {
               {"max_step_duration_s", p.max_step_duration_s},
               {"max_iterations", p.max_iterations},
               {"servo_period_s", p.servo_period_s},
-              {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m}};
+              {"lipschitz_prior_n_per_m", p.lipschitz_prior_n_per_m},
+              {"method", toString(p.method)},
+              {"dither_amplitude_n", p.dither_amplitude_n},
+              {"dither_frequency_hz", p.dither_frequency_hz},
+              {"dither_periods_per_window", p.dither_periods_per_window},
+              {"steady_windows", p.steady_windows}};
 }
 
 namespace {
@@ -124,9 +129,10 @@ class DocumentReader {
     fail(pointer, "expected " + what + ", got " + describe(got));
   }
 
-  /// `value` must be an object holding exactly `keys`.
+  /// `value` must be an object holding all of `keys`, and nothing but them and `optional_keys`.
   void requireObject(const json& value, const std::string& pointer,
-                     std::initializer_list<const char*> keys) const {
+                     std::initializer_list<const char*> keys,
+                     std::initializer_list<const char*> optional_keys = {}) const {
     if (!value.is_object()) expected(pointer, "an object", value);
     for (const char* key : keys) {
       if (!value.contains(key)) {
@@ -135,8 +141,9 @@ class DocumentReader {
       }
     }
     for (auto it = value.begin(); it != value.end(); ++it) {
-      const bool known =
-          std::any_of(keys.begin(), keys.end(), [&](const char* key) { return it.key() == key; });
+      const auto is_key = [&](const char* key) { return it.key() == key; };
+      const bool known = std::any_of(keys.begin(), keys.end(), is_key) ||
+                         std::any_of(optional_keys.begin(), optional_keys.end(), is_key);
       if (!known) {
         fail(pointer + "/" + escapePointerToken(it.key()),
              "unexpected field (not part of schema version " + std::to_string(kMapSchemaVersion) +
@@ -218,7 +225,10 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
   reader.requireObject(value, p,
                        {"alpha_per_s", "beta_per_s2", "k0_n_per_m", "n_s", "eps_s_m_per_s", "n_g",
                         "eps_g_n", "min_step_duration_s", "max_step_duration_s", "max_iterations",
-                        "servo_period_s", "lipschitz_prior_n_per_m"});
+                        "servo_period_s", "lipschitz_prior_n_per_m"},
+                       // Optional: maps made before the dither method was the paper's method.
+                       {"method", "dither_amplitude_n", "dither_frequency_hz",
+                        "dither_periods_per_window", "steady_windows"});
   constexpr int kMaxCount = 1000000;
   EstimationParameters parameters;
   parameters.alpha_per_s = reader.number(value, p, "alpha_per_s", Range::kPositive, "1/s");
@@ -240,6 +250,31 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
   parameters.servo_period_s = reader.number(value, p, "servo_period_s", Range::kPositive, "s");
   parameters.lipschitz_prior_n_per_m =
       reader.number(value, p, "lipschitz_prior_n_per_m", Range::kNonNegative, "N/m");
+  if (value.contains("method")) {
+    const std::string method = reader.string(value, p, "method", true);
+    if (method == toString(EstimationMethod::kPaper)) {
+      parameters.method = EstimationMethod::kPaper;
+    } else if (method == toString(EstimationMethod::kDither)) {
+      parameters.method = EstimationMethod::kDither;
+    } else {
+      reader.expected(p + "/method", "\"paper\" or \"dither\"", value.at("method"));
+    }
+  }
+  if (value.contains("dither_amplitude_n")) {
+    parameters.dither_amplitude_n =
+        reader.number(value, p, "dither_amplitude_n", Range::kNonNegative, "N");
+  }
+  if (value.contains("dither_frequency_hz")) {
+    parameters.dither_frequency_hz =
+        reader.number(value, p, "dither_frequency_hz", Range::kPositive, "Hz");
+  }
+  if (value.contains("dither_periods_per_window")) {
+    parameters.dither_periods_per_window =
+        reader.integer(value, p, "dither_periods_per_window", 1, kMaxCount);
+  }
+  if (value.contains("steady_windows")) {
+    parameters.steady_windows = reader.integer(value, p, "steady_windows", 1, kMaxCount);
+  }
   return parameters;
 }
 

@@ -90,7 +90,8 @@ class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
   /// Opt-in start-up health check (what `autograv check` does): for about ten seconds the device
   /// holds itself at a few vertices of the published map, hands off, and the result says whether
   /// the map still fits or should be re-tared or made again. Run it after open() and before the
-  /// application's servo loop; it drives the device itself, paced by `ticks` (null: the wall
+  /// application's servo loop; it drives the device itself with the map's own estimation
+  /// parameters (options.measurement.parameters is ignored), paced by `ticks` (null: the wall
   /// clock at the map's servo period), and leaves the published map as it was. Throws
   /// autograv::Error when no map is published. Not real-time safe.
   MapCheckResult checkPublishedMap(const MapCheckOptions& options = {},

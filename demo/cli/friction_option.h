@@ -1,0 +1,24 @@
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "autograv/sim/friction.h"
+
+namespace autograv::cli {
+
+/// Adds --friction none|low|typical|high to `command`: the friction of the simulated device the
+/// command runs on, written into `level` (which keeps its value, typical by default, when the
+/// option is not given). The one definition shared by every command and by autograv-demo.
+inline CLI::Option* addFrictionOption(CLI::App& command, sim::FrictionLevel& level) {
+  return command
+      .add_option_function<std::string>(
+          "--friction",
+          [&level](const std::string& name) { level = sim::parseFrictionLevel(name); },
+          "Friction of the simulated device: none, low, typical (published figures) or high")
+      ->check(CLI::IsMember(sim::frictionLevelNames()))
+      ->default_str(sim::toString(level));
+}
+
+}  // namespace autograv::cli

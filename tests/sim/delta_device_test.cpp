@@ -1,0 +1,484 @@
+#include "autograv/sim/delta_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "autograv/sim/friction_measurement.h"
+
+namespace autograv::sim {
+namespace {
+
+constexpr double kServo_s = 0.001;
+// Novint's published figures: a 4 x 4 x 4 in workspace, 2 lbf, 400 dpi.
+constexpr double kCubeSide_m = 4.0 * 0.0254;
+constexpr double kMaxForce_n = 8.9;
+constexpr double kResolution_m = 0.0254 / 400.0;
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+DeltaDevice makeOpenFalcon(std::uint64_t seed = 7) {
+  DeltaDevice device(falconParameters(), seed);
+  EXPECT_TRUE(device.open());
+  EXPECT_TRUE(device.calibrate());
+  return device;
+}
+
+// A cubic grid of `per_axis` points per axis over a cube of side `side_m` around the centre.
+std::vector<Eigen::Vector3d> cubePoints(double side_m, int per_axis) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < per_axis; ++i) {
+    for (int j = 0; j < per_axis; ++j) {
+      for (int k = 0; k < per_axis; ++k) {
+        points.push_back(
+            (Eigen::Vector3d(i, j, k) / (per_axis - 1) - Eigen::Vector3d::Constant(0.5)) * side_m);
+      }
+    }
+  }
+  return points;
+}
+
+// The 26 directions to the faces, edges and corners of a cube.
+std::vector<Eigen::Vector3d> unitDirections() {
+  std::vector<Eigen::Vector3d> directions;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      for (int k = -1; k <= 1; ++k) {
+        if (i != 0 || j != 0 || k != 0) directions.push_back(Eigen::Vector3d(i, j, k).normalized());
+      }
+    }
+  }
+  return directions;
+}
+
+// At rest at `position_m` with the true gravity already reaching the motors (a command acts one
+// servo period after setForce).
+void restWithGravityActing(DeltaDevice& device, const Eigen::Vector3d& position_m) {
+  device.resetState(position_m);
+  ASSERT_TRUE(device.setForce(device.trueGravity(position_m)));
+  device.advance(kServo_s);
+  device.resetState(position_m);
+}
+
+Eigen::Vector3d inverse(const DeltaDevice& device, const Eigen::Vector3d& position_m) {
+  Eigen::Vector3d theta;
+  EXPECT_TRUE(device.inverseKinematics(position_m, theta)) << position_m.transpose();
+  return theta;
+}
+
+TEST(DeltaDeviceTest, HomePoseIsTheWorkspaceCentreWithTheArmsAlike) {
+  const DeltaDevice device(falconParameters(), 1);
+  const Eigen::Vector3d& theta = device.jointAngles_rad();
+  EXPECT_NEAR(theta[0], theta[1], 1e-12);
+  EXPECT_NEAR(theta[0], theta[2], 1e-12);
+  Eigen::Vector3d position;
+  ASSERT_TRUE(device.forwardKinematics(theta, position));
+  EXPECT_LT(position.norm(), 1e-12);
+  EXPECT_LT(device.truePosition_m().norm(), 1e-12);
+  EXPECT_EQ(device.workspaceCenter_m(), Eigen::Vector3d::Zero());
+}
+
+TEST(DeltaDeviceTest, InverseKinematicsInvertsForwardKinematics) {
+  const DeltaDevice device(falconParameters(), 1);
+  const auto& p = device.parameters();
+  int checked = 0;
+  for (double t0 = p.joint_min_rad[0]; t0 <= p.joint_max_rad[0]; t0 += 0.25) {
+    for (double t1 = p.joint_min_rad[1]; t1 <= p.joint_max_rad[1]; t1 += 0.25) {
+      for (double t2 = p.joint_min_rad[2]; t2 <= p.joint_max_rad[2]; t2 += 0.25) {
+        const Eigen::Vector3d theta(t0, t1, t2);
+        Eigen::Vector3d position, back;
+        if (!device.forwardKinematics(theta, position)) continue;  // the legs cannot close
+        if (!device.inverseKinematics(position, back)) continue;   // beyond a forearm's reach
+        // Off the device's branch (a knee folded inside its forearm) the inverse finds the other
+        // pose; on it, it must come back exactly.
+        const Eigen::Matrix3d j = device.jacobian(theta);
+        const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::Matrix3d>(j).singularValues();
+        if (singular[2] * 20.0 < singular[0] || (back - theta).cwiseAbs().maxCoeff() > 1e-3) {
+          continue;
+        }
+        EXPECT_LT((back - theta).cwiseAbs().maxCoeff(), 1e-9) << theta.transpose();
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 400);
+  for (const auto& x : cubePoints(kCubeSide_m, 9)) {
+    Eigen::Vector3d position;
+    ASSERT_TRUE(device.forwardKinematics(inverse(device, x), position));
+    EXPECT_LT((position - x).norm(), 1e-12) << x.transpose();
+  }
+  Eigen::Vector3d theta;
+  EXPECT_FALSE(device.inverseKinematics(Eigen::Vector3d(0.2, 0.0, 0.0), theta));  // too far
+}
+
+TEST(DeltaDeviceTest, JacobianIsTheDerivativeOfForwardKinematics) {
+  const DeltaDevice device(falconParameters(), 1);
+  for (const auto& x : cubePoints(kCubeSide_m, 3)) {
+    const Eigen::Vector3d theta = inverse(device, x);
+    Eigen::Matrix3d numeric;
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d step = 1e-7 * Eigen::Vector3d::Unit(j);
+      Eigen::Vector3d plus, minus;
+      ASSERT_TRUE(device.forwardKinematics(theta + step, plus));
+      ASSERT_TRUE(device.forwardKinematics(theta - step, minus));
+      numeric.col(j) = (plus - minus) / 2e-7;
+    }
+    EXPECT_LT((numeric - device.jacobian(theta)).cwiseAbs().maxCoeff(), 1e-8) << x.transpose();
+  }
+}
+
+TEST(DeltaDeviceTest, GravityTorqueIsTheDerivativeOfThePotential) {
+  const DeltaDevice device(falconParameters(), 1);
+  const Eigen::Vector3d theta = inverse(device, Eigen::Vector3d(0.02, -0.03, 0.01));
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector3d step = 1e-6 * Eigen::Vector3d::Unit(j);
+    const double numeric =
+        (device.potentialEnergy_j(theta + step) - device.potentialEnergy_j(theta - step)) / 2e-6;
+    EXPECT_NEAR(numeric, device.gravityTorque(theta)[j], 1e-9);
+  }
+}
+
+// J^-T g(theta) is the Cartesian gradient of the potential energy over the whole cube.
+TEST(DeltaDeviceTest, CartesianGravityMatchesFiniteDifferenceOfPotentialEnergy) {
+  const DeltaDevice device(falconParameters(), 1);
+  auto energyAt = [&](const Eigen::Vector3d& x) {
+    return device.potentialEnergy_j(inverse(device, x));
+  };
+  const double h = 1e-6;
+  for (const auto& x : cubePoints(kCubeSide_m, 5)) {
+    Eigen::Vector3d numeric;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(axis);
+      numeric[axis] = (energyAt(x + step) - energyAt(x - step)) / (2 * h);
+    }
+    const Eigen::Vector3d gravity = device.trueGravity(x);
+    EXPECT_LT((numeric - gravity).norm(), 1e-6 * gravity.norm() + 1e-8) << x.transpose();
+  }
+}
+
+TEST(DeltaDeviceTest, GravityAndMassLookLikeAFalcon) {
+  const DeltaDevice device(falconParameters(), 1);
+  double smallest = 1e9, largest = 0.0;
+  for (const auto& x : cubePoints(kCubeSide_m, 5)) {
+    const Eigen::Vector3d g = device.trueGravity(x);
+    EXPECT_GT(g.z(), 0.0);  // holding force points up
+    smallest = std::min(smallest, g.norm());
+    largest = std::max(largest, g.norm());
+    const Eigen::Matrix3d lambda = device.trueApparentMass(x);
+    EXPECT_TRUE(lambda.isApprox(lambda.transpose(), 1e-12));
+    const Eigen::Vector3d eigen =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
+    // At least the grip, platform and forearm halves; never more than the motors can push.
+    EXPECT_GT(eigen.minCoeff(), 0.098);
+    EXPECT_LT(eigen.maxCoeff(), 1.0);
+  }
+  // The grip and platform alone weigh 0.78 N; the arms add to it at the centre. The field varies
+  // by tens of percent over the cube, well within the 8.9 N the motors make.
+  const Eigen::Vector3d centre_gravity = device.trueGravity(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(centre_gravity.norm(), 1.05, 0.05);
+  EXPECT_LT(centre_gravity.head<2>().norm(), 1e-9);  // the centre is on the symmetric axis
+  EXPECT_GT(smallest, 0.4);
+  EXPECT_LT(largest, 1.5);
+  EXPECT_GT((largest - smallest) / centre_gravity.norm(), 0.3);
+  // Apparent mass: anisotropic (the axis differs from the cross directions).
+  const Eigen::Vector3d eigen = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(
+                                    device.trueApparentMass(Eigen::Vector3d::Zero()))
+                                    .eigenvalues();
+  EXPECT_GT(eigen.maxCoeff() / eigen.minCoeff(), 1.15);
+}
+
+TEST(DeltaDeviceTest, WorkspaceCoversThePublishedFourInchCube) {
+  DeltaDevice device(falconParameters(), 1);
+  const auto& p = device.parameters();
+  for (const auto& x : cubePoints(kCubeSide_m, 9)) {
+    const Eigen::Vector3d theta = inverse(device, x);
+    EXPECT_TRUE((theta.array() > p.joint_min_rad.array()).all()) << x.transpose();
+    EXPECT_TRUE((theta.array() < p.joint_max_rad.array()).all()) << x.transpose();
+    const Eigen::Vector3d singular =
+        Eigen::JacobiSVD<Eigen::Matrix3d>(device.jacobian(theta)).singularValues();
+    EXPECT_LT(singular[0] / singular[2], 10.0) << x.transpose();
+  }
+  // Every corner is a pose the device rests in.
+  const Eigen::Vector3d corner = Eigen::Vector3d(0.5, -0.5, 0.5) * kCubeSide_m;
+  device.resetState(corner);
+  EXPECT_LT((device.truePosition_m() - corner).norm(), 1e-12);
+  // The workspace sphere is the one inscribed in the cube.
+  EXPECT_NEAR(device.specifications().workspace_radius_m, kCubeSide_m / 2.0, 1e-9);
+}
+
+TEST(DeltaDeviceTest, OneEncoderCountIsBelowThePublishedResolutionAtTheCentre) {
+  const DeltaDevice device(falconParameters(), 1);
+  const Eigen::Matrix3d j = device.jacobian(device.jointAngles_rad());
+  for (int joint = 0; joint < 3; ++joint) {
+    const double count_rad = kTwoPi / device.parameters().joint_counts_per_rev[joint];
+    const double at_grip_m = j.col(joint).norm() * count_rad;
+    EXPECT_LT(at_grip_m, kResolution_m);
+    EXPECT_GT(at_grip_m, 0.5 * kResolution_m);  // and not far finer than the real one
+  }
+}
+
+// Largest energy error relative to the largest kinetic energy over 0.5 s of fast, frictionless
+// swinging at the given internal rate.
+double relativeEnergyError(double internal_rate_hz) {
+  DeltaParameters parameters = falconParameters();
+  parameters.friction = LuGreParameters{};
+  parameters.driver.internal_rate_hz = internal_rate_hz;
+  DeltaDevice device(parameters, 1);
+  EXPECT_TRUE(device.open());
+  // A loose undamped spring to a fixed point keeps the grip swinging fast through the workspace;
+  // total energy (kinetic, gravity, spring) must stay put.
+  const Eigen::Vector3d anchor(0.01, 0.005, 0.0);
+  const double stiffness_n_per_m = 150.0;
+  device.resetState(Eigen::Vector3d(-0.02, -0.025, 0.03));
+  device.hand().stiffness_n_per_m = stiffness_n_per_m;
+  device.hand().damping_n_s_per_m = 0.0;
+  device.hand().grab(anchor);
+  auto energy = [&] {
+    const Eigen::Vector3d x = device.truePosition_m();
+    return device.kineticEnergy_j(device.jointAngles_rad(), device.jointVelocities_rad_per_s()) +
+           device.potentialEnergy_j(device.jointAngles_rad()) +
+           0.5 * stiffness_n_per_m * (x - anchor).squaredNorm();
+  };
+  const double start = energy();
+  double max_kinetic = 0.0, worst = 0.0;
+  for (int ms = 0; ms < 500; ++ms) {
+    device.advance(kServo_s);
+    max_kinetic = std::max(max_kinetic, device.kineticEnergy_j(device.jointAngles_rad(),
+                                                               device.jointVelocities_rad_per_s()));
+    worst = std::max(worst, std::abs(energy() - start));
+  }
+  EXPECT_FALSE(device.endStopHit());
+  EXPECT_GT(max_kinetic, 0.05);  // J: the grip moves at about 1 m/s
+  return worst / max_kinetic;
+}
+
+TEST(DeltaDeviceTest, MotionConservesEnergyWithoutFriction) {
+  // Semi-implicit Euler keeps the energy error bounded and first order in the step: a wrong
+  // inertia or velocity-product term leaves an error that does not shrink with the step.
+  const double at_10khz = relativeEnergyError(10000.0);
+  const double at_100khz = relativeEnergyError(100000.0);
+  EXPECT_LT(at_10khz, 0.01);
+  EXPECT_LT(at_100khz, 0.001);
+  EXPECT_NEAR(at_10khz / at_100khz, 10.0, 1.5);
+}
+
+TEST(DeltaDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
+  DeltaDevice device = makeOpenFalcon();
+  const Eigen::Vector3d start(0.02, -0.03, 0.01);
+  device.resetState(start);
+  ASSERT_TRUE(device.setForce(Eigen::Vector3d::Zero()));
+  // Eq. (1) of the paper, in its Cartesian form: M Xdd = -G at rest (no velocity, no damping).
+  const Eigen::Vector3d expected =
+      -device.trueApparentMass(start).inverse() * device.trueGravity(start);
+  device.advance(0.0002);
+  const Eigen::Vector3d measured = device.trueVelocity_m_per_s() / 0.0002;
+  EXPECT_LT((measured - expected).norm(), 0.01 * expected.norm());
+}
+
+TEST(DeltaDeviceTest, CommandingTheTrueGravityHoldsItStill) {
+  DeltaDevice device = makeOpenFalcon();
+  const Eigen::Vector3d start(0.031, -0.022, -0.04);
+  restWithGravityActing(device, start);
+  Eigen::Vector3d first;
+  ASSERT_TRUE(device.getPosition(first));
+  double max_reading_change = 0.0;
+  for (int ms = 0; ms < 1000; ++ms) {
+    Eigen::Vector3d measured;
+    ASSERT_TRUE(device.getPosition(measured));
+    ASSERT_TRUE(device.setForce(device.trueGravity(measured)));
+    device.advance(kServo_s);
+    max_reading_change = std::max(max_reading_change, (measured - first).norm());
+  }
+  EXPECT_LT((device.truePosition_m() - start).norm(), kResolution_m);
+  EXPECT_LT(max_reading_change, 2 * kResolution_m);
+}
+
+TEST(DeltaDeviceTest, ForceIsLimitedInMagnitudeAndPerMotor) {
+  DeltaDevice device = makeOpenFalcon();
+  // The driver keeps the direction and clamps the magnitude to the published 8.9 N; the motors
+  // apply it one servo period later, in DAC steps of a few mN.
+  const Eigen::Vector3d large(8.0, 0.0, 6.0);  // 10 N
+  ASSERT_TRUE(device.setForce(large));
+  EXPECT_EQ(device.saturationCount(), 1u);
+  device.advance(kServo_s);
+  EXPECT_NEAR(device.appliedForce_n().norm(), kMaxForce_n, 0.02);
+  EXPECT_GT(device.appliedForce_n().normalized().dot(large.normalized()), 0.9999);
+  // At the centre the motors make the full force in every direction...
+  for (const auto& direction : unitDirections()) {
+    device.resetState(Eigen::Vector3d::Zero());
+    ASSERT_TRUE(device.setForce(0.999 * kMaxForce_n * direction));
+  }
+  EXPECT_EQ(device.saturationCount(), 1u);
+  // ...but near the edge of the cube the motor that this direction loads most runs out of torque
+  // first, and the grip gets less than it was asked for.
+  const Eigen::Vector3d edge = Eigen::Vector3d(0.5, 0.5, -0.5) * kCubeSide_m;
+  const Eigen::Matrix3d j = device.jacobian(inverse(device, edge));
+  int weakest = 0;
+  j.colwise().norm().maxCoeff(&weakest);
+  const Eigen::Vector3d direction = j.col(weakest).normalized();
+  EXPECT_GT(j.col(weakest).norm() * kMaxForce_n,
+            device.parameters().driver.motor_limit[weakest] * 1.05);
+  device.resetState(edge);
+  ASSERT_TRUE(device.setForce(0.999 * kMaxForce_n * direction));
+  EXPECT_EQ(device.saturationCount(), 2u);
+  device.advance(kServo_s);  // one servo period of transport delay
+  EXPECT_LT(device.appliedForce_n().dot(direction), 0.95 * kMaxForce_n);
+}
+
+TEST(DeltaDeviceTest, ReleasedWithZeroForceFallsOntoTheArmStops) {
+  DeltaDevice device = makeOpenFalcon();
+  device.setForce(Eigen::Vector3d::Zero());
+  device.advance(2.0);
+  EXPECT_TRUE(device.endStopHit());
+  EXPECT_LT(device.trueVelocity_m_per_s().norm(), 0.005);      // settled
+  EXPECT_LT(device.truePosition_m().z(), -kCubeSide_m / 2.0);  // below the cube
+  const auto& p = device.parameters();
+  const Eigen::Vector3d& theta = device.jointAngles_rad();
+  EXPECT_TRUE(
+      ((theta.array() < p.joint_min_rad.array()) || (theta.array() > p.joint_max_rad.array()))
+          .any());
+}
+
+TEST(DeltaDeviceTest, TypicalFrictionBreaksAwayAtTensOfMillinewtons) {
+  DeltaDevice device(falconParameters(FrictionLevel::kTypical), 3);
+  ASSERT_TRUE(device.open());
+  FrictionMeasurementOptions options;
+  options.ramp_rate_n_per_s = 0.1;  // the ramp's lag adds a few mN; keeps the test short
+  const FrictionMeasurement friction = measureFriction(device, options);
+  for (std::size_t i = 0; i < friction.directions.size(); ++i) {
+    EXPECT_GE(friction.breakaway_n[i], 0.030) << friction.directions[i].transpose();
+  }
+  // Along the axis all three arms turn together and their friction adds up.
+  EXPECT_LT(friction.breakaway_force_n, 0.090);
+  EXPECT_GT(friction.coulomb_force_n, 0.010);
+  EXPECT_LT(friction.coulomb_force_n, friction.breakaway_force_n);
+  RecordProperty("breakaway_min_mn", std::to_string(friction.min_breakaway_force_n * 1e3));
+  RecordProperty("breakaway_max_mn", std::to_string(friction.breakaway_force_n * 1e3));
+}
+
+// Largest distance from the centre over `seconds` under a steady push on top of the true gravity.
+double driftUnderPush(FrictionLevel level, const Eigen::Vector3d& push_n, double seconds) {
+  DeltaDevice device(falconParameters(level), 3);
+  EXPECT_TRUE(device.open());
+  restWithGravityActing(device, Eigen::Vector3d::Zero());
+  double worst_m = 0.0;
+  for (int ms = 0; ms < static_cast<int>(seconds / kServo_s); ++ms) {
+    device.setForce(device.trueGravity(device.truePosition_m()) + push_n);
+    device.advance(kServo_s);
+    worst_m = std::max(worst_m, device.truePosition_m().norm());
+  }
+  return worst_m;
+}
+
+TEST(DeltaDeviceTest, FrictionLevelsHoldOrLetGoOfTheSamePush) {
+  // 25 mN across the axis: under the breakaway at typical and high friction (pre-sliding only,
+  // below an encoder count), over it at low (a third of typical) and without dry friction.
+  const Eigen::Vector3d push(0.0, 0.025, 0.0);
+  EXPECT_LT(driftUnderPush(FrictionLevel::kHigh, push, 0.5), 0.02e-3);
+  EXPECT_LT(driftUnderPush(FrictionLevel::kTypical, push, 0.5), 0.04e-3);
+  EXPECT_GT(driftUnderPush(FrictionLevel::kLow, push, 0.5), 1e-3);
+  EXPECT_GT(driftUnderPush(FrictionLevel::kNone, push, 0.5), 1e-3);
+}
+
+std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
+  DeltaDevice device = makeOpenFalcon(seed);
+  std::vector<Eigen::Vector3d> trajectory;
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.03, 0.02, -0.02), 0.05);
+  for (int ms = 0; ms < 1200; ++ms) {
+    if (ms == 400) device.hand().release();
+    Eigen::Vector3d x, v;
+    EXPECT_TRUE(device.getPosition(x));
+    EXPECT_TRUE(device.getLinearVelocity(v));
+    const Eigen::Vector3d target(0.02 * std::sin(ms * 0.005), 0.0, 0.01);
+    device.setForce(100.0 * (target - x) - 1.0 * v + Eigen::Vector3d(0, 0, 1.0));
+    device.advance(kServo_s);
+    trajectory.push_back(device.truePosition_m());
+    trajectory.push_back(x);
+  }
+  return trajectory;
+}
+
+TEST(DeltaDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
+  const auto a = runScript(5);
+  const auto b = runScript(5);
+  const auto c = runScript(6);
+  bool identical = a.size() == b.size(), differs = false;
+  for (std::size_t i = 0; i < a.size() && identical; ++i) {
+    identical = (a[i].array() == b[i].array()).all();
+  }
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differs = differs || (a[i].array() != c[i].array()).any();
+  EXPECT_TRUE(identical);
+  EXPECT_TRUE(differs);
+}
+
+TEST(DeltaDeviceTest, ServoPathAllocatesNothing) {
+  DeltaDevice device = makeOpenFalcon();
+  device.hand().grab(device.truePosition_m());
+  device.hand().moveTo(Eigen::Vector3d(0.02, -0.02, 0.01), 0.05);
+  Eigen::Vector3d x, v;
+  bool pressed = false;
+  testing::AllocationCounter counter;
+  for (int ms = 0; ms < 2000; ++ms) {
+    device.getPosition(x);
+    device.getLinearVelocity(v);
+    device.getUserSwitch(0, pressed);
+    device.setForce(Eigen::Vector3d(0.0, 0.0, 1.0) - 1.0 * v);
+    device.advance(kServo_s);
+  }
+  device.hand().release();
+  for (int ms = 0; ms < 1000; ++ms) {  // onto the arm stops
+    device.setForce(Eigen::Vector3d(9.0, 0.0, 0.0));
+    device.advance(kServo_s);
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_TRUE(device.endStopHit());
+}
+
+TEST(DeltaDeviceTest, ResetStateRejectsUnreachablePositions) {
+  DeltaDevice device(falconParameters(), 1);
+  EXPECT_THROW(device.resetState(Eigen::Vector3d(0.0, 0.0, 0.3)), Error);
+  // Reachable by the legs, but only with an arm swung forward beyond its stop.
+  const Eigen::Vector3d below(0.0, 0.0, -0.115);
+  Eigen::Vector3d theta;
+  ASSERT_TRUE(device.inverseKinematics(below, theta));
+  EXPECT_GT(theta.maxCoeff(), device.parameters().joint_max_rad.maxCoeff());
+  EXPECT_THROW(device.resetState(below), Error);
+  EXPECT_THROW(device.trueGravity(Eigen::Vector3d(0.3, 0.0, 0.0)), Error);
+  device.resetState(Eigen::Vector3d(0.04, 0.04, 0.04));
+  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.04, 0.04, 0.04)).norm(), 1e-12);
+}
+
+TEST(DeltaDeviceTest, SpecificationsDescribeAFalcon) {
+  const DeltaDevice device(falconParameters(), 1);
+  const auto& spec = device.specifications();
+  EXPECT_EQ(spec.model_name, "sim:falcon");
+  EXPECT_NE(spec.manufacturer.find("Falcon"), std::string::npos);
+  EXPECT_EQ(spec.max_linear_force_n, kMaxForce_n);
+  EXPECT_NO_THROW(validateSpecifications(spec));
+}
+
+TEST(DeltaDeviceTest, BadParametersAreRefused) {
+  DeltaParameters parameters = falconParameters();
+  parameters.specifications.workspace_radius_m = 0.09;  // beyond the mechanism's reach
+  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
+  parameters = falconParameters();
+  parameters.grip_mass_kg = -0.01;
+  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
+  parameters = falconParameters();
+  parameters.leg_angles_rad[2] += 0.3;  // not 120 degrees apart
+  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
+  parameters = falconParameters();
+  parameters.joint_max_rad[1] = parameters.joint_min_rad[1];
+  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
+}
+
+}  // namespace
+}  // namespace autograv::sim
