@@ -33,9 +33,11 @@ step "VTK scene tests under xvfb-run"
 step "CHAI3D bridge against the stand-in of CHAI3D 3.3's API (CHAI3D is not packaged in Debian)"
 cmake -S . -B build/chai3d-mock -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_WARNINGS_AS_ERRORS=ON \
   -DAUTOGRAV_CHAI3D_DIR="$root/plugin/chai3d/test_mock" \
-  -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
-cmake --build build/chai3d-mock -j "$jobs" --target chai3d_bridge_test
+  -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=ON
+cmake --build build/chai3d-mock -j "$jobs" --target chai3d_bridge_test chai3d_devices_test autograv
 build/chai3d-mock/plugin/chai3d/chai3d_bridge_test
+# chai3d:N device names end to end: the registry, and `autograv wizard --device chai3d:0`.
+build/chai3d-mock/plugin/chai3d/chai3d_devices_test
 
 step "AddressSanitizer + UndefinedBehaviorSanitizer build of core, sim and their tests"
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \

@@ -21,6 +21,68 @@ std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& nam
   return device;
 }
 
+CLI::Option* addDeviceOption(CLI::App& command, std::string& device) {
+  std::string names;
+  for (const std::string& name : sim::simulatedDeviceNames()) names += name + ", ";
+  names += chai3dDevicesAvailable() ? "chai3d:N (CHAI3D's N-th device)"
+                                    : "chai3d:N (in a build with CHAI3D)";
+  return command
+      .add_option("--device", device, "Device: " + names + "; `autograv devices` lists them")
+      ->capture_default_str();
+}
+
+void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load) {
+  command
+      .add_option("--payload-g", load.payload_g,
+                  "Simulated devices: a point load on the end-effector (a heavier handle) [g]")
+      ->check(CLI::NonNegativeNumber);
+  command
+      .add_option("--tilt-deg", load.tilt_deg,
+                  "Simulated devices: the base tilted about y by this angle [deg]")
+      ->check(CLI::Range(-45.0, 45.0));
+}
+
+void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load) {
+  if (load.payload_g == 0.0 && load.tilt_deg == 0.0) return;
+  if (!device.simulation) {
+    throw Error("--payload-g and --tilt-deg change a simulated device; " + device.name +
+                " is real hardware (put the load on it, or tilt it, by hand)");
+  }
+  applySimulatedLoad(*device.simulation, load);
+}
+
+void applySimulatedLoad(sim::SimulatedDevice& device, const SimulatedLoad& load) {
+  device.setPayload_kg(load.payload_g * 1e-3);
+  device.setTilt_rad(load.tilt_deg * 3.14159265358979323846 / 180.0);
+}
+
+CLI::Validator simulatedOnly(const std::string& command) {
+  return CLI::Validator(
+      [command](std::string& name) -> std::string {
+        for (const std::string& known : sim::simulatedDeviceNames()) {
+          if (name == known) return {};
+        }
+        return "`autograv " + command + "` runs with no person in the loop, so it needs a " +
+               "simulated device (" +
+               [] {
+                 std::string names;
+                 for (const std::string& known : sim::simulatedDeviceNames()) {
+                   names += (names.empty() ? "" : ", ") + known;
+                 }
+                 return names;
+               }() +
+               "); a real device such as " + name +
+               " is calibrated with `autograv wizard`, since the manual step needs a hand";
+      },
+      "SIMULATED DEVICE");
+}
+
+void addMapsOption(CLI::App& command, std::string& maps_dir) {
+  command.add_option("--maps", maps_dir,
+                     "Folder of the map library (default: $XDG_DATA_HOME/autograv/maps, else "
+                     "~/.local/share/autograv/maps)");
+}
+
 void writeJsonReport(const std::string& path, const nlohmann::json& report) {
   if (path.empty()) return;
   writeFileAtomically(path, report.dump(2) + "\n", "report");

@@ -5,8 +5,10 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "autograv/devices/device_registry.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::cli {
@@ -16,6 +18,29 @@ namespace autograv::cli {
 std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(
     const std::string& name, std::uint64_t seed,
     sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
+
+/// How every command names its device: adds `--device` (sim:omni, sim:omega, chai3d:N; checked when
+/// the device is opened, since CHAI3D's devices are only known then).
+CLI::Option* addDeviceOption(CLI::App& command, std::string& device);
+
+/// A point load and a tilt for simulated devices (`--payload-g`, `--tilt-deg`), to test against
+/// the truth what a handle change or a moved device does to a map.
+struct SimulatedLoad {
+  double payload_g = 0.0;
+  double tilt_deg = 0.0;
+};
+void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load);
+/// Applies `load` to the simulation behind `device`; throws autograv::Error when one is asked for
+/// on a device that is not simulated.
+void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load);
+void applySimulatedLoad(sim::SimulatedDevice& device, const SimulatedLoad& load);
+
+/// A --device check for commands that need a simulation (no person in the loop): accepts
+/// sim::simulatedDeviceNames() and says what to use instead for any other device.
+CLI::Validator simulatedOnly(const std::string& command);
+
+/// Adds `--maps DIR`: the map library's folder (default: $XDG_DATA_HOME/autograv/maps).
+void addMapsOption(CLI::App& command, std::string& maps_dir);
 
 /// Writes `report` as indented JSON, atomically (temporary file, then rename). Throws
 /// autograv::Error naming the path when it cannot. An empty path writes nothing.

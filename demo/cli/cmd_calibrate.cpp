@@ -38,6 +38,7 @@ struct CalibrateOptions {
   bool resume = false;
   bool copy_initial_estimate = false;
   int redo_failed = 1;
+  SimulatedLoad load;
   EstimationParameters parameters;
 };
 
@@ -50,6 +51,7 @@ double median(std::vector<int> values) {
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed, options.friction);
+  applySimulatedLoad(*device, options.load);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
@@ -247,9 +249,8 @@ void addCalibrateCommand(CLI::App& app) {
   auto options = std::make_shared<CalibrateOptions>();
   CLI::App* command = app.add_subcommand(
       "calibrate", "Run the whole off-line autocalibration on a simulated device and save the map");
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addDeviceOption(*command, options->device)->check(simulatedOnly("calibrate"));
+  addSimulatedLoadOptions(*command, options->load);
   addGridOptions(*command, options->grid);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/error.h"
 #include "autograv/device/gravity_compensated_device.h"
+#include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/verification.h"
 #include "cli_support.h"
@@ -40,8 +40,14 @@ nlohmann::json vectorJson(const Eigen::Vector3d& value) {
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
-  std::shared_ptr<sim::SimulatedDevice> simulated =
-      openSimulatedDevice(options.device, options.seed, options.friction);
+  const DeviceHandle handle = openDevice(options.device, options.seed, options.friction);
+  if (!handle.simulation) {
+    throw Error(
+        "verify places the end-effector at its test points by simulation, so it needs a "
+        "simulated device; on " +
+        options.device + " run `autograv check`, which measures the map against the device itself");
+  }
+  const std::shared_ptr<sim::SimulatedDevice>& simulated = handle.simulation;
   const DeviceSpecifications& specs = simulated->specifications();
   MapLoadOptions load;
   load.expected_device_model = specs.model_name;
@@ -213,9 +219,7 @@ void addVerifyCommand(CLI::App& app) {
       "Measure the force a map misses at seeded points (a PD hold approached from both sides), "
       "then release the end-effector with compensation on and off and report the drift");
   command->add_option("map", options->map_path, "Map file (JSON)")->required();
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addDeviceOption(*command, options->device);
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
   addFrictionOption(*command, options->friction);

@@ -1,19 +1,27 @@
-// autograv wizard: the guided calibration (CalibrationWizard) in a terminal, on a simulated
-// device whose user's hand is simulated too (keys move it, or --auto-hand lets it act alone).
+// autograv wizard: the guided calibration (CalibrationWizard) in a terminal, on any device. On a
+// simulated one (sim:, or a simulated CHAI3D device) the user's hand is simulated too (keys move
+// it, or --auto-hand lets it act alone); on hardware the user's own hand does the manual step and
+// the servo loop runs on its own thread, paced by the wall clock.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "autograv/device/wall_clock_tick_source.h"
+#include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_library.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
@@ -32,7 +40,8 @@ using Clock = std::chrono::steady_clock;
 
 struct WizardOptions {
   std::string device = "sim:omega";
-  std::string out_path = "gravity_map.json";
+  std::string out_path;  // empty: the device's place in the map library
+  std::string maps_dir;
   std::string report_path;
   bool resume = false;
   bool auto_hand = false;
@@ -57,13 +66,12 @@ constexpr auto kRedrawPeriod = std::chrono::milliseconds(40);
 /// The user's side of the run: keys, the simulated hand, unattended answers.
 class FrontEnd {
  public:
-  FrontEnd(const WizardOptions& options, CalibrationWizard& wizard, sim::SimulatedDevice& device,
-           bool answer_prompts)
-      : options_(options),
-        wizard_(wizard),
-        device_(device),
-        auto_hand_(device),
-        answer_prompts_(answer_prompts) {}
+  /// `simulation`: the simulated device whose hand the keys move; null on hardware.
+  FrontEnd(const WizardOptions& options, CalibrationWizard& wizard,
+           sim::SimulatedDevice* simulation, bool answer_prompts)
+      : options_(options), wizard_(wizard), device_(simulation), answer_prompts_(answer_prompts) {
+    if (options_.auto_hand && device_ != nullptr) auto_hand_.emplace(*device_);
+  }
 
   void onKey(Key key, const WizardStatus& status) {
     switch (key) {
@@ -82,17 +90,21 @@ class FrontEnd {
       default:
         break;
     }
+    if (device_ == nullptr) {
+      notice = "This is a real device: move the end-effector with your own hand.";
+      return;
+    }
     if (options_.auto_hand) {
       notice = "The simulated hand is automatic (--auto-hand): hand keys are off.";
       return;
     }
-    sim::SimulatedHand& hand = device_.hand();
+    sim::SimulatedHand& hand = device_->hand();
     if (key == Key::kGrab) {
       if (hand.holding()) {
         hand.release();
       } else {
-        hand.grab(device_.truePosition_m());
-        hand_goal_m_ = device_.truePosition_m();
+        hand.grab(device_->truePosition_m());
+        hand_goal_m_ = device_->truePosition_m();
       }
       notice.clear();
       return;
@@ -136,7 +148,7 @@ class FrontEnd {
       last_step_ = status.step;
       ++step_entries_;
     }
-    if (options_.auto_hand) auto_hand_.update(status);
+    if (auto_hand_) auto_hand_->update(status);
     if (answer_prompts_) answer(status);
   }
 
@@ -180,8 +192,8 @@ class FrontEnd {
 
   const WizardOptions& options_;
   CalibrationWizard& wizard_;
-  sim::SimulatedDevice& device_;
-  WizardAutoHand auto_hand_;
+  sim::SimulatedDevice* device_;
+  std::optional<WizardAutoHand> auto_hand_;
   bool answer_prompts_;
   Eigen::Vector3d hand_goal_m_ = Eigen::Vector3d::Zero();
   WizardStep last_step_ = WizardStep::kCheck;
@@ -192,8 +204,9 @@ class FrontEnd {
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard& wizard,
-                          const WizardStatus& status, bool initialization_end_stop_hit) {
+nlohmann::json reportJson(const WizardOptions& options, const std::string& out_path,
+                          const CalibrationWizard& wizard, const WizardStatus& status,
+                          bool initialization_end_stop_hit) {
   nlohmann::json failed = nlohmann::json::array();
   for (const ReviewRow& row : status.review.failed) {
     failed.push_back({{"vertex", row.vertex},
@@ -214,7 +227,7 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
       {"seed", options.seed},
       {"friction", sim::toString(options.friction)},
       {"outcome", toString(status.step)},
-      {"map", status.map_saved ? options.out_path : ""},
+      {"map", status.map_saved ? out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
       {"grid",
        {{"resolution", {grid.resolution().x(), grid.resolution().y(), grid.resolution().z()}},
@@ -237,6 +250,33 @@ nlohmann::json reportJson(const WizardOptions& options, const CalibrationWizard&
       {"parameters", parametersJson(wizard.config().parameters)}};
 }
 
+/// The servo loop of a hardware device on its own thread, paced by the wall clock, while the
+/// terminal thread runs service() and draws (CalibrationWizard's threading contract). A null
+/// wizard starts nothing: simulations are stepped in the frame loop, deterministically.
+class ServoThread {
+ public:
+  ServoThread(CalibrationWizard* wizard, double period_s) {
+    if (wizard == nullptr) return;
+    thread_ = std::thread([this, wizard, period_s] {
+      WallClockTickSource ticks(period_s);
+      while (!stop_.load(std::memory_order_relaxed) && ticks.waitForNextTick()) {
+        wizard->servoTick();
+      }
+    });
+  }
+  ~ServoThread() { stop(); }
+  ServoThread(const ServoThread&) = delete;
+  ServoThread& operator=(const ServoThread&) = delete;
+  void stop() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
 void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   const bool interactive = interactiveTerminal();
   if (!interactive && !options.auto_hand) {
@@ -246,15 +286,42 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "are then answered automatically: failed vertices are redone once, then the map is "
         "saved)");
   }
+  const DeviceHandle handle = makeDevice(options.device, options.seed, options.friction);
+  const std::shared_ptr<HapticDevice>& device = handle.device;
+  sim::SimulatedDevice* simulation = handle.simulation.get();
+  if (simulation == nullptr && (options.auto_hand || options.uncalibrated)) {
+    throw Error(std::string(options.auto_hand ? "--auto-hand" : "--uncalibrated") +
+                " needs a simulated device; on " + options.device +
+                " your own hand does the manual step");
+  }
+  if (options.uncalibrated) simulation->setCalibrated(false);
+  std::string out_path = options.out_path;
+  if (out_path.empty()) {  // the device's place in the map library, where every tool looks
+    const MapLibrary library(options.maps_dir);
+    std::error_code error;
+    std::filesystem::create_directories(library.dir(), error);
+    if (error) {
+      throw Error("cannot create the map library '" + library.dir() + "': " + error.message() +
+                  "; choose another with --maps, or name the map with --out");
+    }
+    out_path = library.pathFor(device->specifications());
+  }
   // Refuse now, not after the whole grid, when the files cannot be written.
-  checkWritable(options.out_path, "map");
-  checkWritable(options.out_path + ".partial", "checkpoint");
+  checkWritable(out_path, "map");
+  checkWritable(out_path + ".partial", "checkpoint");
   if (!options.report_path.empty()) checkWritable(options.report_path, "report");
-  std::shared_ptr<sim::SimulatedDevice> device(
-      sim::makeSimulatedDevice(options.device, options.seed, options.friction));
-  if (options.uncalibrated) device->setCalibrated(false);
+  // A handle change does not need the whole grid again: say so before the long run.
+  const std::string retare_offer =
+      std::filesystem::exists(out_path) && !options.resume
+          ? "A map for this device exists (" + out_path +
+                "). If only the handle changed, `autograv retare --device " + options.device +
+                "` re-tares it in seconds; this run replaces it."
+          : std::string();
 
   WizardConfig config;
+  // CHAI3D reports positions about the centre of the workspace; a simulation knows its own.
+  config.grid_center_m =
+      simulation != nullptr ? simulation->workspaceCenter_m() : Eigen::Vector3d::Zero();
   // The default grid of `autograv calibrate`, so that either command resumes the other's run.
   double workspace_coverage = 0.0;
   const WorkspaceGrid grid = resolveGrid(options.grid, *device, workspace_coverage);
@@ -265,7 +332,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
   applyDeviceDefaults(command, config.parameters, device->specifications());
-  config.map_path = options.out_path;
+  config.map_path = out_path;
   config.resume = options.resume;
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
@@ -275,8 +342,16 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   const int ticks_per_frame =
       std::max(1, static_cast<int>(std::lround(options.frame_ms * 1e-3 / period_s)));
   const double frame_s = ticks_per_frame * period_s;
-  const double speed = options.speed >= 0.0 ? options.speed : (interactive ? 1.0 : 0.0);
-  FrontEnd front_end(options, wizard, *device, !interactive || options.yes);
+  // Hardware keeps its own time: the servo thread below paces it, the frames only redraw.
+  const double speed = simulation == nullptr  ? 1.0
+                       : options.speed >= 0.0 ? options.speed
+                                              : (interactive ? 1.0 : 0.0);
+  FrontEnd front_end(options, wizard, simulation, !interactive || options.yes);
+  if (!retare_offer.empty()) {
+    front_end.notice = retare_offer;
+    std::fprintf(stderr, "%s\n", retare_offer.c_str());
+  }
+  ServoThread servo(simulation == nullptr ? &wizard : nullptr, period_s);
 
   installInterruptHandlers();
   struct HandlersGuard {
@@ -289,6 +364,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   KeyDecoder decoder;
   ScreenContext context;
   context.device_name = options.device;
+  context.simulated_hand = simulation != nullptr;
   context.auto_hand = options.auto_hand;
   int interrupts_seen = 0;
   bool left_at_once = false;
@@ -321,16 +397,18 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     }
     front_end.beforeTicks(status);
     if (!front_end.give_up.empty()) break;
-    for (int i = 0; i < ticks_per_frame; ++i) {
+    for (int i = 0; simulation != nullptr && i < ticks_per_frame; ++i) {
       wizard.servoTick();
-      device->advance(period_s);
+      simulation->advance(period_s);
     }
     wizard.service();
     status = wizard.status();
-    if (status.step == WizardStep::kRelease && previous_step != WizardStep::kRelease) {
-      device->clearEndStopHit();
-    } else if (status.step != WizardStep::kRelease && previous_step == WizardStep::kRelease &&
-               device->endStopHit()) {
+    // Only a simulation can tell that the end-effector rested on an end stop.
+    if (simulation != nullptr && status.step == WizardStep::kRelease &&
+        previous_step != WizardStep::kRelease) {
+      simulation->clearEndStopHit();
+    } else if (simulation != nullptr && status.step != WizardStep::kRelease &&
+               previous_step == WizardStep::kRelease && simulation->endStopHit()) {
       initialization_end_stop_hit = true;
       front_end.notice =
           "WARNING: the end-effector rested on an end stop during the initialization, so "
@@ -342,8 +420,10 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     if (terminal) {
       const Clock::time_point now = Clock::now();
       if (now - last_draw >= kRedrawPeriod || status.step != drawn_step || wizard.finished()) {
-        context.hand_holding = device->hand().holding();
-        context.hand_target_m = device->hand().target_m();
+        if (simulation != nullptr) {
+          context.hand_holding = simulation->hand().holding();
+          context.hand_target_m = simulation->hand().target_m();
+        }
         context.notice = front_end.notice;
         int columns = 80, rows = 24;
         terminalSize(columns, rows);
@@ -361,10 +441,11 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
                                         std::chrono::duration<double>(frame_s / speed)));
     }
   }
+  servo.stop();
   terminal.reset();  // back to the normal screen before the last words
 
   writeJsonReport(options.report_path,
-                  reportJson(options, wizard, status, initialization_end_stop_hit));
+                  reportJson(options, out_path, wizard, status, initialization_end_stop_hit));
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +
                 wizard.checkpointPath() + " (resume with --resume)");
@@ -381,13 +462,11 @@ void addWizardCommand(CLI::App& app) {
       "wizard",
       "Guided calibration in the terminal: check, centre, release, auto-calibration, review, "
       "save, verify (resumable)");
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
-  command
-      ->add_option("--out", options->out_path,
-                   "Map file to write (JSON); checkpoints go to <out>.partial")
-      ->capture_default_str();
+  addDeviceOption(*command, options->device);
+  command->add_option("--out", options->out_path,
+                      "Map file to write (JSON; default: the device's place in the map library); "
+                      "checkpoints go to <out>.partial");
+  addMapsOption(*command, options->maps_dir);
   command->add_flag("--resume", options->resume,
                     "Continue an interrupted run (of wizard or calibrate) from <out>.partial");
   command->add_flag("--auto-hand", options->auto_hand,

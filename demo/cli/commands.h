@@ -25,7 +25,8 @@ std::unique_ptr<CLI::App> makeApp();
 
 /// Use once at namespace scope in each cmd_<name>.cpp, e.g.
 ///   AUTOGRAV_REGISTER_COMMAND(30, addCalibrateCommand);
-/// Orders: sim 10, paper-experiment 20, calibrate 30, inspect 40, verify 50, wizard 60,
+/// Orders: sim 10, devices 15, paper-experiment 20, calibrate 30, inspect 40, verify 50,
+/// retare 55, check 56, wizard 60,
 /// render/plot/export 70, bench 90.
 #define AUTOGRAV_REGISTER_COMMAND(order, function)   \
   static const bool autograv_registered_##function = \

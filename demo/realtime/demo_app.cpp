@@ -6,13 +6,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 #include <thread>
 
+#include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
 #include "autograv/gl/offscreen_context.h"
 #include "autograv/gl/renderer.h"
 #include "autograv/gl/window.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_library.h"
 #include "demo_view.h"
 
 namespace autograv::demo {
@@ -168,10 +171,20 @@ RealTimeCheck runRealTimeCheck(const DemoOptions& options, double seconds) {
   return check;
 }
 
-int runWindowed(const DemoOptions& options) {
+int runWindowed(const DemoOptions& given) {
+  DemoOptions options = given;
+  if (options.map_path.empty()) {
+    // The device's map in the library, found by model and serial, as the CLI and the bridge do;
+    // a calibration (A) saves it there too.
+    options.map_path =
+        MapLibrary().pathFor(makeDevice(options.device, options.seed).device->specifications());
+    std::error_code ignored;
+    std::filesystem::create_directories(std::filesystem::path(options.map_path).parent_path(),
+                                        ignored);
+  }
   const HandScript script = loadScript(options);
   auto session = std::make_unique<DemoSession>(sessionOptions(options));
-  const std::string map_path = options.map_path.empty() ? kDefaultMapPath : options.map_path;
+  const std::string map_path = options.map_path;
   std::string message;
   if (!options.map_path.empty()) {
     if (std::filesystem::exists(options.map_path)) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "autograv/device/servo_sample.h"
+#include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 
@@ -28,9 +29,21 @@ DemoSession::DemoSession(const SessionOptions& options)
   if (!(options.servo_period_s > 0.0 && options.servo_period_s <= 0.01)) {
     throw Error("servo period must be in (0, 10] ms");
   }
-  simulation_ = sim::makeSimulatedDevice(options.device, options.seed, options.friction);
-  if (!simulation_->open()) throw Error(options.device + ": open() failed");
-  if (!simulation_->calibrate()) throw Error(options.device + ": homing (calibrate) failed");
+  // Any device name (sim:omni, chai3d:0, ...); the mouse is a simulated hand, so the demo needs
+  // the simulation behind the device, while every force and position goes through the device
+  // itself (a simulated CHAI3D device is driven through Chai3dDeviceAdapter).
+  const DeviceHandle handle = makeDevice(options.device, options.seed, options.friction);
+  if (!handle.simulation) {
+    throw Error(
+        "autograv-demo: the mouse plays a simulated hand, so the demo runs on a simulated "
+        "device (sim:..., or a simulated CHAI3D device); on " +
+        options.device +
+        " calibrate with `autograv wizard`, and use the CHAI3D bridge in your application");
+  }
+  device_ = handle.device;
+  simulation_ = handle.simulation;
+  if (!device_->open()) throw Error(options.device + ": open() failed");
+  if (!device_->calibrate()) throw Error(options.device + ": homing (calibrate) failed");
   simulation_->resetState(simulation_->workspaceCenter_m());
   // The user holds the stylus when the program starts, as with a real device: compensation ramps
   // in (over ramp_duration_s) while the hand carries the weight, not while the end-effector falls.
@@ -38,7 +51,7 @@ DemoSession::DemoSession(const SessionOptions& options)
   CompensationOptions compensation = options.compensation;
   // The simulation advances one servo period per tick, also when it runs faster than real time.
   compensation.clock = std::make_shared<FixedPeriodServoClock>(options.servo_period_s);
-  decorator_ = std::make_shared<GravityCompensatedDevice>(simulation_, compensation);
+  decorator_ = std::make_shared<GravityCompensatedDevice>(device_, compensation);
   if (!decorator_->open()) throw Error(options.device + ": open() through the decorator failed");
   options_.estimation.servo_period_s = options.servo_period_s;
   // The demo has no k0 option: the device-aware default, as `autograv calibrate` uses.
@@ -108,7 +121,7 @@ std::string DemoSession::startCalibration() {
   config.map_path = options_.calibration_map_path;
   config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");
   config.verify_points = options_.calibration_verify_points;
-  wizards_.push_back(std::make_unique<CalibrationWizard>(simulation_, config));
+  wizards_.push_back(std::make_unique<CalibrationWizard>(device_, config));
   wizard_ui_ = wizards_.back().get();
   wizard_ui_->service();  // Check: the device is open already, so this passes at once
   wizard_status_ = wizard_ui_->status();
@@ -322,7 +335,7 @@ void DemoSession::stopRealTime() {
   stop_.store(true);
   thread_.join();
   // The servo loop no longer runs: leave the device without force.
-  simulation_->setForce(Eigen::Vector3d::Zero());
+  device_->setForce(Eigen::Vector3d::Zero());
 }
 
 void DemoSession::servoThreadMain() {

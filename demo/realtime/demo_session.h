@@ -55,7 +55,9 @@ struct ServoSnapshot {
 };
 
 struct SessionOptions {
-  std::string device = "sim:omega";  ///< A name of sim::simulatedDeviceNames().
+  /// A device name (autograv::makeDevice) with a simulation behind it: sim:omega, sim:omni, or
+  /// a simulated CHAI3D device.
+  std::string device = "sim:omega";
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< Of the simulated device.
   double servo_period_s = 1.0e-3;                              ///< Unit: [s]
@@ -191,7 +193,8 @@ class DemoSession {
   void servoThreadMain();
 
   SessionOptions options_;
-  std::shared_ptr<sim::SimulatedDevice> simulation_;
+  std::shared_ptr<HapticDevice> device_;              // what the decorator and the wizard drive
+  std::shared_ptr<sim::SimulatedDevice> simulation_;  // its physics and the simulated hand
   std::shared_ptr<GravityCompensatedDevice> decorator_;
 
   // Servo-thread state.

@@ -93,10 +93,13 @@ int main(int argc, char** argv) {
   bool no_compensation = false;
   bool no_realtime_check = false;
   bool no_priority = false;
-  app.add_option("--device", options.device, "Simulated device: sim:omega, sim:omni or sim:falcon")
+  app.add_option("--device", options.device,
+                 "Device with a simulation behind it: sim:omega, sim:omni, sim:falcon, or a "
+                 "simulated CHAI3D device (chai3d:N)")
       ->capture_default_str();
   app.add_option("--map", options.map_path,
-                 "Gravity map (JSON) to compensate with; also the file of the S and L keys");
+                 "Gravity map (JSON) to compensate with; also the file of the S and L keys "
+                 "(window default: the device's map in the library)");
   app.add_option("--script", options.script_path,
                  "Scripted hand: lines 'at T grab', 'at T move X Y Z [SPEED]', 'at T release', "
                  "'at T compensation on|off' (seconds, metres)");

@@ -13,6 +13,7 @@
 #include <string>
 #include <thread>
 
+#include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 
@@ -250,6 +251,35 @@ TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplica
   const Eigen::Vector3d before = s.position_m;
   run(session, 1.0);
   EXPECT_LT((session.snapshot().position_m - before).norm(), 0.002);
+}
+
+/// The map the A key makes on `device` (3x3x3, seed 1), as the user at the demo would.
+std::shared_ptr<const GravityMap> calibrateWithTheAKey(const std::string& device) {
+  const ScratchDirectory scratch;
+  SessionOptions options = calibrationOptions(scratch.file("map.json"));
+  options.device = device;
+  DemoSession session(options);
+  EXPECT_EQ(session.device().specifications().model_name, "sim:omni");
+  run(session, 0.2);
+  session.startCalibration();
+  const WizardStatus last = calibrateAsTheUser(session, [](const WizardStatus&) { return false; });
+  EXPECT_EQ(last.step, WizardStep::kDone) << last.message;
+  return session.map();
+}
+
+TEST(DemoSessionTest, CalibrationKeyWorksOnAChai3dDeviceExactlyAsOnASimulatedOne) {
+  if (!chai3dDevicesAvailable()) GTEST_SKIP() << "built without the CHAI3D bridge";
+  // The stand-in's CHAI3D device is the same simulation (seed 1) behind CHAI3D's API.
+  ::setenv("AUTOGRAV_STANDIN_DEVICES", "sim:omni", 1);
+  const auto through_chai3d = calibrateWithTheAKey("chai3d:0");
+  ::unsetenv("AUTOGRAV_STANDIN_DEVICES");
+  const auto direct = calibrateWithTheAKey("sim:omni");
+  ASSERT_TRUE(through_chai3d && direct);
+  EXPECT_GE(through_chai3d->convergedCount(), 26);
+  EXPECT_EQ(through_chai3d->convergedCount(), direct->convergedCount());
+  for (std::size_t i = 0; i < direct->vertices().size(); ++i) {
+    EXPECT_EQ(through_chai3d->vertices()[i].gravity_n, direct->vertices()[i].gravity_n) << i;
+  }
 }
 
 TEST(DemoSessionTest, AbortedCalibrationKeepsItsVerticesAndTheNextOneResumes) {

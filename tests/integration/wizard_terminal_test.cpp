@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "autograv/map/map_io.h"
+#include "run_command.h"
 
 namespace autograv {
 namespace {
@@ -35,24 +36,8 @@ const std::string kOmegaOptions =
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-/// Runs a shell command without a terminal (stdin from /dev/null), capturing stdout and stderr.
-CommandResult runCommand(const std::string& command) {
-  CommandResult result;
-  FILE* pipe = ::popen((command + " < /dev/null 2>&1").c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  std::size_t count;
-  while ((count = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
-    result.output.append(buffer, count);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using testing::CommandResult;
+using testing::runCommand;
 
 /// A detached tmux session on a private server, running one command (no quotes in it) in a pane
 /// of the given size through wizard_pty_run.sh: the command's exit code is printed as

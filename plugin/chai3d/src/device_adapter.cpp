@@ -47,6 +47,11 @@ bool Chai3dDeviceAdapter::open() {
   return true;
 }
 
+std::shared_ptr<sim::SimulatedDevice> Chai3dDeviceAdapter::simulation() const {
+  const auto* simulated = dynamic_cast<const SimulatedChai3dDevice*>(device_.get());
+  return simulated != nullptr ? simulated->simulation() : nullptr;
+}
+
 bool Chai3dDeviceAdapter::close() { return device_->close(); }
 
 bool Chai3dDeviceAdapter::calibrate(bool force) {

@@ -2,8 +2,10 @@
 
 #include <utility>
 
+#include "autograv/device/wall_clock_tick_source.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_library.h"
 
 namespace autograv::chai3d {
 
@@ -145,6 +147,27 @@ void cGravityCompensatedDevice::loadAndPublishMap(const std::string& path,
                 "same hardware");
   }
   compensated_->publishMap(std::move(map), allow_model_mismatch);
+}
+
+void cGravityCompensatedDevice::loadAndPublishMapForDevice(const std::string& maps_dir) {
+  compensated_->publishMap(
+      std::make_shared<const GravityMap>(loadMapForDevice(adapter_->specifications(), maps_dir)));
+}
+
+MapCheckResult cGravityCompensatedDevice::checkPublishedMap(const MapCheckOptions& options,
+                                                            TickSource* ticks) {
+  const std::shared_ptr<const GravityMap> map = compensated_->publishedMap();
+  if (!map) throw Error("checkPublishedMap: publish a map first (loadAndPublishMapForDevice)");
+  MapCheckOptions check = options;
+  // Measure as the map was made (same method, gains and thresholds).
+  check.measurement.parameters = map->metadata().parameters;
+  std::unique_ptr<WallClockTickSource> wall_clock;
+  if (ticks == nullptr) {
+    wall_clock = std::make_unique<WallClockTickSource>(check.measurement.parameters.servo_period_s);
+    ticks = wall_clock.get();
+  }
+  // The raw device: the measurement adds the map's G_hat itself.
+  return checkMap(*adapter_, *ticks, *map, check);
 }
 
 }  // namespace autograv::chai3d

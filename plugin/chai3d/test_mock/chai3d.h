@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace chai3d {
 
@@ -279,6 +280,37 @@ class cGenericHapticDevice : public cGenericDevice {
   cVector3d m_angularVelocity;
   double m_gripperAngularVelocity;
   bool m_gripperUserSwitchEnabled;
+};
+
+// Stand-in only (not CHAI3D API): the devices "connected" to this machine, which the handler
+// below enumerates. Defined by test_mock/stand_in_devices.cpp: simulated devices named by the
+// environment variable AUTOGRAV_STANDIN_DEVICES (e.g. "sim:omni,sim:omega"; unset: none).
+std::vector<cGenericHapticDevicePtr> standInConnectedDevices();
+
+// CHAI3D 3.3's device handler: enumerates the connected devices when constructed.
+class cHapticDeviceHandler {
+ public:
+  cHapticDeviceHandler() { update(); }
+  virtual ~cHapticDeviceHandler() {}
+  bool update() {
+    m_devices = standInConnectedDevices();
+    return C_SUCCESS;
+  }
+  unsigned int getNumDevices() { return static_cast<unsigned int>(m_devices.size()); }
+  bool getDeviceSpecifications(cHapticDeviceInfo& a_deviceSpecifications,
+                               unsigned int a_index = 0) {
+    if (a_index >= m_devices.size()) return C_ERROR;
+    a_deviceSpecifications = m_devices[a_index]->getSpecifications();
+    return C_SUCCESS;
+  }
+  bool getDevice(cGenericHapticDevicePtr& a_hapticDevice, unsigned int a_index = 0) {
+    if (a_index >= m_devices.size()) return C_ERROR;
+    a_hapticDevice = m_devices[a_index];
+    return C_SUCCESS;
+  }
+
+ private:
+  std::vector<cGenericHapticDevicePtr> m_devices;
 };
 
 }  // namespace chai3d

@@ -328,7 +328,17 @@ double DeltaDevice::kineticEnergy_j(const Eigen::Vector3d& theta_rad,
 Eigen::Vector3d DeltaDevice::trueGravity(const Eigen::Vector3d& position_m) const {
   Pose at{};
   requirePose(position_m, at, "trueGravity");
-  return at.jacobian.transpose().inverse() * gravityTorque(at);
+  return loadedGravity_n(at.jacobian.transpose().inverse() * gravityTorque(at));
+}
+
+Eigen::Vector3d DeltaDevice::mechanismGravity_n() const noexcept {
+  return pose_.jacobian.transpose().inverse() * gravityTorque(pose_);
+}
+
+void DeltaDevice::applyPayload_kg(double payload_kg) {
+  // A payload at the grip is more moving mass: gravity and inertia both follow m_p.
+  const auto& p = parameters_;
+  moving_mass_kg_ = p.platform_mass_kg + p.grip_mass_kg + 1.5 * p.forearm_mass_kg + payload_kg;
 }
 
 Eigen::Matrix3d DeltaDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {

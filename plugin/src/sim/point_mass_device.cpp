@@ -167,6 +167,7 @@ Eigen::Vector3d PointMassDevice::gravityAt(const Eigen::Vector3d& position_m) co
   g.x() += 2.0 * c_r * p.x() * p.z();
   g.y() += 2.0 * c_r * p.y() * p.z();
   g.z() += vertical_offset_n_ + c_r * (p.x() * p.x() + p.y() * p.y()) + 3.0 * c_z * p.z() * p.z();
+  g.z() += payload_kg_ * kStandardGravity;  // a point load; the mass |G|/g follows
   return g;
 }
 
@@ -179,12 +180,12 @@ double PointMassDevice::potentialEnergy_j(const Eigen::Vector3d& position_m) con
 }
 
 Eigen::Vector3d PointMassDevice::trueGravity(const Eigen::Vector3d& position_m) const {
-  return gravityAt(position_m);
+  return loadedGravity_n(gravityAt(position_m));
 }
 
 Eigen::Matrix3d PointMassDevice::massAt(const Eigen::Vector3d& position_m) const noexcept {
   const Eigen::Vector3d p = position_m - parameters_.workspace_center_m;
-  Eigen::Matrix3d mass = parameters_.base_mass_kg * Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d mass = (parameters_.base_mass_kg + payload_kg_) * Eigen::Matrix3d::Identity();
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d u = parameters_.actuator_directions.col(i);
     const double lever = 1.0 + u.dot(p) / parameters_.inertia_length_m;
@@ -197,6 +198,10 @@ Eigen::Matrix3d PointMassDevice::trueApparentMass(const Eigen::Vector3d& positio
   return massAt(position_m);
 }
 
+Eigen::Vector3d PointMassDevice::mechanismGravity_n() const noexcept {
+  return gravityAt(position_m_);
+}
+
 void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
                                     const Eigen::Vector3d& external_force_n, double dt_s) noexcept {
   const Eigen::Vector3d& v = velocity_m_per_s_;
@@ -206,7 +211,7 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
       motor_force_n + external_force_n - gravityAt(position_m_) - friction_.step(v, dt_s);
   // Coriolis and centrifugal forces of M(X): with M = m_b I + sum_i c_i(X) u_i u_i^T,
   // C(X, Xd) Xd = dM/dt Xd - 1/2 d(Xd^T M Xd)/dX = sum_i 1/2 (dc_i/dX . u_i) (u_i . Xd)^2 u_i.
-  Eigen::Matrix3d mass = parameters_.base_mass_kg * Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d mass = (parameters_.base_mass_kg + payload_kg_) * Eigen::Matrix3d::Identity();
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d u = parameters_.actuator_directions.col(i);
     const double lever = 1.0 + u.dot(from_center) / parameters_.inertia_length_m;

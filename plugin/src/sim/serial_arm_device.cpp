@@ -293,7 +293,23 @@ Eigen::Vector3d SerialArmDevice::trueGravity(const Eigen::Vector3d& position_m) 
     throw Error("sim:omni trueGravity: position is outside the arm's reach");
   }
   const Trig t = trig(q);
-  return jacobian(t).transpose().inverse() * gravityTorque(t);
+  return loadedGravity_n(jacobian(t).transpose().inverse() * gravityTorque(t));
+}
+
+Eigen::Vector3d SerialArmDevice::mechanismGravity_n() const noexcept {
+  return jacobian(trig_).transpose().inverse() * gravityTorque(trig_);
+}
+
+void SerialArmDevice::applyPayload_kg(double payload_kg) {
+  // A payload is more tip mass: every folded constant is linear in it (see the constructor).
+  Inertia& k = inertia_;
+  const double delta_kg = parameters_.tip_mass_kg + payload_kg - k.mt;
+  k.mt += delta_kg;
+  k.m22 += delta_kg * k.l1 * k.l1;
+  k.m33 += delta_kg * k.l2 * k.l2;
+  k.coupling += delta_kg * k.l2 * k.l1;
+  k.gravity2 += kStandardGravity * delta_kg * k.l1;
+  k.gravity3 += kStandardGravity * delta_kg * k.l2;
 }
 
 Eigen::Matrix3d SerialArmDevice::trueApparentMass(const Eigen::Vector3d& position_m) const {

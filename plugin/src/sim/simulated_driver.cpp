@@ -5,7 +5,10 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "autograv/error.h"
+#include "autograv/estimation/estimation_parameters.h"
 
 namespace autograv::sim {
 
@@ -21,6 +24,9 @@ std::uint64_t splitMix64(std::uint64_t& state) noexcept {
 std::uint64_t rotateLeft(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
 
 bool finitePositive(double value) { return std::isfinite(value) && value > 0.0; }
+
+// Largest share of the force limit a payload's weight may take (see setPayload_kg).
+constexpr double kMaxPayloadForceShare = 0.25;
 
 }  // namespace
 
@@ -305,7 +311,9 @@ void SimulatedDriver::advance(double dt_s) noexcept {
     } else if (!hand_.atGoal()) {  // a released hand's target may still be gliding
       hand_.update(step_s_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
     }
-    integrateStep(active_motor_command_, hand_n, step_s_);
+    // A tilted base turns the mechanism's gravity: one more external force on the end-effector.
+    integrateStep(active_motor_command_, tilted_ ? Eigen::Vector3d(hand_n + tiltForce_n()) : hand_n,
+                  step_s_);
     ++steps_;
     // Commands due now act from here on (and show in appliedForce_n from this time).
     while (pending_count_ > 0 &&
@@ -342,6 +350,38 @@ void SimulatedDriver::resetState(const Eigen::Vector3d& position_m) {
   end_stop_hit_ = false;
   has_sample_ = false;
   velocity_.reset();
+}
+
+void SimulatedDriver::setPayload_kg(double payload_kg) {
+  const std::string& name = specifications_.model_name;
+  if (!std::isfinite(payload_kg) || payload_kg < 0.0) {
+    throw Error(name + ": the payload must be finite and >= 0 kg");
+  }
+  if (payload_kg * kStandardGravity > kMaxPayloadForceShare * specifications_.max_linear_force_n) {
+    throw Error(name + ": a payload of " + std::to_string(payload_kg * 1e3) +
+                " g weighs more than a quarter of the device's force: it could not hold it up "
+                "and do anything else");
+  }
+  applyPayload_kg(payload_kg);
+}
+
+void SimulatedDriver::setTilt_rad(double tilt_rad) {
+  if (!std::isfinite(tilt_rad)) {
+    throw Error(specifications_.model_name + ": the tilt must be a finite angle");
+  }
+  tilt_ = Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  tilted_ = tilt_rad != 0.0;
+}
+
+Eigen::Vector3d SimulatedDriver::loadedGravity_n(
+    const Eigen::Vector3d& mechanism_gravity_n) const noexcept {
+  return tilted_ ? Eigen::Vector3d(tilt_ * mechanism_gravity_n) : mechanism_gravity_n;
+}
+
+Eigen::Vector3d SimulatedDriver::tiltForce_n() const noexcept {
+  // The mechanism integrates M a = F - G; with this force it integrates M a = F - R G.
+  const Eigen::Vector3d own_gravity_n = mechanismGravity_n();
+  return own_gravity_n - tilt_ * own_gravity_n;
 }
 
 }  // namespace autograv::sim

@@ -104,6 +104,8 @@ class PointMassDevice final : public SimulatedDriver {
   }
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
+  Eigen::Vector3d mechanismGravity_n() const noexcept override;
+  void applyPayload_kg(double payload_kg) override { payload_kg_ = payload_kg; }
 
  private:
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
@@ -115,6 +117,7 @@ class PointMassDevice final : public SimulatedDriver {
   Eigen::Vector3d velocity_m_per_s_ = Eigen::Vector3d::Zero();
   LuGreFriction friction_;
   CoggingRipple cogging_;
+  double payload_kg_ = 0.0;  // setPayload_kg
 };
 
 }  // namespace autograv::sim

@@ -150,6 +150,8 @@ class SerialArmDevice final : public SimulatedDriver {
   Eigen::Vector3d motorToCartesian(const Eigen::Vector3d& torque_n_m) const noexcept override;
   Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept override;
   void resetMechanism(const Eigen::Vector3d& position_m) override;
+  Eigen::Vector3d mechanismGravity_n() const noexcept override;
+  void applyPayload_kg(double payload_kg) override;
 
  private:
   struct Trig {

@@ -80,6 +80,16 @@ class SimulatedDevice : public HapticDevice {
   /// homed: calibrate() returns false and positions carry an offset until calibrate(true).
   virtual void setCalibrated(bool calibrated) noexcept = 0;
   virtual bool isCalibrated() const noexcept = 0;
+
+  /// Puts a point load of `payload_kg` on the end-effector (a heavier handle, a tool): a point
+  /// mass in the mechanism's dynamics, so trueGravity() gains payload_kg * g along the up
+  /// direction and trueApparentMass() gains payload_kg. 0 removes it. Throws autograv::Error for a
+  /// negative, non-finite or too heavy load. Not real-time safe. Unit: [kg]
+  virtual void setPayload_kg(double payload_kg) = 0;
+  /// Tilts the device's base by `tilt_rad` about its y axis (gravity no longer along -z in the
+  /// device's frame): trueGravity() is the untilted field rotated by that angle. 0 levels it.
+  /// Throws autograv::Error for a non-finite angle. Not real-time safe. Unit: [rad]
+  virtual void setTilt_rad(double tilt_rad) = 0;
 };
 
 /// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.

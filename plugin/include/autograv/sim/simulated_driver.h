@@ -152,6 +152,10 @@ class SimulatedDriver : public SimulatedDevice {
   bool isCalibrated() const noexcept override { return calibrated_; }
   /// Real-time safe.
   DeviceFault fault() const noexcept { return fault_; }
+  /// Not real-time safe. Unit: [kg]
+  void setPayload_kg(double payload_kg) override;
+  /// Not real-time safe. Unit: [rad]
+  void setTilt_rad(double tilt_rad) override;
 
   static constexpr int kSwitchCount = 4;
 
@@ -175,11 +179,24 @@ class SimulatedDriver : public SimulatedDevice {
   virtual Eigen::Vector3d readEncoders(const Eigen::Vector3d& noise_counts) const noexcept = 0;
   /// Puts the mechanism at rest at `position_m`; throws autograv::Error if it cannot.
   virtual void resetMechanism(const Eigen::Vector3d& position_m) = 0;
+  /// The mechanism's own apparent gravity at its current state (payload included, tilt not).
+  /// Real-time safe. Unit: [N]
+  virtual Eigen::Vector3d mechanismGravity_n() const noexcept = 0;
+  /// Adds a point mass of `payload_kg` at the end-effector to the mechanism's dynamics (replacing
+  /// any earlier one); already validated by setPayload_kg. Not real-time safe. Unit: [kg]
+  virtual void applyPayload_kg(double payload_kg) = 0;
+
+  /// `mechanism_gravity_n` turned by the tilt (what trueGravity reports). Real-time safe.
+  /// Unit: [N]
+  Eigen::Vector3d loadedGravity_n(const Eigen::Vector3d& mechanism_gravity_n) const noexcept;
 
   bool end_stop_hit_ = false;
 
  private:
   void sampleEncoders() noexcept;
+  /// Force that turns the mechanism's gravity G into the tilted R G for one internal step.
+  /// Real-time safe. Unit: [N]
+  Eigen::Vector3d tiltForce_n() const noexcept;
   /// Stops the actuators now and forgets the commands in flight.
   void zeroActuators() noexcept;
 
@@ -218,6 +235,9 @@ class SimulatedDriver : public SimulatedDevice {
   std::array<bool, kSwitchCount> switches_{};
   bool open_ = false;
   bool calibrated_ = true;
+  // Tilt of the base (setTilt_rad); none by default, and then no extra work per step.
+  Eigen::Matrix3d tilt_ = Eigen::Matrix3d::Identity();
+  bool tilted_ = false;
 };
 
 }  // namespace autograv::sim

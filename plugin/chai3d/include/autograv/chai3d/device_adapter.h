@@ -1,9 +1,11 @@
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "autograv/chai3d/simulated_chai3d_device.h"
 #include "autograv/chai3d/vendor_gravity_compensation.h"
 #include "autograv/device/haptic_device.h"
 #include "chai3d.h"
@@ -53,6 +55,9 @@ class Chai3dDeviceAdapter final : public HapticDevice {
   /// Why the last open() failed (empty when it did not). Not real-time safe.
   const std::string& lastError() const { return last_error_; }
   const ::chai3d::cGenericHapticDevicePtr& device() const { return device_; }
+  /// The simulation behind the CHAI3D device when it is a SimulatedChai3dDevice (the stand-in's
+  /// are), null for hardware. Not real-time safe.
+  std::shared_ptr<sim::SimulatedDevice> simulation() const;
 
   /// CHAI3D's description of a device in autograv's terms. Not real-time safe.
   static DeviceSpecifications toSpecifications(const ::chai3d::cHapticDeviceInfo& info);

@@ -6,6 +6,8 @@
 #include "autograv/chai3d/device_adapter.h"
 #include "autograv/chai3d/vendor_gravity_compensation.h"
 #include "autograv/device/gravity_compensated_device.h"
+#include "autograv/device/tick_source.h"
+#include "autograv/maintenance/map_check.h"
 #include "chai3d.h"
 
 namespace autograv::chai3d {
@@ -86,6 +88,20 @@ class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
   /// device model unless `allow_model_mismatch`); the previous map stays in use on failure.
   /// Not real-time safe.
   void loadAndPublishMap(const std::string& path, bool allow_model_mismatch = false);
+  /// Loads this device's map from the map library (autograv::loadMapForDevice: by model and
+  /// serial; `maps_dir` empty: $XDG_DATA_HOME/autograv/maps) and publishes it. Call after open().
+  /// Throws autograv::Error naming the folder and the maps it holds when none fits.
+  /// Not real-time safe.
+  void loadAndPublishMapForDevice(const std::string& maps_dir = {});
+  /// Opt-in start-up health check (what `autograv check` does): for about ten seconds the device
+  /// holds itself at a few vertices of the published map, hands off, and the result says whether
+  /// the map still fits or should be re-tared or made again. Run it after open() and before the
+  /// application's servo loop; it drives the device itself with the map's own estimation
+  /// parameters (options.measurement.parameters is ignored), paced by `ticks` (null: the wall
+  /// clock at the map's servo period), and leaves the published map as it was. Throws
+  /// autograv::Error when no map is published. Not real-time safe.
+  MapCheckResult checkPublishedMap(const MapCheckOptions& options = {},
+                                   TickSource* ticks = nullptr);
   /// Why the last open() failed (empty when it did not). Not real-time safe.
   const std::string& lastError() const { return adapter_->lastError(); }
   const ::chai3d::cGenericHapticDevicePtr& wrappedDevice() const { return device_; }

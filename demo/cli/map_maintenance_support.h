@@ -1,0 +1,47 @@
+#pragma once
+
+// What `autograv retare` and `autograv check` share: the device, the map it should fit, and the
+// estimation parameters for a few vertices of that map.
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "autograv/devices/device_registry.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/gravity_map.h"
+#include "cli_support.h"
+
+namespace autograv::cli {
+
+struct MaintenanceOptions {
+  std::string device = "sim:omni";
+  std::string map_path;  ///< Empty: the device's map in the library.
+  std::string maps_dir;
+  std::string report_path;
+  std::uint64_t seed = 1;
+  SimulatedLoad load;
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  EstimationParameters parameters;
+};
+
+/// --device, --maps, --seed, --friction, --report, --payload-g, --tilt-deg and the estimation
+/// options.
+void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options);
+
+struct MaintenanceSetup {
+  DeviceHandle device;              ///< Open and homed, with the simulated load applied.
+  GravityMap map;                   ///< The map to check or re-tare.
+  std::string map_path;             ///< Where it came from.
+  EstimationParameters parameters;  ///< The command line's, with the device's defaults.
+};
+
+/// Opens the device and finds its map (the file given, else the library's). Throws
+/// autograv::Error when either fails, saying what to do.
+MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command);
+
+/// Largest |a - b| / |b| over the vertices of two maps on the same grid; throws autograv::Error
+/// when the grids differ.
+double maxVertexDifferenceRel(const GravityMap& a, const GravityMap& b);
+
+}  // namespace autograv::cli

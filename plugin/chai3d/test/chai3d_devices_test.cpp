@@ -1,0 +1,170 @@
+// The chai3d: device names end to end against the stand-in: its handler "finds" simulated CHAI3D
+// devices (AUTOGRAV_STANDIN_DEVICES), which the registry opens through Chai3dDeviceAdapter, and the
+// real `autograv wizard --device chai3d:0 --auto-hand` calibrates one exactly as a sim: device.
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "autograv/chai3d/device_adapter.h"
+#include "autograv/chai3d/gravity_compensated_device.h"
+#include "autograv/devices/device_registry.h"
+#include "autograv/error.h"
+#include "autograv/map/map_io.h"
+#include "autograv/map/map_library.h"
+#include "chai3d.h"
+#include "run_command.h"
+#include "simulated_haptic_device.h"
+
+namespace autograv {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Chai3dDevicesTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("AUTOGRAV_STANDIN_DEVICES", "sim:omni,sim:omega", 1); }
+  void TearDown() override { ::unsetenv("AUTOGRAV_STANDIN_DEVICES"); }
+};
+
+TEST_F(Chai3dDevicesTest, TheHandlerFindsTheStandInDevicesAndTheRegistryListsThem) {
+  ::chai3d::cHapticDeviceHandler handler;
+  ASSERT_EQ(handler.getNumDevices(), 2u);
+  ::chai3d::cHapticDeviceInfo info;
+  ASSERT_TRUE(handler.getDeviceSpecifications(info, 1));
+  EXPECT_EQ(info.m_modelName, "sim:omega");
+  EXPECT_FALSE(handler.getDeviceSpecifications(info, 2));
+
+  ASSERT_TRUE(chai3dDevicesAvailable());
+  const std::vector<DeviceListing> devices = listDevices();
+  int found = 0;
+  for (const DeviceListing& device : devices) {
+    if (device.name == "chai3d:0") {
+      ++found;
+      EXPECT_EQ(device.specifications.model_name, "sim:omni");
+      EXPECT_DOUBLE_EQ(device.specifications.max_linear_force_n, 3.3);
+      EXPECT_TRUE(device.specifications.serial_number.empty());  // CHAI3D reports none
+    }
+    if (device.name == "chai3d:1") ++found;
+  }
+  EXPECT_EQ(found, 2);
+}
+
+TEST_F(Chai3dDevicesTest, AChai3dNameOpensTheAdapterAndExposesTheSimulationBehindIt) {
+  const DeviceHandle handle = openDevice("chai3d:1");
+  auto* adapter = dynamic_cast<chai3d::Chai3dDeviceAdapter*>(handle.device.get());
+  ASSERT_NE(adapter, nullptr);
+  ASSERT_NE(handle.simulation, nullptr);
+  EXPECT_EQ(adapter->simulation(), handle.simulation);
+  EXPECT_EQ(handle.device->specifications().model_name, "sim:omega");
+  // Forces and positions go through CHAI3D's API to the simulation and back.
+  const Eigen::Vector3d force_n(0.1, -0.2, 0.3);
+  ASSERT_TRUE(handle.device->setForce(force_n));
+  handle.simulation->advance(2e-3);  // the driver's transport delay is one servo period
+  // (the force DAC quantizes it)
+  EXPECT_LT((handle.simulation->appliedForce_n() - force_n).norm(), 0.02)
+      << handle.simulation->appliedForce_n().transpose();
+  Eigen::Vector3d through_adapter_m, direct_m;
+  ASSERT_TRUE(handle.device->getPosition(through_adapter_m));
+  ASSERT_TRUE(handle.simulation->getPosition(direct_m));
+  EXPECT_EQ(through_adapter_m, direct_m);
+  handle.simulation->setUserSwitch(0, true);
+  bool pressed = false;
+  ASSERT_TRUE(handle.device->getUserSwitch(0, pressed));
+  EXPECT_TRUE(pressed);
+}
+
+TEST_F(Chai3dDevicesTest, HardwareHasNoSimulationAndAMissingIndexSaysHowManyThereAre) {
+  auto plain = std::make_shared<::chai3d::cGenericHapticDevice>();
+  EXPECT_EQ(chai3d::Chai3dDeviceAdapter(plain).simulation(), nullptr);
+  try {
+    makeDevice("chai3d:2");
+    FAIL() << "expected autograv::Error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("CHAI3D sees 2 device(s)"), std::string::npos)
+        << error.what();
+  }
+}
+
+TEST_F(Chai3dDevicesTest, TheTerminalWizardCalibratesAChai3dDeviceWithTheSimulatedHand) {
+  const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+  if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  const fs::path dir =
+      fs::temp_directory_path() / ("autograv_chai3d_wizard_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string map_path = (dir / "omni.json").string();
+  const auto devices =
+      testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary + " devices");
+  ASSERT_EQ(devices.exit_code, 0) << devices.output;
+  EXPECT_NE(devices.output.find("chai3d:0   sim:omni"), std::string::npos) << devices.output;
+  // The stand-in's device is sim:omni with seed 1: the wizard must make the very same map
+  // through CHAI3D's API as on the simulation directly.
+  const std::string options = " --auto-hand --grid 2 --side-mm 40 --seed 1 --out ";
+  const auto wizard = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                          " wizard --device chai3d:0" + options + map_path);
+  ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+  const std::string direct_path = (dir / "direct.json").string();
+  const auto direct =
+      testing::runCommand(binary + " wizard --device sim:omni" + options + direct_path);
+  ASSERT_EQ(direct.exit_code, 0) << direct.output;
+  const GravityMap map = loadMap(map_path);
+  EXPECT_EQ(map.metadata().device_model, "sim:omni");
+  EXPECT_EQ(map.convergedCount(), 8);
+  const GravityMap direct_map = loadMap(direct_path);
+  for (std::size_t i = 0; i < map.vertices().size(); ++i) {
+    EXPECT_EQ(map.vertices()[i].gravity_n, direct_map.vertices()[i].gravity_n) << i;
+  }
+  // The map fits the device it was made on, through the same CHAI3D path.
+  const auto check = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                         " check --device chai3d:0 --map " + map_path);
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  fs::remove_all(dir);
+}
+
+TEST_F(Chai3dDevicesTest, TheBridgeFindsItsMapInTheLibraryAndChecksItAtStartUp) {
+  const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+  if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  const fs::path maps =
+      fs::temp_directory_path() / ("autograv_chai3d_maps_" + std::to_string(::getpid()));
+  fs::remove_all(maps);
+  // The wizard files the map of chai3d:0 in the library (no --out).
+  const auto wizard = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                          " wizard --device chai3d:0 --auto-hand --grid 2 "
+                                          "--side-mm 40 --seed 3 --verify-points 0 --maps " +
+                                          maps.string());
+  ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+
+  ::chai3d::cHapticDeviceHandler handler;
+  ::chai3d::cGenericHapticDevicePtr raw;
+  ASSERT_TRUE(handler.getDevice(raw, 0));
+  auto device = chai3d::cGravityCompensatedDevice::create(raw);
+  ASSERT_TRUE(device->open());
+  EXPECT_THROW(device->checkPublishedMap(), Error);  // nothing published yet
+  device->loadAndPublishMapForDevice(maps.string());
+  ASSERT_NE(device->compensation().publishedMap(), nullptr);
+  const auto simulation = dynamic_cast<chai3d::SimulatedChai3dDevice&>(*raw).simulation();
+  sim::SimulatedTickSource ticks(*simulation, 1e-3,
+                                 sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  EXPECT_EQ(device->checkPublishedMap({}, &ticks).fit, MapFit::kFits);
+  simulation->setPayload_kg(0.025);
+  const MapCheckResult heavier = device->checkPublishedMap({}, &ticks);
+  EXPECT_EQ(heavier.fit, MapFit::kRetare) << heavier.reason;
+  EXPECT_NEAR(heavier.payload_kg, 0.025, 0.002);
+
+  // Another model has no map there: the error names the folder and what it holds.
+  ::chai3d::cGenericHapticDevicePtr omega =
+      std::make_shared<chai3d::cSimulatedHapticDevice>(sim::makeSimulatedDevice("sim:omega", 1));
+  auto other = chai3d::cGravityCompensatedDevice::create(omega);
+  ASSERT_TRUE(other->open());
+  try {
+    other->loadAndPublishMapForDevice(maps.string());
+    FAIL() << "expected autograv::Error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("sim_omni.json"), std::string::npos) << error.what();
+  }
+  fs::remove_all(maps);
+}
+
+}  // namespace
+}  // namespace autograv

@@ -1,0 +1,46 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "autograv/device/device_specifications.h"
+#include "autograv/map/gravity_map.h"
+
+namespace autograv {
+
+/// The folder maps are kept in when none is named: $XDG_DATA_HOME/autograv/maps, or
+/// ~/.local/share/autograv/maps when XDG_DATA_HOME is unset or empty. Throws autograv::Error when
+/// neither XDG_DATA_HOME nor HOME is set. Not real-time safe.
+std::string defaultMapLibraryDir();
+
+/// One folder of maps, one per device, named by model and serial number (so a lab with two
+/// Omegas keeps both): "<model>.json", or "<model>@<serial>.json" when the driver reports a serial,
+/// with every character outside [A-Za-z0-9._-] replaced by '_'. Not real-time safe.
+class MapLibrary {
+ public:
+  /// An empty `dir` means defaultMapLibraryDir(). The folder need not exist until save().
+  explicit MapLibrary(std::string dir = {});
+
+  const std::string& dir() const noexcept { return dir_; }
+  /// Where the map of this device is (or would be) kept.
+  std::string pathFor(const DeviceSpecifications& device) const;
+  std::string pathFor(const std::string& model, const std::string& serial) const;
+  /// Saves `map` under its metadata's model and serial, creating the folder if needed; returns the
+  /// path. Throws autograv::Error when it cannot.
+  std::string save(const GravityMap& map) const;
+  /// The path of the map that fits `device`: the one made on this very unit (model and serial),
+  /// else, when the device reports no serial, the one of its model. Empty when none fits.
+  std::string find(const DeviceSpecifications& device) const;
+  /// Every map file in the folder (sorted), empty when the folder does not exist.
+  std::vector<std::string> list() const;
+
+ private:
+  std::string dir_;
+};
+
+/// Loads the map of `device` from the library in `dir` (empty: the default folder), checked
+/// against the device's model and serial. Throws autograv::Error naming the folder, the maps it
+/// holds and how to make one when none fits. Not real-time safe.
+GravityMap loadMapForDevice(const DeviceSpecifications& device, const std::string& dir = {});
+
+}  // namespace autograv

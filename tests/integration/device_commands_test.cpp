@@ -1,0 +1,105 @@
+// The device commands of the real `autograv` binary: devices, check (exit status 0 or 1 with the
+// reason) and retare (its report), on the simulated Omni.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_command.h"
+
+namespace autograv {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::runCommand;
+
+const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+
+class DeviceCommandsTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!fs::exists(kBinary)) return;
+    dir_ = (fs::temp_directory_path() / ("autograv_device_commands_" + std::to_string(::getpid())))
+               .string();
+    fs::create_directories(dir_);
+    // A small map of the unloaded Omni, filed in a private map library.
+    const auto result =
+        runCommand(kBinary + " calibrate --device sim:omni --grid 3 --out " + dir_ + "/omni.json");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+  }
+  static void TearDownTestSuite() {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+  void SetUp() override {
+    if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  }
+  static nlohmann::json readJson(const std::string& path) {
+    std::ifstream file(path);
+    return nlohmann::json::parse(file);
+  }
+  static std::string dir_;
+};
+
+std::string DeviceCommandsTest::dir_;
+
+TEST_F(DeviceCommandsTest, DevicesListsTheSimulatedOnesWithModelSerialAndLimits) {
+  const auto result = runCommand(kBinary + " devices --report " + dir_ + "/devices.json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("sim:omni"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("SIM-OMNI-0001"), std::string::npos) << result.output;
+  const nlohmann::json report = readJson(dir_ + "/devices.json");
+  bool omni = false;
+  for (const auto& device : report.at("devices")) {
+    if (device.at("name") != "sim:omni") continue;
+    omni = true;
+    EXPECT_DOUBLE_EQ(device.at("max_linear_force_n").get<double>(), 3.3);
+    EXPECT_GT(device.at("workspace_radius_m").get<double>(), 0.0);
+  }
+  EXPECT_TRUE(omni);
+}
+
+TEST_F(DeviceCommandsTest, CheckExitsZeroWhenTheMapFitsAndOneWithTheReasonWhenNot) {
+  const std::string check =
+      kBinary + " check --device sim:omni --seed 5 --map " + dir_ + "/omni.json";
+  const auto fits = runCommand(check);
+  EXPECT_EQ(fits.exit_code, 0) << fits.output;
+  EXPECT_NE(fits.output.find("the map fits"), std::string::npos) << fits.output;
+
+  const auto payload = runCommand(check + " --payload-g 30");
+  EXPECT_EQ(payload.exit_code, 1) << payload.output;
+  EXPECT_NE(payload.output.find("run autograv retare"), std::string::npos) << payload.output;
+
+  const auto tilted = runCommand(check + " --tilt-deg 10 --report " + dir_ + "/tilted.json");
+  EXPECT_EQ(tilted.exit_code, 1) << tilted.output;
+  EXPECT_NE(tilted.output.find("calibrate it again"), std::string::npos) << tilted.output;
+  const nlohmann::json report = readJson(dir_ + "/tilted.json");
+  EXPECT_EQ(report.at("fit"), "recalibrate");
+  EXPECT_NEAR(report.at("tilt_estimate_deg").get<double>(), 10.0, 2.0);
+}
+
+TEST_F(DeviceCommandsTest, RetareReportsThePayloadTheTimeAndTheErrorAgainstTheTruth) {
+  const auto result = runCommand(kBinary + " retare " + dir_ +
+                                 "/omni.json --device sim:omni --payload-g 30 --out " + dir_ +
+                                 "/omni30.json --report " + dir_ + "/retare.json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json report = readJson(dir_ + "/retare.json");
+  EXPECT_NEAR(report.at("payload_estimate_g").get<double>(), 30.0, 1.5);
+  EXPECT_LT(report.at("simulated_seconds").get<double>(), 15.0);
+  EXPECT_LT(report.at("max_error_rel").get<double>(), 0.03);
+  // The re-tared map now fits the loaded device.
+  const auto check = runCommand(kBinary + " check --device sim:omni --payload-g 30 --map " + dir_ +
+                                "/omni30.json");
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+}
+
+TEST_F(DeviceCommandsTest, CalibrateSaysARealDeviceNeedsTheWizard) {
+  const auto result =
+      runCommand(kBinary + " calibrate --device chai3d:0 --out " + dir_ + "/x.json");
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("autograv wizard"), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace autograv

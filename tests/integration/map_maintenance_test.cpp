@@ -1,0 +1,143 @@
+// Re-tare and health check on a simulated Omni, against the simulation's truth: a map made
+// without a payload, then the same device with a 30 g handle, or tilted by 10 degrees.
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "autograv/error.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/maintenance/map_check.h"
+#include "autograv/maintenance/retare.h"
+#include "autograv/sim/procedures.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv {
+namespace {
+
+constexpr double kPayload_kg = 0.030;
+constexpr double kTilt_rad = 10.0 * M_PI / 180.0;
+
+EstimationParameters omniParameters(const sim::SimulatedDevice& device) {
+  // What the tools use: the dither method, which converges through the Omni's dry friction.
+  EstimationParameters parameters = EstimationParameters::frictionRobust();
+  parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
+  return parameters;
+}
+
+class MapMaintenanceTest : public ::testing::Test {
+ protected:
+  // One 3x3x3 calibration of the unloaded Omni, shared by the tests (seed 1).
+  static void SetUpTestSuite() {
+    auto device = sim::makeSimulatedDevice("sim:omni", 1);
+    ASSERT_TRUE(device->open());
+    sim::CalibrationRunOptions options;
+    options.grid_center_m = device->workspaceCenter_m();
+    options.grid_side_m = defaultGridSide_m(device->specifications().workspace_radius_m);
+    options.grid_resolution = 3;
+    options.parameters = omniParameters(*device);
+    const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+    MapMetadata metadata;
+    metadata.device_model = device->specifications().model_name;
+    metadata.parameters = options.parameters;
+    map_ = std::make_unique<GravityMap>(
+        WorkspaceGrid(options.grid_center_m, options.grid_side_m, options.grid_resolution),
+        run.vertices, metadata);
+    ASSERT_TRUE(map_->isComplete());
+  }
+  static void TearDownTestSuite() { map_.reset(); }
+
+  /// A fresh Omni with other noise than the calibration's, open and homed.
+  static std::unique_ptr<sim::SimulatedDevice> freshOmni() {
+    auto device = sim::makeSimulatedDevice("sim:omni", 7);
+    EXPECT_TRUE(device->open());
+    return device;
+  }
+
+  static MapCheckResult check(sim::SimulatedDevice& device) {
+    sim::SimulatedTickSource ticks(device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+    MapCheckOptions options;
+    options.measurement.parameters = omniParameters(device);
+    return checkMap(device, ticks, *map_, options);
+  }
+
+  static std::unique_ptr<GravityMap> map_;
+};
+
+std::unique_ptr<GravityMap> MapMaintenanceTest::map_;
+
+TEST_F(MapMaintenanceTest, CentralVerticesAreTheMiddleThenItsNeighboursInIndexOrder) {
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.04, 3);
+  EXPECT_EQ(centralVertices(grid, 3), (std::vector<int>{13, 4, 10}));
+  EXPECT_EQ(centralVertices(grid, 100).size(), 27u);
+}
+
+TEST_F(MapMaintenanceTest, CheckSaysTheMapFitsTheDeviceItWasMadeOn) {
+  auto device = freshOmni();
+  const MapCheckResult result = check(*device);
+  EXPECT_EQ(result.fit, MapFit::kFits) << result.reason;
+  EXPECT_LT(result.max_error_rel, 0.02);
+  EXPECT_LT(result.measurement.seconds, 15.0);  // "about ten seconds"
+}
+
+TEST_F(MapMaintenanceTest, CheckSaysRetareWhenTheHandleGainedWeight) {
+  auto device = freshOmni();
+  device->setPayload_kg(kPayload_kg);
+  const MapCheckResult result = check(*device);
+  EXPECT_EQ(result.fit, MapFit::kRetare) << result.reason;
+  EXPECT_NEAR(result.payload_kg, kPayload_kg, 0.002);
+  EXPECT_NE(result.reason.find("autograv retare"), std::string::npos) << result.reason;
+}
+
+TEST_F(MapMaintenanceTest, CheckSaysCalibrateAgainWhenTheDeviceWasTilted) {
+  auto device = freshOmni();
+  device->setTilt_rad(kTilt_rad);
+  const MapCheckResult result = check(*device);
+  EXPECT_EQ(result.fit, MapFit::kRecalibrate) << result.reason;
+  EXPECT_NEAR(result.tilt_rad, kTilt_rad, 2.0 * M_PI / 180.0);
+  EXPECT_NE(result.reason.find("calibrate it again"), std::string::npos) << result.reason;
+}
+
+TEST_F(MapMaintenanceTest, RetareMeasuresThePayloadAndShiftsTheMapToTheLoadedTruth) {
+  auto device = freshOmni();
+  device->setPayload_kg(kPayload_kg);
+  sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  RetareOptions options;
+  options.measurement.parameters = omniParameters(*device);
+  const RetareResult result = retareMap(*device, ticks, *map_, options);
+  EXPECT_NEAR(result.payload_kg, kPayload_kg, 0.0015);
+  EXPECT_LT(result.measurement.seconds, 15.0);
+  // The shift is the payload's weight: the same m g everywhere.
+  const Eigen::Vector3d weight_n(0.0, 0.0, kPayload_kg * kStandardGravity);
+  const double loaded_norm_n = device->trueGravity(map_->grid().center_m()).norm();
+  EXPECT_LT((result.shift_n - weight_n).norm() / loaded_norm_n, 0.006);
+  // The re-tared map is as close to the loaded truth as the map was to the unloaded one.
+  const sim::AccuracyReport loaded = sim::measureAccuracy(result.map, *device, 200, 1);
+  device->setPayload_kg(0.0);
+  const sim::AccuracyReport unloaded = sim::measureAccuracy(*map_, *device, 200, 1);
+  EXPECT_LT(loaded.max_error_rel * loaded_norm_n,
+            unloaded.max_error_rel * device->trueGravity(map_->grid().center_m()).norm() +
+                0.006 * loaded_norm_n);
+  for (std::size_t i = 0; i < map_->vertices().size(); ++i) {
+    EXPECT_TRUE(result.map.vertices()[i].gravity_n.isApprox(
+        map_->vertices()[i].gravity_n + result.shift_n, 1e-12));
+  }
+}
+
+TEST_F(MapMaintenanceTest, RetareRefusesATiltedDevice) {
+  auto device = freshOmni();
+  device->setTilt_rad(kTilt_rad);
+  sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  RetareOptions options;
+  options.measurement.parameters = omniParameters(*device);
+  try {
+    retareMap(*device, ticks, *map_, options);
+    FAIL() << "expected autograv::Error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("calibrate it again"), std::string::npos)
+        << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace autograv
