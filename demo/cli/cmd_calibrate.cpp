@@ -58,7 +58,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   // Default grid: a box fitted to the device's reachable workspace (at least 90 % of it inside);
   // vertices beyond the end stops are found unreachable and filled.
   double workspace_coverage = 0.0;
-  const WorkspaceGrid grid = resolveGrid(options.grid, *device, workspace_coverage);
+  const WorkspaceGrid grid = resolveGrid(options.grid, *device, device.get(), workspace_coverage);
   sim::CalibrationRunOptions run;
   run.grid_center_m = grid.center_m();
   run.grid_size_m = grid.size_m();

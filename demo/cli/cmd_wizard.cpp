@@ -319,12 +319,9 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
           : std::string();
 
   WizardConfig config;
-  // CHAI3D reports positions about the centre of the workspace; a simulation knows its own.
-  config.grid_center_m =
-      simulation != nullptr ? simulation->workspaceCenter_m() : Eigen::Vector3d::Zero();
   // The default grid of `autograv calibrate`, so that either command resumes the other's run.
   double workspace_coverage = 0.0;
-  const WorkspaceGrid grid = resolveGrid(options.grid, *device, workspace_coverage);
+  const WorkspaceGrid grid = resolveGrid(options.grid, *device, simulation, workspace_coverage);
   config.grid_center_m = grid.center_m();
   config.grid_size_m = grid.size_m();
   config.grid_resolution = grid.resolution();

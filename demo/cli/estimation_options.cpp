@@ -8,6 +8,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/workspace_fit.h"
 #include "autograv/sim/procedures.h"
 
 namespace autograv::cli {
@@ -106,8 +107,17 @@ void addGridOptions(CLI::App& command, GridOptions& options) {
       ->excludes(box);
 }
 
-WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice& device,
-                          double& workspace_coverage) {
+WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device,
+                          const sim::SimulatedDevice* simulation, double& workspace_coverage) {
+  // A simulation knows what it reaches; a real device is taken as the sphere of its specified
+  // workspace radius about the origin, where CHAI3D centres its positions.
+  const double radius_m = device.specifications().workspace_radius_m;
+  const Eigen::Vector3d sphere_center_m =
+      simulation != nullptr ? simulation->workspaceCenter_m() : Eigen::Vector3d::Zero();
+  const ReachabilityTest reachable = [&](const Eigen::Vector3d& position_m) {
+    return simulation != nullptr ? simulation->isReachable(position_m)
+                                 : (position_m - sphere_center_m).norm() <= radius_m;
+  };
   Eigen::Vector3i resolution = Eigen::Vector3i::Constant(5);
   if (!options.grid.empty()) {
     Eigen::Vector3d counts;
@@ -120,7 +130,7 @@ WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice
     resolution = counts.cast<int>();
   }
   Eigen::Vector3d size_m;
-  Eigen::Vector3d center_m = device.workspaceCenter_m();
+  const Eigen::Vector3d center_m = sphere_center_m;
   if (!options.box_mm.empty()) {
     Eigen::Vector3d size_mm;
     if (!parseTriple(options.box_mm, size_mm)) {
@@ -132,12 +142,16 @@ WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice
   } else if (options.side_mm > 0.0) {
     size_m.setConstant(options.side_mm * 1e-3);
   } else {
-    const WorkspaceFit fit = sim::fitGridToDevice(device);
+    const WorkspaceFit fit = simulation != nullptr
+                                 ? sim::fitGridToDevice(*simulation)
+                                 : fitWorkspaceBox(reachable, sphere_center_m, radius_m);
     workspace_coverage = fit.workspace_coverage;
     return WorkspaceGrid(fit.center_m, fit.size_m, resolution);
   }
   const WorkspaceGrid grid(center_m, size_m, resolution);
-  workspace_coverage = sim::deviceWorkspaceCoverage(device, grid);
+  workspace_coverage = simulation != nullptr
+                           ? sim::deviceWorkspaceCoverage(*simulation, grid)
+                           : workspaceCoverage(grid, reachable, sphere_center_m, radius_m);
   return grid;
 }
 

@@ -31,10 +31,12 @@ void addGridOptions(CLI::App& command, GridOptions& options);
 
 /// The grid `options` describe for `device`: an explicit box or cube centred on the workspace
 /// centre, or by default the box fitted to the device's reachable workspace (at least 90 % of it
-/// inside). `workspace_coverage` receives the fraction of the reachable workspace inside the
-/// grid either way. Throws autograv::Error naming the option on a malformed value.
-WorkspaceGrid resolveGrid(const GridOptions& options, const sim::SimulatedDevice& device,
-                          double& workspace_coverage);
+/// inside): what `simulation` reaches, or for a real device (`simulation` null) the sphere of its
+/// specified workspace radius about the origin. `workspace_coverage` receives the fraction of the
+/// reachable workspace inside the grid either way. Throws autograv::Error naming the option on a
+/// malformed value.
+WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device,
+                          const sim::SimulatedDevice* simulation, double& workspace_coverage);
 
 /// Fills in what depends on the device or the method and was not given on the command line: k0
 /// (see defaultInitializationStiffness) and n_G (5 for the paper's method, 3 for the dither

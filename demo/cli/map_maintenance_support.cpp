@@ -36,9 +36,7 @@ MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI
 }
 
 double maxVertexDifferenceRel(const GravityMap& a, const GravityMap& b) {
-  if (a.grid().resolution() != b.grid().resolution() ||
-      !a.grid().center_m().isApprox(b.grid().center_m(), 1e-9) ||
-      std::abs(a.grid().side_m() - b.grid().side_m()) > 1e-9) {
+  if (!a.grid().sameGeometry(b.grid())) {
     throw Error("the two maps have different grids, so they cannot be compared vertex by vertex");
   }
   double worst = 0.0;

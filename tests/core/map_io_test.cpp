@@ -322,13 +322,13 @@ TEST(MapIoTest, ByteFlipsAndTruncationsNeverLoad) {
 TEST(MapIoTest, ANumberBeyondDoubleRangeNamesTheFileAndTheField) {
   TemporaryFolder folder;
   std::string text = json::parse(mapToJson(makeMap())).dump();
-  const std::string side = "\"side_m\":0.09";
-  ASSERT_NE(text.find(side), std::string::npos);
-  text.replace(text.find(side), side.size(), "\"side_m\":1e999");
+  const std::string size = "\"size_m\":[0.09";
+  ASSERT_NE(text.find(size), std::string::npos) << text;
+  text.replace(text.find(size), size.size(), "\"size_m\":[1e999");
   writeText(folder.file("huge.json"), text);
   const std::string message = errorOf([&] { loadMap(folder.file("huge.json")); });
   EXPECT_NE(message.find(folder.file("huge.json")), std::string::npos) << message;
-  EXPECT_NE(message.find("field /grid/side_m:"), std::string::npos) << message;
+  EXPECT_NE(message.find("field /grid/size_m/0:"), std::string::npos) << message;
   EXPECT_NE(message.find("beyond the range of double"), std::string::npos) << message;
 
   // Inside arrays the pointer names the element: here the second component of vertex 2's gravity.

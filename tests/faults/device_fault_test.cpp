@@ -12,10 +12,10 @@
 #include <unistd.h>
 
 #include "../../demo/cli/wizard_auto_hand.h"
-#include "autograv/wizard/calibration_wizard.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "autograv/wizard/calibration_wizard.h"
 #include "fault_test_support.h"
 #include "subprocess.h"
 
@@ -40,8 +40,8 @@ struct FaultyRun {
 sim::CalibrationRunOptions smallGrid(const sim::SimulatedDevice& device) {
   sim::CalibrationRunOptions options;
   options.grid_center_m = device.workspaceCenter_m();
-  options.grid_side_m = 0.04;
-  options.grid_resolution = 2;
+  options.grid_size_m = Eigen::Vector3d::Constant(0.04);
+  options.grid_resolution = Eigen::Vector3i::Constant(2);
   options.redo_passes = 0;
   return options;
 }
@@ -221,8 +221,8 @@ struct WizardRun {
   explicit WizardRun(const std::string& map_path) {
     WizardConfig config;
     config.grid_center_m = simulated->workspaceCenter_m();
-    config.grid_side_m = 0.04;
-    config.grid_resolution = 2;
+    config.grid_size_m = Eigen::Vector3d::Constant(0.04);
+    config.grid_resolution = Eigen::Vector3i::Constant(2);
     config.map_path = map_path;
     config.verify_points = 3;
     wizard = std::make_unique<CalibrationWizard>(device, config);

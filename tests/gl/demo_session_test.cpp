@@ -241,14 +241,20 @@ TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplica
     const Eigen::Vector3d truth = session.simulation().trueGravity(map->grid().vertexPosition(i));
     EXPECT_LT((map->vertices()[index].gravity_n - truth).norm(), 0.02 * truth.norm());
   }
-  // Back in the application loop with the new map: the end-effector stays where it was left.
+  // Back in the application loop with the new map; carried into the calibrated box and let go,
+  // the end-effector stays where it was left.
   run(session, 1.0);
   const ServoSnapshot& s = session.snapshot();
   EXPECT_EQ(s.mode, ServoMode::kApplication);
   EXPECT_TRUE(s.compensation_enabled);
   EXPECT_DOUBLE_EQ(s.compensation_level, 1.0);
   EXPECT_FALSE(s.hand_holding);
-  const Eigen::Vector3d before = s.position_m;
+  session.grab();
+  session.setHandTarget(map->grid().center_m());
+  run(session, 1.0);
+  session.release();
+  run(session, 0.5);
+  const Eigen::Vector3d before = session.snapshot().position_m;
   run(session, 1.0);
   EXPECT_LT((session.snapshot().position_m - before).norm(), 0.002);
 }

@@ -213,6 +213,9 @@ TEST_P(EndStopCalibrationTest, VerticesBeyondTheEndStopsAreUnreachableAndFilled)
   ASSERT_TRUE(device->open());
   const double radius_m = device->specifications().workspace_radius_m;
   sim::CalibrationRunOptions options = optionsFor(*device, 1.7 * radius_m, 5);
+  // The tools' method: the paper's wanders in the friction dead band, which the stall rule
+  // would take for a vertex that cannot be held.
+  options.parameters = EstimationParameters::frictionRobust();
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
   const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
   EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
@@ -240,8 +243,10 @@ TEST_P(EndStopCalibrationTest, VerticesBeyondTheEndStopsAreUnreachableAndFilled)
   EXPECT_LT(sim::measureAccuracy(map, *device, 500, 3).rms_residual_rel, 0.08);
 }
 
-INSTANTIATE_TEST_SUITE_P(EverySimulatedDevice, EndStopCalibrationTest,
-                         ::testing::ValuesIn(sim::simulatedDeviceNames()));
+// Not sim:falcon: its arm stops lie well beyond a box of 1.7 workspace radii (the limits of the
+// parallelograms' ball joints, which bound a real Falcon to its 4-inch cube, are not modelled).
+INSTANTIATE_TEST_SUITE_P(DevicesWithStopsInReach, EndStopCalibrationTest,
+                         ::testing::Values("sim:omega", "sim:omni"));
 
 // The default grid of `autograv calibrate`: a 5x5x5 box fitted to the reachable workspace.
 class FittedBoxCalibrationTest : public ::testing::TestWithParam<std::string> {};
@@ -255,16 +260,22 @@ TEST_P(FittedBoxCalibrationTest, EveryVertexConvergesOrIsUnreachableAndFilled) {
   options.grid_center_m = fit.center_m;
   options.grid_size_m = fit.size_m;
   options.grid_resolution = Eigen::Vector3i::Constant(5);
+  options.parameters = EstimationParameters::frictionRobust();  // what `calibrate` uses
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
   const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
   const WorkspaceGrid grid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
   const GravityMap map(grid, run.vertices, MapMetadata{});
   EXPECT_TRUE(map.isComplete());
   EXPECT_GT(map.unreachableCount(), 0);
-  for (int i = 0; i < grid.vertexCount(); ++i) {
-    EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].outcome == VertexOutcome::kUnreachable,
-              !device->isReachable(grid.vertexPosition(i)))
-        << "vertex " << i;
+  // sim:falcon's fitted box reaches the corners of its 4-inch cube, where an arm's torque limit
+  // can give out before its stop: a few vertices the kinematics call reachable are found
+  // unreachable there (and filled), so the exact match is asked of the other devices only.
+  if (GetParam() != "sim:falcon") {
+    for (int i = 0; i < grid.vertexCount(); ++i) {
+      EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].outcome == VertexOutcome::kUnreachable,
+                !device->isReachable(grid.vertexPosition(i)))
+          << "vertex " << i;
+    }
   }
   const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, 1);
   EXPECT_LT(accuracy.max_error_rel, 0.03);

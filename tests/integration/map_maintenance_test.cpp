@@ -33,15 +33,16 @@ class MapMaintenanceTest : public ::testing::Test {
     ASSERT_TRUE(device->open());
     sim::CalibrationRunOptions options;
     options.grid_center_m = device->workspaceCenter_m();
-    options.grid_side_m = defaultGridSide_m(device->specifications().workspace_radius_m);
-    options.grid_resolution = 3;
+    options.grid_size_m =
+        Eigen::Vector3d::Constant(defaultGridSide_m(device->specifications().workspace_radius_m));
+    options.grid_resolution = Eigen::Vector3i::Constant(3);
     options.parameters = omniParameters(*device);
     const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
     MapMetadata metadata;
     metadata.device_model = device->specifications().model_name;
     metadata.parameters = options.parameters;
     map_ = std::make_unique<GravityMap>(
-        WorkspaceGrid(options.grid_center_m, options.grid_side_m, options.grid_resolution),
+        WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
         run.vertices, metadata);
     ASSERT_TRUE(map_->isComplete());
   }

@@ -395,9 +395,9 @@ TEST_F(WizardTerminalTest, ANumberBeyondDoubleRangeIsAnErrorNamingFileAndField) 
   MapMetadata metadata;
   metadata.device_model = "sim:omega";
   std::string text = mapToJson(GravityMap(grid, vertices, metadata));
-  const std::string side = "\"side_m\": 0.04";
-  ASSERT_NE(text.find(side), std::string::npos) << text;
-  text.replace(text.find(side), side.size(), "\"side_m\": 1e999");
+  const std::string size = "\"size_m\": [\n      0.04";
+  ASSERT_NE(text.find(size), std::string::npos) << text;
+  text.replace(text.find(size), size.size(), "\"size_m\": [\n      1e999");
   const std::string map_path = folder + "/m.json";
   for (const std::string& path : {map_path, map_path + ".partial"}) {
     std::ofstream(path) << text;
@@ -410,7 +410,7 @@ TEST_F(WizardTerminalTest, ANumberBeyondDoubleRangeIsAnErrorNamingFileAndField) 
     const CommandResult run = runCommand(kBinary + command);
     EXPECT_EQ(run.exit_code, 2) << command << "\n" << run.output;
     EXPECT_EQ(run.output.find("unexpected error"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("field /grid/side_m"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("field /grid/size_m/0"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("beyond the range of double"), std::string::npos) << run.output;
   }
 }

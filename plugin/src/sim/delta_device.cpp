@@ -445,4 +445,13 @@ void DeltaDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   velocity_m_per_s_.setZero();
 }
 
+bool DeltaDevice::isReachable(const Eigen::Vector3d& position_m) const noexcept {
+  Eigen::Vector3d theta_rad;
+  const double half_cube_m = specifications().workspace_radius_m;  // the cube's inscribed sphere
+  return (position_m - workspaceCenter_m()).cwiseAbs().maxCoeff() <= half_cube_m &&
+         inverseKinematics(position_m, theta_rad) &&
+         (theta_rad.array() >= parameters_.joint_min_rad.array()).all() &&
+         (theta_rad.array() <= parameters_.joint_max_rad.array()).all();
+}
+
 }  // namespace autograv::sim

@@ -117,6 +117,11 @@ class DeltaDevice final : public SimulatedDriver {
   Eigen::Vector3d truePosition_m() const noexcept override { return tip_m_; }
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override { return velocity_m_per_s_; }
   Eigen::Vector3d workspaceCenter_m() const noexcept override { return Eigen::Vector3d::Zero(); }
+  /// Inside the published 4-inch cube, where the legs close with every arm clear of its stops.
+  /// The cube is what bounds a real Falcon (its parallelograms' ball joints); those limits are
+  /// not modelled here (see above), so the mechanism itself would reach further across the axis.
+  /// Real-time safe.
+  bool isReachable(const Eigen::Vector3d& position_m) const noexcept override;
 
   // The model, for tests and reports. All real-time safe.
   /// Grip position relative to the workspace centre; false where the legs cannot close (out of

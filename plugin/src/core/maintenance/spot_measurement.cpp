@@ -21,7 +21,8 @@ std::vector<int> centralVertices(const WorkspaceGrid& grid, int count) {
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     // Compare in whole cells squared so that equal distances tie exactly.
     const auto cells = [&](int index) {
-      const Eigen::Vector3d offset = (grid.vertexPosition(index) - center_m) / grid.spacing_m();
+      const Eigen::Vector3d offset =
+          (grid.vertexPosition(index) - center_m).cwiseQuotient(grid.spacing_m());
       return std::lround(4.0 * offset.squaredNorm());
     };
     return cells(a) < cells(b);
