@@ -26,7 +26,8 @@ class DeviceCommandsTest : public ::testing::Test {
     fs::create_directories(dir_);
     // A small map of the unloaded Omni, filed in a private map library.
     const auto result =
-        runCommand(kBinary + " calibrate --device sim:omni --grid 3 --out " + dir_ + "/omni.json");
+        runCommand(kBinary + " calibrate --device sim:omni --grid 3 --side-mm 60 --out " + dir_ +
+                   "/omni.json");
     ASSERT_EQ(result.exit_code, 0) << result.output;
   }
   static void TearDownTestSuite() {
