@@ -78,6 +78,7 @@ void runVerifyCommand(const VerifyOptions& options) {
       sim::verifyMapOnSimulatedDevice(simulated, map, verification, options.allow_model_mismatch);
   progress.finish();
 
+  constexpr double kMinProbedFraction = 0.9;
   const sim::Percentiles& residual = report.residual_force_n;
   const sim::Percentiles& on = report.drift_m;
   const sim::Percentiles& off = report.drift_uncompensated_m;
@@ -86,9 +87,12 @@ void runVerifyCommand(const VerifyOptions& options) {
       report.median_gravity_n > 0.0 ? residual.median / report.median_gravity_n : INFINITY;
   const bool all_ready = report.ready_points == options.points;
   const bool all_probed = report.valid_residuals == report.ready_points;
+  // A probe friction held still measured nothing, which is no fault of the map: the median of the
+  // others decides, as long as most points were measured.
+  const bool most_probed = report.valid_residuals >= kMinProbedFraction * report.ready_points;
   const bool force_ok = report.max_force_sent_n <= specs.max_linear_force_n * (1.0 + 1e-12);
   const bool drift_ok = ratio <= options.max_drift_ratio;
-  const bool residual_ok = all_probed && residual_ratio <= options.max_residual_ratio;
+  const bool residual_ok = most_probed && residual_ratio <= options.max_residual_ratio;
   const bool pass = all_ready && force_ok && drift_ok && residual_ok;
 
   std::printf("\n%-34s %10s %10s %10s\n", "", "median", "90th pct", "max");
@@ -116,7 +120,10 @@ void runVerifyCommand(const VerifyOptions& options) {
   std::printf("\n%-34s %d of %d%s\n", "points held at full compensation", report.ready_points,
               options.points, all_ready ? "" : "  SOME NEVER READY");
   std::printf("%-34s %d of %d%s\n", "residual probes that slid", report.valid_residuals,
-              report.ready_points, all_probed ? "" : "  FRICTION HELD SOME");
+              report.ready_points,
+              all_probed    ? ""
+              : most_probed ? "  (friction held the rest; not counted)"
+                            : "  FRICTION HELD TOO MANY");
   std::printf("%-34s %.4f of median |G_hat| %.3f N (limit %.3g)  %s\n", "residual median",
               residual_ratio, report.median_gravity_n, options.max_residual_ratio,
               residual_ok ? "ok" : "TOO HIGH");
