@@ -295,6 +295,13 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
                 " your own hand does the manual step");
   }
   if (options.uncalibrated) simulation->setCalibrated(false);
+  // A CHAI3D device's specifications are valid only once it has been opened: read them now; the
+  // wizard's Check step opens it again.
+  if (!device->open()) {
+    throw Error("cannot open " + options.device + " to read its model and limits");
+  }
+  const DeviceSpecifications specifications = device->specifications();
+  device->close();
   std::string out_path = options.out_path;
   if (out_path.empty()) {  // the device's place in the map library, where every tool looks
     const MapLibrary library(options.maps_dir);
@@ -304,7 +311,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
       throw Error("cannot create the map library '" + library.dir() + "': " + error.message() +
                   "; choose another with --maps, or name the map with --out");
     }
-    out_path = library.pathFor(device->specifications());
+    out_path = library.pathFor(specifications);
   }
   // Refuse now, not after the whole grid, when the files cannot be written.
   checkWritable(out_path, "map");
@@ -328,7 +335,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   config.parameters = options.parameters;
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
-  applyDeviceDefaults(command, config.parameters, device->specifications());
+  applyDeviceDefaults(command, config.parameters, specifications);
   config.map_path = out_path;
   config.resume = options.resume;
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
