@@ -12,6 +12,7 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/sim/friction_measurement.h"
+#include "scripted_run.h"
 
 namespace autograv::sim {
 namespace {
@@ -387,36 +388,12 @@ TEST(DeltaDeviceTest, FrictionLevelsHoldOrLetGoOfTheSamePush) {
 }
 
 std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
-  DeltaDevice device = makeOpenFalcon(seed);
-  std::vector<Eigen::Vector3d> trajectory;
-  device.hand().grab(device.truePosition_m());
-  device.hand().moveTo(Eigen::Vector3d(0.03, 0.02, -0.02), 0.05);
-  for (int ms = 0; ms < 1200; ++ms) {
-    if (ms == 400) device.hand().release();
-    Eigen::Vector3d x, v;
-    EXPECT_TRUE(device.getPosition(x));
-    EXPECT_TRUE(device.getLinearVelocity(v));
-    const Eigen::Vector3d target(0.02 * std::sin(ms * 0.005), 0.0, 0.01);
-    device.setForce(100.0 * (target - x) - 1.0 * v + Eigen::Vector3d(0, 0, 1.0));
-    device.advance(kServo_s);
-    trajectory.push_back(device.truePosition_m());
-    trajectory.push_back(x);
-  }
-  return trajectory;
+  auto device = makeOpenFalcon(seed);
+  return testing::scriptedTrajectory(device, {100.0, 1.0, 1.0});
 }
 
 TEST(DeltaDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
-  const auto a = runScript(5);
-  const auto b = runScript(5);
-  const auto c = runScript(6);
-  bool identical = a.size() == b.size(), differs = false;
-  for (std::size_t i = 0; i < a.size() && identical; ++i) {
-    identical = (a[i].array() == b[i].array()).all();
-  }
-  for (std::size_t i = 0; i < a.size(); ++i)
-    differs = differs || (a[i].array() != c[i].array()).any();
-  EXPECT_TRUE(identical);
-  EXPECT_TRUE(differs);
+  testing::expectSameSeedSameBitsOtherSeedDiffers(runScript(5), runScript(5), runScript(6));
 }
 
 TEST(DeltaDeviceTest, ServoPathAllocatesNothing) {
