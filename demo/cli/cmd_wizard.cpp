@@ -22,6 +22,7 @@
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
+#include "autograv/sim/end_stop_watch.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
@@ -380,7 +381,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   // Eq. (7) assumes the end-effector settled in the k0 field alone: watch the end stops from the
   // moment the field comes on until G_hat_0 is taken.
   bool initialization_end_stop_hit = false;
-  WizardStep previous_step = status.step;
+  sim::InitializationEndStopWatch end_stop_watch;
   while (true) {
     const Clock::time_point frame_start = Clock::now();
     const int interrupts = g_interrupts.load();
@@ -408,18 +409,12 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     wizard.service();
     status = wizard.status();
     // Only a simulation can tell that the end-effector rested on an end stop.
-    if (simulation != nullptr && status.step == WizardStep::kRelease &&
-        previous_step != WizardStep::kRelease) {
-      simulation->clearEndStopHit();
-    } else if (simulation != nullptr && status.step != WizardStep::kRelease &&
-               previous_step == WizardStep::kRelease && simulation->endStopHit()) {
+    if (simulation != nullptr &&
+        end_stop_watch.update(status.step == WizardStep::kRelease, *simulation)) {
       initialization_end_stop_hit = true;
-      front_end.notice =
-          "WARNING: the end-effector rested on an end stop during the initialization, so "
-          "G_hat_0 (eq. 7) is wrong there: start again nearer the workspace centre.";
+      front_end.notice = sim::InitializationEndStopWatch::kWarning;
       std::fprintf(stderr, "autograv wizard: %s\n", front_end.notice.c_str());
     }
-    previous_step = status.step;
 
     if (terminal) {
       const Clock::time_point now = Clock::now();

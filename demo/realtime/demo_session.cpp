@@ -128,6 +128,8 @@ std::string DemoSession::startCalibration() {
   last_wizard_step_ = wizard_status_.step;
   compensation_before_calibration_ = decorator_->compensationEnabled();
   decorator_->setCompensationEnabled(false);
+  initialization_end_stop_hit_.store(false);
+  end_stop_warning_given_ = false;
   Command command;
   command.kind = Command::Kind::kStartCalibration;
   command.wizard = wizard_ui_;
@@ -153,6 +155,11 @@ std::string DemoSession::updateCalibration() {
   if (wizard_status_.step != last_wizard_step_) {
     last_wizard_step_ = wizard_status_.step;
     message = "calibration: " + wizard_status_.title;
+  }
+  if (!end_stop_warning_given_ && initialization_end_stop_hit_.load()) {
+    end_stop_warning_given_ = true;
+    message += (message.empty() ? "calibration: " : ". ") +
+               std::string(sim::InitializationEndStopWatch::kWarning);
   }
   if (!wizard_ui_->finished()) return message;
 
@@ -209,6 +216,7 @@ void DemoSession::handleCommand(const Command& command) noexcept {
     case Command::Kind::kStartCalibration:
       wizard_ = command.wizard;
       mode_ = ServoMode::kCalibrating;
+      end_stop_watch_ = sim::InitializationEndStopWatch();
       break;
     case Command::Kind::kEndCalibration:
       if (mode_ != ServoMode::kCalibrating) break;
@@ -286,6 +294,10 @@ void DemoSession::tick() noexcept {
     }
   }
   simulation_->advance(options_.servo_period_s);
+  if (mode_ == ServoMode::kCalibrating &&
+      end_stop_watch_.update(wizard_->step() == WizardStep::kRelease, *simulation_)) {
+    initialization_end_stop_hit_.store(true);
+  }
   ++ticks_;
   publishSnapshot(sample);
 }

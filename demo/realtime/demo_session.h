@@ -12,6 +12,7 @@
 #include "autograv/device/gravity_compensated_device.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/gravity_map.h"
+#include "autograv/sim/end_stop_watch.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "hand_script.h"
@@ -144,6 +145,10 @@ class DemoSession {
   }
   /// The status of the running calibration, or how the last one ended. UI thread.
   const WizardStatus& lastCalibrationStatus() const noexcept { return wizard_status_; }
+  /// True when the end-effector rested on an end stop while the initialization of the running
+  /// (or last) calibration settled: its G_hat_0 (eq. 7) is wrong. updateCalibration says so once.
+  /// Any thread.
+  bool initializationEndStopHit() const noexcept { return initialization_end_stop_hit_.load(); }
 
   // --- Running ----------------------------------------------------------------------------------
   /// One servo tick: commands, script, read, control, write, physics, snapshot. Servo thread
@@ -218,6 +223,10 @@ class DemoSession {
   WizardStatus wizard_status_;
   WizardStep last_wizard_step_ = WizardStep::kCheck;
   bool compensation_before_calibration_ = true;
+  // Watched on the servo thread, which advances the simulation; the UI reads the atomic.
+  sim::InitializationEndStopWatch end_stop_watch_;
+  std::atomic<bool> initialization_end_stop_hit_{false};
+  bool end_stop_warning_given_ = false;  // UI thread's
 
   SpscQueue<Command, 256> commands_;
   TripleBuffer<ServoSnapshot> snapshots_;

@@ -40,14 +40,17 @@ std::shared_ptr<const GravityMap> groundTruthMap(DemoSession& session) {
 constexpr std::int64_t kTicksPerSecond = 1000;
 
 /// Runs `seconds` of servo time on the calling thread, letting the UI side move a calibration on
-/// every 10 ms as a frame loop would.
-void run(DemoSession& session, double seconds) {
+/// every 10 ms as a frame loop would. Returns the messages it gave, one per line.
+std::string run(DemoSession& session, double seconds) {
   const auto frames = static_cast<std::int64_t>(seconds * 100.0);
+  std::string messages;
   for (std::int64_t i = 0; i < frames; ++i) {
     session.runTicks(kTicksPerSecond / 100);
     const std::string message = session.updateCalibration();
     if (!message.empty()) std::printf("  session: %s\n", message.c_str());
+    if (!message.empty()) messages += message + "\n";
   }
+  return messages;
 }
 
 /// Lifts the end-effector 2 cm above the workspace centre with the hand (script positions are
@@ -184,9 +187,11 @@ SessionOptions calibrationOptions(const std::string& map_path) {
 /// confirms there; the mouse lets go once the field is on; Enter saves at the review.
 /// `stop_when` ends the run early (true: stop). Returns the last status.
 template <typename StopWhen>
-WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when) {
+WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when,
+                                std::string* messages = nullptr) {
   for (int frame = 0; frame < 20000 && session.calibrationRunning(); ++frame) {
-    run(session, 0.01);
+    const std::string said = run(session, 0.01);
+    if (messages != nullptr) *messages += said;
     const WizardStatus& last = session.lastCalibrationStatus();
     if (!session.calibrationRunning() || stop_when(last)) break;
     if (last.step == WizardStep::kCentre) {
@@ -257,6 +262,64 @@ TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplica
   const Eigen::Vector3d before = session.snapshot().position_m;
   run(session, 1.0);
   EXPECT_LT((session.snapshot().position_m - before).norm(), 0.002);
+}
+
+/// Runs the A key's calibration as the user until the initialization (Centre, Release) is over;
+/// the messages the session gave meanwhile go to `messages`.
+WizardStatus initializeAsTheUser(DemoSession& session, std::string& messages) {
+  session.startCalibration();
+  return calibrateAsTheUser(
+      session,
+      [](const WizardStatus& status) {
+        return status.step != WizardStep::kCheck && status.step != WizardStep::kCentre &&
+               status.step != WizardStep::kRelease;
+      },
+      &messages);
+}
+
+TEST(DemoSessionTest, CalibrationKeyInitializationAwayFromTheStopsSaysNothing) {
+  const ScratchDirectory scratch;
+  DemoSession session(calibrationOptions(scratch.file("map.json")));
+  run(session, 0.2);
+  std::string messages;
+  const WizardStatus last = initializeAsTheUser(session, messages);
+  EXPECT_EQ(last.step, WizardStep::kAutoCalibration) << last.message;
+  EXPECT_FALSE(session.initializationEndStopHit());
+  EXPECT_EQ(messages.find("end stop"), std::string::npos) << messages;
+  session.abortCalibration();
+  run(session, 0.5);
+}
+
+TEST(DemoSessionTest, CalibrationKeyInitializationOnAnEndStopWarns) {
+  const ScratchDirectory scratch;
+  DemoSession session(calibrationOptions(scratch.file("map.json")));
+  // The published map's grid is where the A key calibrates: one whose centre lies 1 mm above
+  // the bottom of sim:omega's workspace sphere, so the end-effector sags onto the stop.
+  const double radius_m = session.simulation().specifications().workspace_radius_m;
+  const Eigen::Vector3d low_m =
+      session.simulation().workspaceCenter_m() - Eigen::Vector3d(0.0, 0.0, radius_m - 0.001);
+  const WorkspaceGrid grid(low_m, 0.01, 2);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    vertices[i].gravity_n = session.simulation().trueGravity(low_m);
+    vertices[i].outcome = VertexOutcome::kConverged;
+  }
+  MapMetadata metadata;
+  metadata.device_model = session.simulation().specifications().model_name;
+  session.publishMap(std::make_shared<const GravityMap>(grid, std::move(vertices), metadata));
+  run(session, 0.2);
+  // The user carries the end-effector down to the stop, through the hand's grip.
+  session.grab();
+  session.setHandTarget(low_m);
+  run(session, 1.0);
+  std::string messages;
+  const WizardStatus last = initializeAsTheUser(session, messages);
+  EXPECT_NE(last.step, WizardStep::kCentre) << last.message;
+  EXPECT_TRUE(session.initializationEndStopHit());
+  EXPECT_NE(messages.find("WARNING: the end-effector rested on an end stop"), std::string::npos)
+      << messages;
+  session.abortCalibration();
+  run(session, 0.5);
 }
 
 /// The map the A key makes on `device` (3x3x3, seed 1), as the user at the demo would.
