@@ -323,10 +323,15 @@ void plotFrictionSweep(const std::vector<SweepRow>& rows,
   const std::vector<std::string> levels = sim::frictionLevelNames();
   const auto panel = [&](const std::string& y_title, auto&& value) {
     viz::SweepPanel result{y_title, {}};
-    for (const std::string& device : sim::simulatedDeviceNames()) {
+    const std::vector<std::string> devices = sim::simulatedDeviceNames();
+    for (std::size_t d = 0; d < devices.size(); ++d) {
+      const std::string& device = devices[d];
       for (const EstimationMethod method : methods) {
         const std::string name = methods.size() > 1 ? device + " " + toString(method) : device;
-        viz::SweepSeries series{name, std::vector<double>(levels.size(), std::nan(""))};
+        // One colour per device; the paper's method dashed beside the dither method.
+        viz::SweepSeries series{name, std::vector<double>(levels.size(), std::nan("")),
+                                static_cast<int>(d),
+                                methods.size() > 1 && method == EstimationMethod::kPaper};
         for (const SweepRow& row : rows) {
           if (row.device != device || row.method != method || !row.failure.empty()) continue;
           series.values[static_cast<std::size_t>(row.friction)] = value(row);

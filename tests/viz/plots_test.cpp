@@ -158,5 +158,41 @@ TEST(SweepPlotTest, OneLinePerSeriesInEveryPanel) {
   EXPECT_GT(countPixels(picture, isOrange), 150);  // sim:omni in the first
 }
 
+TEST(SweepPlotTest, LegendStandsBesideThePanelsAndColoursDoNotRepeat) {
+  AUTOGRAV_REQUIRE_DISPLAY();
+  const std::vector<std::string> levels = {"none", "low", "typical", "high"};
+  SweepPanel panel{"iterations", {}};
+  for (int k = 0; k < 6; ++k) {
+    const double value = 2.0 * (k + 1);
+    panel.series.push_back({"series " + std::to_string(k), {value, value, value, value}});
+  }
+  PlotOptions options = smallPlot();
+  options.width_px = 720;
+  const RgbImage picture = renderSweepPlot(levels, "friction", {panel}, options);
+  // The fifth series is sky blue, not the first one's blue again.
+  const auto is_sky_blue = [](int r, int g, int b) {
+    return std::abs(r - 87) < 25 && std::abs(g - 181) < 25 && std::abs(b - 232) < 25;
+  };
+  EXPECT_GT(countPixels(picture, is_sky_blue), 100);
+  // The legend has a column of its own right of the chart: the blue of its first entry is there,
+  // and there is no line under it.
+  int blue_in_legend_column = 0;
+  for (int y = 0; y < picture.height_px; ++y) {
+    for (int x = picture.width_px * 3 / 4; x < picture.width_px; ++x) {
+      const std::uint8_t* p = picture.pixel(x, y);
+      if (isBlue(p[0], p[1], p[2])) ++blue_in_legend_column;
+    }
+  }
+  EXPECT_GT(blue_in_legend_column, 10);
+  EXPECT_LT(blue_in_legend_column, 300);
+
+  // Series given one colour share it: no blue at all when both are orange.
+  SweepPanel paired{"iterations",
+                    {{"a", {1.0, 2.0, 3.0, 4.0}, 1, false}, {"b", {2.0, 3.0, 4.0, 5.0}, 1, true}}};
+  const RgbImage orange_only = renderSweepPlot(levels, "friction", {paired}, options);
+  EXPECT_GT(countPixels(orange_only, isOrange), 300);
+  EXPECT_EQ(countPixels(orange_only, isBlue), 0);
+}
+
 }  // namespace
 }  // namespace autograv::viz

@@ -25,6 +25,7 @@
 #include <vtkRenderer.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkVector.h>
 
@@ -121,7 +122,9 @@ void fixedRange(vtkAxis* axis, double lo, double hi) {
 class ChartPicture {
  public:
   ChartPicture(const PlotOptions& options, int columns, int rows)
-      : palette_(detail::paletteFor(options.background)) {
+      : palette_(detail::paletteFor(options.background)),
+        width_px_(options.width_px),
+        height_px_(options.height_px) {
     detail::prepareOffscreen(view_->GetRenderWindow(), display_, options.width_px,
                              options.height_px);
     view_->GetRenderer()->SetBackground(palette_.background[0], palette_.background[1],
@@ -129,10 +132,34 @@ class ChartPicture {
     matrix_->SetSize(vtkVector2i(columns, rows));
     // Room for the tick labels, the axis titles and the chart title, in units of the text size.
     const float font_px = static_cast<float>(detail::baseFontPx(options.height_px));
-    matrix_->SetBorders(static_cast<int>(4.5f * font_px), static_cast<int>(3.4f * font_px),
-                        static_cast<int>(1.5f * font_px), static_cast<int>(2.8f * font_px));
+    left_px_ = static_cast<int>(4.5f * font_px);
+    bottom_px_ = static_cast<int>(3.4f * font_px);
+    right_px_ = static_cast<int>(1.5f * font_px);
+    top_px_ = static_cast<int>(2.8f * font_px);
+    matrix_->SetBorders(left_px_, bottom_px_, right_px_, top_px_);
     matrix_->SetGutter(vtkVector2f(5.5f * font_px, 5.5f * font_px));
     view_->GetScene()->AddItem(matrix_);
+  }
+  /// A title over the whole picture, left-aligned above the charts. A chart's own title is
+  /// centred on its chart and ran into the tick labels beside it when longer than the chart.
+  void setTitle(const std::string& title, int font_px) {
+    if (title.empty()) return;
+    top_px_ += static_cast<int>(1.2f * static_cast<float>(font_px));
+    matrix_->SetBorders(left_px_, bottom_px_, right_px_, top_px_);
+    title_->SetInput(title.c_str());
+    detail::styleText(title_->GetTextProperty(), palette_.text, font_px + font_px / 6, true);
+    title_->GetTextProperty()->SetJustificationToLeft();
+    title_->GetTextProperty()->SetVerticalJustificationToTop();
+    title_->SetDisplayPosition(font_px, height_px_ - font_px / 2);
+    view_->GetRenderer()->AddActor2D(title_);
+  }
+  /// Widens the right margin by `width_px`, for a legend beside the charts; returns the screen
+  /// point (x of the column's left edge, y of the top of the charts). Unit: [px]
+  vtkVector2f reserveRightColumn(int width_px) {
+    right_px_ += width_px;
+    matrix_->SetBorders(left_px_, bottom_px_, right_px_, top_px_);
+    return vtkVector2f(static_cast<float>(width_px_ - right_px_ + right_px_ / 8),
+                       static_cast<float>(height_px_ - top_px_));
   }
   /// Chart (column, row), row 0 at the bottom.
   vtkChartXY* chart(int column, int row) {
@@ -143,9 +170,16 @@ class ChartPicture {
 
  private:
   detail::Palette palette_;
+  int width_px_ = 0;
+  int height_px_ = 0;
+  int left_px_ = 0;
+  int bottom_px_ = 0;
+  int right_px_ = 0;
+  int top_px_ = 0;
   detail::XDisplay display_;  // declared before the view: destroyed after it
   vtkNew<vtkContextView> view_;
   vtkNew<vtkChartMatrix> matrix_;
+  vtkNew<vtkTextActor> title_;
 };
 
 }  // namespace
@@ -427,7 +461,30 @@ RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::st
   ChartPicture picture(options, columns, rows);
   const detail::Palette& palette = picture.palette();
   const int font_px = detail::baseFontPx(options.height_px);
-  const detail::Rgb colors[] = {kBlue, kOrange, kGreen, kRed};
+  // Okabe and Ito's eight colours, told apart also by readers with a colour vision deficiency.
+  constexpr detail::Rgb kColours[] = {kBlue,
+                                      kOrange,
+                                      kGreen,
+                                      kRed,
+                                      {0.34, 0.71, 0.91},
+                                      {0.80, 0.47, 0.65},
+                                      {0.60, 0.60, 0.0},
+                                      {0.35, 0.35, 0.35}};
+  constexpr int kColourCount = static_cast<int>(sizeof kColours / sizeof kColours[0]);
+  // The legend gets a column of its own right of the panels: inside a panel it covered the
+  // lines and the title as soon as there were more than a few series. Its size is estimated
+  // from the text: about 0.6 em per character, a marker of 3 em, 1.3 em per line.
+  const int legend_font_px = font_px - font_px / 6;
+  std::size_t longest_name = 0;
+  for (const SweepSeries& series : panels.front().series) {
+    longest_name = std::max(longest_name, series.name.size());
+  }
+  const int legend_width_px =
+      static_cast<int>((0.62 * static_cast<double>(longest_name) + 4.0) * legend_font_px);
+  picture.setTitle(options.title, font_px);
+  const vtkVector2f legend_top_left = picture.reserveRightColumn(legend_width_px);
+  const float legend_height_px =
+      1.3f * static_cast<float>(panels.front().series.size() * legend_font_px) + 10.0f;
   vtkNew<vtkDoubleArray> tick_positions;
   vtkNew<vtkStringArray> tick_labels;
   for (std::size_t k = 0; k < x_labels.size(); ++k) {
@@ -451,13 +508,18 @@ RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::st
     }
     // Row 0 is the bottom one: the first panels go on top.
     vtkChartXY* chart = picture.chart(static_cast<int>(p % 2), rows - 1 - static_cast<int>(p / 2));
-    styleChart(chart, p == 0 ? options.title : "", x_title, panel.y_title, palette, font_px);
+    styleChart(chart, "", x_title, panel.y_title, palette, font_px);
     for (std::size_t s = 0; s < panel.series.size(); ++s) {
       vtkPlot* line = chart->AddPlot(vtkChart::LINE);
       line->SetInputData(table, "x", panel.series[s].name);
       line->SetLabel(panel.series[s].name);
-      setColor(line, colors[s % 4]);
+      const int colour = panel.series[s].colour >= 0 ? panel.series[s].colour : static_cast<int>(s);
+      setColor(line, kColours[colour % kColourCount]);
       line->SetWidth(2.5f);
+      // Past the eighth colour, lines are told apart by their dashes too.
+      if (panel.series[s].dashed || colour / kColourCount % 2 == 1) {
+        line->GetPen()->SetLineType(vtkPen::DASH_LINE);
+      }
       if (auto* points = vtkPlotPoints::SafeDownCast(line)) {
         points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
         points->SetMarkerSize(std::max(6.0f, font_px * 0.45f));
@@ -471,8 +533,11 @@ RgbImage renderSweepPlot(const std::vector<std::string>& x_labels, const std::st
     fixedRange(chart->GetAxis(vtkAxis::LEFT), 0.0,
                highest > 0.0 ? tick * std::ceil(1.05 * highest / tick) : 1.0);
     chart->SetShowLegend(p == 0);
-    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
-    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::CUSTOM);
+    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::CUSTOM);
+    // The legend's point is its bottom-left corner.
+    chart->GetLegend()->SetPoint(
+        vtkVector2f(legend_top_left.GetX(), legend_top_left.GetY() - legend_height_px));
   }
   return picture.render();
 }

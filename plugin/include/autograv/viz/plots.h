@@ -67,6 +67,10 @@ RgbImage renderSummaryPlot(const GravityMap& map, const PlotOptions& options = {
 struct SweepSeries {
   std::string name;
   std::vector<double> values;
+  /// Index into the plot's eight colours; -1 takes the series' position in its panel. Series
+  /// that belong together (one device, several methods) share a colour and differ in dashes.
+  int colour = -1;
+  bool dashed = false;
 };
 
 /// One panel of a sweep plot.
