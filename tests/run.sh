@@ -34,10 +34,13 @@ step "CHAI3D bridge against the stand-in of CHAI3D 3.3's API (CHAI3D is not pack
 cmake -S . -B build/chai3d-mock -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_WARNINGS_AS_ERRORS=ON \
   -DAUTOGRAV_CHAI3D_DIR="$root/plugin/chai3d/test_mock" \
   -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=ON
-cmake --build build/chai3d-mock -j "$jobs" --target chai3d_bridge_test chai3d_devices_test autograv
+cmake --build build/chai3d-mock -j "$jobs" --target chai3d_bridge_test chai3d_devices_test autograv \
+  demo_session_test
 build/chai3d-mock/plugin/chai3d/chai3d_bridge_test
 # chai3d:N device names end to end: the registry, and `autograv wizard --device chai3d:0`.
 build/chai3d-mock/plugin/chai3d/chai3d_devices_test
+# The demo's A key on chai3d:0 gives the map it gives on the simulation behind it.
+build/chai3d-mock/tests/demo_session_test --gtest_filter='*Chai3d*'
 
 step "AddressSanitizer + UndefinedBehaviorSanitizer build of core, sim and their tests"
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \
@@ -57,14 +60,16 @@ cmake --build build/fuzz -j "$jobs" --target autograv_fuzzers
 tests/fuzz/run_fuzzers.sh build/fuzz "$fuzz_seconds"
 
 if [[ -f tests/core/gravity_compensated_device_concurrency_test.cpp ]]; then
-  step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread"
+  step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread, the demo's A key"
   cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-fsanitize=thread \
     -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \
     -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
   cmake --build build/tsan -j "$jobs" --target gravity_compensated_device_concurrency_test \
-    calibration_wizard_test
+    calibration_wizard_test demo_session_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/gravity_compensated_device_concurrency_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/calibration_wizard_test --gtest_filter='*OwnThread*'
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/demo_session_test \
+    --gtest_filter='*ServoThread*:*RealTimeThread*'
 fi
 
 step "all tests passed"

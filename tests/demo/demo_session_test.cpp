@@ -183,9 +183,24 @@ SessionOptions calibrationOptions(const std::string& map_path) {
   return options;
 }
 
-/// The user at the demo: the mouse hand carries the end-effector to the centre and Enter
-/// confirms there; the mouse lets go once the field is on; Enter saves at the review.
-/// `stop_when` ends the run early (true: stop). Returns the last status.
+/// What the user at the demo does on seeing `last`: the mouse hand carries the end-effector to
+/// the centre and Enter confirms there; the mouse lets go once the field is on; Enter saves at
+/// the review.
+void actAsTheUser(DemoSession& session, const WizardStatus& last) {
+  if (last.step == WizardStep::kCentre) {
+    if (!session.snapshot().hand_holding) session.grab();
+    session.setHandTarget(last.centre_m);
+    if (last.within_tolerance) session.postCalibrationEvent(WizardEvent::kConfirm);
+  } else if (last.step == WizardStep::kRelease && session.snapshot().hand_holding &&
+             last.release_status != InitializationEstimator::Status::kRampingIn) {
+    session.release();
+  } else if (last.step == WizardStep::kReview && last.review_valid) {
+    session.postCalibrationEvent(WizardEvent::kConfirm);
+  }
+}
+
+/// The user at the demo (actAsTheUser) on simulated time, a frame every 10 ms. `stop_when` ends
+/// the run early (true: stop); the session's messages go to `messages`. Returns the last status.
 template <typename StopWhen>
 WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when,
                                 std::string* messages = nullptr) {
@@ -194,16 +209,7 @@ WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when,
     if (messages != nullptr) *messages += said;
     const WizardStatus& last = session.lastCalibrationStatus();
     if (!session.calibrationRunning() || stop_when(last)) break;
-    if (last.step == WizardStep::kCentre) {
-      if (!session.snapshot().hand_holding) session.grab();
-      session.setHandTarget(last.centre_m);
-      if (last.within_tolerance) session.postCalibrationEvent(WizardEvent::kConfirm);
-    } else if (last.step == WizardStep::kRelease && session.snapshot().hand_holding &&
-               last.release_status != InitializationEstimator::Status::kRampingIn) {
-      session.release();
-    } else if (last.step == WizardStep::kReview && last.review_valid) {
-      session.postCalibrationEvent(WizardEvent::kConfirm);
-    }
+    actAsTheUser(session, last);
   }
   return session.lastCalibrationStatus();
 }
@@ -421,6 +427,35 @@ TEST(DemoSessionTest, RealTimeThreadTicksAndReportsItsTiming) {
   EXPECT_TRUE(s.realtime);
   EXPECT_EQ(s.timing.ticks, s.ticks);
   EXPECT_GT(s.timing.rate_hz, 0.0);
+}
+
+TEST(DemoSessionTest, CalibrationKeyRunsBesideTheServoThread) {
+  // The A key as in the demo: the servo thread ticks at 1 kHz on the wall clock while the UI
+  // thread moves the wizard on and reads the end-stop watch (ThreadSanitizer runs this too).
+  const ScratchDirectory scratch;
+  SessionOptions options = calibrationOptions(scratch.file("map.json"));
+  options.realtime_priority = false;
+  DemoSession session(options);
+  session.startRealTime();
+  session.startCalibration();
+  WizardStatus last = session.lastCalibrationStatus();
+  for (int frame = 0; frame < 6000 && session.calibrationRunning(); ++frame) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    session.updateCalibration();
+    last = session.lastCalibrationStatus();
+    if (last.step == WizardStep::kAutoCalibration) break;
+    actAsTheUser(session, last);
+  }
+  EXPECT_EQ(last.step, WizardStep::kAutoCalibration) << last.message;
+  EXPECT_FALSE(session.initializationEndStopHit());
+  session.abortCalibration();
+  for (int frame = 0; frame < 6000 && session.calibrationRunning(); ++frame) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    session.updateCalibration();
+  }
+  EXPECT_FALSE(session.calibrationRunning());
+  EXPECT_EQ(session.lastCalibrationStatus().step, WizardStep::kAborted);
+  session.stopRealTime();
 }
 
 }  // namespace
