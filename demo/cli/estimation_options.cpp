@@ -27,7 +27,7 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p,
   command
       .add_option_function<double>(
           "--dither-mn", [&p](double millinewtons) { p.dither_amplitude_n = millinewtons * 1e-3; },
-          "Dither amplitude per axis for --method dither [mN] (default: 6 % of the device's max "
+          "Dither amplitude per axis for --method dither [mN] (default: 9 % of the device's max "
           "force)")
       ->check(CLI::NonNegativeNumber);
   command.add_option("--alpha", p.alpha_per_s, "PD damping alpha, K_D = alpha M [1/s]")

@@ -70,7 +70,7 @@ struct EstimationParameters {
   /// make a steady state (the counterpart of n_S).
   int steady_windows = 2;
 
-  static constexpr double kAutoDitherFraction = 0.06;
+  static constexpr double kAutoDitherFraction = 0.09;
 
   /// The paper's values with the friction-robust dither method, and n_G = 3: every dithered
   /// update is an average over whole periods, so three small updates in a row are as telling as
