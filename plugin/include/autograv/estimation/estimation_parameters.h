@@ -69,6 +69,10 @@ struct EstimationParameters {
   /// Consecutive window pairs whose means agree within eps_S times the window duration that
   /// make a steady state (the counterpart of n_S).
   int steady_windows = 2;
+  /// The same once the last update was under eps_G: the estimate that may end the vertex is read
+  /// over more windows, so the dither's period-to-period scatter averages out, while the first,
+  /// large updates stay quick.
+  int final_steady_windows = 4;
 
   static constexpr double kAutoDitherFraction = 0.09;
 

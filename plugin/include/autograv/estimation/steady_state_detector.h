@@ -39,6 +39,9 @@ class SteadyStateDetector {
   /// eps_S allows (e.g. the displacement that would change eq. 12's update by a fraction of
   /// eps_G). Kept across reset(). Real-time safe. Unit: [m]
   void setWindowTolerance_m(double tolerance_m) noexcept { window_tolerance_m_ = tolerance_m; }
+  /// Consecutive agreeing samples or windows that make a steady state from now on (>= 1; smaller
+  /// values are taken as 1). Kept across reset(). Real-time safe.
+  void setRequired(int required) noexcept { required_ = required < 1 ? 1 : required; }
   /// Feeds one servo sample; returns true once the steady state is reached (and stays true for
   /// further calls until reset). Real-time safe.
   bool update(const Eigen::Vector3d& position_m, const Eigen::Vector3d& velocity_m_per_s) noexcept;

@@ -79,6 +79,8 @@ class VertexEstimator {
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
   void finish(VertexOutcome outcome) noexcept;
   Eigen::Vector3d ditherForce_n() const noexcept;
+  // Samples (paper) or windows (dither) that make the next steady state.
+  int requiredSteadyCount(bool last_update_small) const noexcept;
 
   EstimationParameters parameters_;
   double max_force_n_;

@@ -89,10 +89,8 @@ bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
     const double tolerance_m = std::max(speed_threshold_m_per_s_ * window_s, window_tolerance_m_);
     const bool agrees = has_previous_mean_ && (mean_m - previous_mean_m_).norm() <= tolerance_m;
     if (agrees) {
-      if (run_count_ == 0) {  // the run starts with the window this one agrees with
-        run_sum_m_ = previous_mean_m_;
-        run_count_ = 1;
-      }
+      // The run holds the windows that agreed with their predecessor, not the first of a pair:
+      // that one still carries the transient of the last update.
       run_sum_m_ += mean_m;
       ++run_count_;
       ++consecutive_;

@@ -33,6 +33,7 @@ void validate(const EstimationParameters& p, double max_force_n) {
       problem << "dither amplitude must stay below half the device's max force; ";
     }
     if (p.steady_windows < 1) problem << "steady windows must be at least 1; ";
+    if (p.final_steady_windows < 1) problem << "final steady windows must be at least 1; ";
   }
   if (!problem.str().empty()) throw Error("vertex estimator: " + problem.str());
 }
@@ -85,6 +86,7 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   invalid_samples_ = 0;
   finished_ = false;
   detector_.reset();
+  detector_.setRequired(requiredSteadyCount(false));
   dither_ticks_ = 0;
 }
 
@@ -97,6 +99,11 @@ Eigen::Vector3d VertexEstimator::ditherForce_n() const noexcept {
   const double sine = std::sin(angle_rad);
   const double triple = sine * (3.0 - 4.0 * sine * sine);  // sin(3 angle)
   return dither_amplitude_n_ * Eigen::Vector3d(sine, std::cos(angle_rad), triple);
+}
+
+int VertexEstimator::requiredSteadyCount(bool last_update_small) const noexcept {
+  if (parameters_.method == EstimationMethod::kPaper) return parameters_.n_s;
+  return last_update_small ? parameters_.final_steady_windows : parameters_.steady_windows;
 }
 
 void VertexEstimator::finish(VertexOutcome outcome) noexcept {
@@ -169,10 +176,11 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   setGains(previous_n);
   gravity_n_ = updated_n;
   estimate_.gravity_n = updated_n;
+  const double update_n = (updated_n - previous_n).norm();
   detector_.reset();
+  detector_.setRequired(requiredSteadyCount(update_n <= parameters_.eps_g_n));
   dither_ticks_ = 0;  // the next window starts at phase 0 again
 
-  const double update_n = (updated_n - previous_n).norm();
   small_updates_ = update_n <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
   const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
   const bool stalled = estimate_.iterations > 1 && update_n > stall_floor_n &&

@@ -42,7 +42,8 @@ json parametersDocument(const EstimationParameters& p) {
               {"dither_amplitude_n", p.dither_amplitude_n},
               {"dither_frequency_hz", p.dither_frequency_hz},
               {"dither_periods_per_window", p.dither_periods_per_window},
-              {"steady_windows", p.steady_windows}};
+              {"steady_windows", p.steady_windows},
+              {"final_steady_windows", p.final_steady_windows}};
 }
 
 namespace {
@@ -257,7 +258,7 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
                         "servo_period_s", "lipschitz_prior_n_per_m"},
                        // Optional: maps made before the dither method was the paper's method.
                        {"method", "dither_amplitude_n", "dither_frequency_hz",
-                        "dither_periods_per_window", "steady_windows"});
+                        "dither_periods_per_window", "steady_windows", "final_steady_windows"});
   constexpr int kMaxCount = 1000000;
   EstimationParameters parameters;
   parameters.alpha_per_s = reader.number(value, p, "alpha_per_s", Range::kPositive, "1/s");
@@ -304,6 +305,11 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
   if (value.contains("steady_windows")) {
     parameters.steady_windows = reader.integer(value, p, "steady_windows", 1, kMaxCount);
   }
+  // Maps made before the final windows existed read their steady state like the others.
+  parameters.final_steady_windows =
+      value.contains("final_steady_windows")
+          ? reader.integer(value, p, "final_steady_windows", 1, kMaxCount)
+          : parameters.steady_windows;
   return parameters;
 }
 
