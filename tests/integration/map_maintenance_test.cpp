@@ -1,5 +1,6 @@
 // Re-tare and health check on a simulated Omni, against the simulation's truth: a map made
 // without a payload, then the same device with a 30 g handle, or tilted by 10 degrees.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -123,6 +124,47 @@ TEST_F(MapMaintenanceTest, RetareMeasuresThePayloadAndShiftsTheMapToTheLoadedTru
     EXPECT_TRUE(result.map.vertices()[i].gravity_n.isApprox(
         map_->vertices()[i].gravity_n + result.shift_n, 1e-12));
   }
+}
+
+/// A 5x5x5 calibration of `device` on the default cube (every vertex reachable), as a map.
+GravityMap calibrateCube(sim::SimulatedDevice& device) {
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device.workspaceCenter_m();
+  options.grid_size_m =
+      Eigen::Vector3d::Constant(defaultGridSide_m(device.specifications().workspace_radius_m));
+  options.grid_resolution = Eigen::Vector3i::Constant(5);
+  options.parameters = omniParameters(device);
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(device, options);
+  MapMetadata metadata;
+  metadata.device_model = device.specifications().model_name;
+  metadata.parameters = options.parameters;
+  return GravityMap(
+      WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
+      run.vertices, metadata);
+}
+
+TEST(RetareAgainstFullCalibrationTest, ReTaredMapIsWithinHalfAPercentOfACalibrationWithThePayload) {
+  // The handle change as a user makes it: a 5x5x5 map, a 30 g handle, `retare`; against it, the
+  // whole grid calibrated again with the handle on (typical friction, seed 1).
+  auto device = sim::makeSimulatedDevice("sim:omni", 1);
+  ASSERT_TRUE(device->open());
+  const GravityMap unloaded = calibrateCube(*device);
+  ASSERT_TRUE(unloaded.isComplete());
+  device->setPayload_kg(kPayload_kg);
+  sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  RetareOptions options;
+  options.measurement.parameters = omniParameters(*device);
+  const RetareResult retared = retareMap(*device, ticks, unloaded, options);
+  EXPECT_LT(retared.measurement.seconds, 15.0);
+  const GravityMap full = calibrateCube(*device);
+  ASSERT_TRUE(full.isComplete());
+  double worst_rel = 0.0;
+  for (std::size_t i = 0; i < full.vertices().size(); ++i) {
+    const Eigen::Vector3d& reference_n = full.vertices()[i].gravity_n;
+    worst_rel = std::max(
+        worst_rel, (retared.map.vertices()[i].gravity_n - reference_n).norm() / reference_n.norm());
+  }
+  EXPECT_LT(worst_rel, 0.005);
 }
 
 TEST_F(MapMaintenanceTest, RetareRefusesATiltedDevice) {
