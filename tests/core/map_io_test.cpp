@@ -370,6 +370,8 @@ TEST(MapIoTest, AMapForAnotherModelIsRefusedUnlessAllowed) {
   EXPECT_NE(message.find("field /device/model"), std::string::npos) << message;
   EXPECT_NE(message.find("\"sim:omni\""), std::string::npos) << message;
   EXPECT_NE(message.find("\"sim:omega\""), std::string::npos) << message;
+  // How to allow it, for code as for the command line.
+  EXPECT_NE(message.find("MapLoadOptions::allow_model_mismatch"), std::string::npos) << message;
   options.allow_model_mismatch = true;
   EXPECT_EQ(loadMap(folder.file("omni.json"), options).metadata().device_model, "sim:omni");
   options = MapLoadOptions{};
