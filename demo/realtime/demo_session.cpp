@@ -121,6 +121,9 @@ std::string DemoSession::startCalibration() {
   config.map_path = options_.calibration_map_path;
   config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");
   config.verify_points = options_.calibration_verify_points;
+  // Opened and homed in the constructor, and ticked by the servo thread until the wizard's
+  // servo half takes over: its Check must not open or home it again from this thread.
+  config.device_already_open = true;
   wizards_.push_back(std::make_unique<CalibrationWizard>(device_, config));
   wizard_ui_ = wizards_.back().get();
   wizard_ui_->service();  // Check: the device is open already, so this passes at once

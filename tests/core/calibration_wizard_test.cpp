@@ -311,6 +311,24 @@ TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) 
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
 }
 
+TEST(CalibrationWizardTest, ADeviceTheCallerOpenedIsNeitherReopenedNorHomedNorClosed) {
+  // As in the real-time demo: the application opened and homed the device and its servo thread
+  // still drives it while the wizard's Check runs on another thread.
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path);
+  config.device_already_open = true;
+  auto rig = std::make_unique<Rig>("sim:omega", config);
+  ASSERT_TRUE(rig->device->open());
+  rig->device->setCalibrated(false);  // so that a homing by the wizard would show
+  rig->frame();
+  EXPECT_EQ(rig->wizard->step(), WizardStep::kCentre) << rig->wizard->status().message;
+  EXPECT_FALSE(rig->device->isCalibrated());  // the wizard left the homing to its owner
+  const std::shared_ptr<sim::SimulatedDevice> device = rig->device;
+  rig.reset();
+  Eigen::Vector3d position_m;
+  EXPECT_TRUE(device->getPosition(position_m));  // still open: the caller's to close
+}
+
 TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path, 4, 0.05);

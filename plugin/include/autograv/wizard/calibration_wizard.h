@@ -73,6 +73,11 @@ struct WizardConfig {
   std::string map_path;
   /// Continue from the checkpoint: its finished vertices are kept bit for bit.
   bool resume = false;
+  /// The caller opened and homed the device and may still be driving it from its servo thread
+  /// until the wizard's servo half takes over: the Check step then neither opens nor homes it
+  /// again (that would touch the driver from the service thread while the servo thread uses
+  /// it), it only reads the specifications.
+  bool device_already_open = false;
   /// Centre is confirmed only this close to grid_center_m. Unit: [m]
   double centre_tolerance_m = 0.01;
   /// Fade-in time of the k0 field. Unit: [s]

@@ -86,7 +86,9 @@ void CalibrationWizard::runCheck(bool retry) {
   check_prompt_.clear();
   check_issue_ = CheckIssue::kNone;
   try {
-    if (!opened_) {
+    // opened_: the wizard opened the device, so it closes it too; one the caller opened stays
+    // the caller's.
+    if (!opened_ && !config_.device_already_open) {
       if (!device_->open()) {
         check_message_ =
             "The device did not open. Is it plugged in, switched on and not in use by another "
@@ -97,7 +99,7 @@ void CalibrationWizard::runCheck(bool retry) {
       }
       opened_ = true;
     }
-    if (!device_->calibrate(force_calibrate_)) {
+    if (!config_.device_already_open && !device_->calibrate(force_calibrate_)) {
       force_calibrate_ = true;  // the retry runs the device's own homing
       check_message_ =
           "The device reports itself uncalibrated: its encoders are not homed, so every position "
