@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <utility>
 
 #include <Eigen/Core>
@@ -47,9 +48,12 @@ class ForwardingDevice : public HapticDevice {
   const DeviceSpecifications& specifications() const override { return inner_->specifications(); }
 
  protected:
-  /// Throws autograv::Error for a null device. Not real-time safe.
-  explicit ForwardingDevice(std::shared_ptr<HapticDevice> inner) : inner_(std::move(inner)) {
-    if (!inner_) throw Error("ForwardingDevice: the inner device is null");
+  /// Throws autograv::Error for a null device; the message names `decorator_name`.
+  /// Not real-time safe.
+  explicit ForwardingDevice(std::shared_ptr<HapticDevice> inner,
+                            const char* decorator_name = "ForwardingDevice")
+      : inner_(std::move(inner)) {
+    if (!inner_) throw Error(std::string(decorator_name) + ": the inner device is null");
   }
   ForwardingDevice(const ForwardingDevice&) = delete;
   ForwardingDevice& operator=(const ForwardingDevice&) = delete;
