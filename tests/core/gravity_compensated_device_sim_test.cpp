@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/device/forwarding_device.h"
 #include "autograv/device/gravity_compensated_device.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_driver.h"
@@ -166,31 +167,15 @@ TEST(GravityCompensatedDeviceSimTest, DriverFaultsSendZeroForce) {
 
 /// Forwards to a simulated device and keeps the force last commanded: what the decorator sent,
 /// before the simulated actuators' delay, quantization and saturation.
-class CommandRecorder final : public HapticDevice {
+class CommandRecorder final : public ForwardingDevice {
  public:
   explicit CommandRecorder(std::shared_ptr<sim::SimulatedDevice> device)
-      : device_(std::move(device)) {}
-  bool open() override { return device_->open(); }
-  bool close() override { return device_->close(); }
-  bool calibrate(bool force) override { return device_->calibrate(force); }
-  bool getPosition(Eigen::Vector3d& position_m) override {
-    return device_->getPosition(position_m);
-  }
-  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override {
-    return device_->getLinearVelocity(velocity_m_per_s);
-  }
-  bool getUserSwitch(int index, bool& pressed) override {
-    return device_->getUserSwitch(index, pressed);
-  }
+      : ForwardingDevice(std::move(device)) {}
   bool setForce(const Eigen::Vector3d& force_n) override {
     last_force_n = force_n;
-    return device_->setForce(force_n);
+    return ForwardingDevice::setForce(force_n);
   }
-  const DeviceSpecifications& specifications() const override { return device_->specifications(); }
   Eigen::Vector3d last_force_n = Eigen::Vector3d::Constant(NAN);
-
- private:
-  std::shared_ptr<sim::SimulatedDevice> device_;
 };
 
 class SimulatedDeviceTest : public ::testing::TestWithParam<std::string> {

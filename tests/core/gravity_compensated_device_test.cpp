@@ -17,6 +17,7 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "forwarding_checks.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -64,68 +65,37 @@ struct Fixture {
 
 TEST(GravityCompensatedDeviceTest, ForwardsOpen) {
   Fixture f;
-  EXPECT_TRUE(f.device.open());
-  f.fake->open_result = false;
-  EXPECT_FALSE(f.device.open());
-  EXPECT_EQ(f.fake->open_calls, 2);
+  testing::expectForwardsOpen(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsClose) {
   Fixture f;
-  EXPECT_TRUE(f.device.close());
-  f.fake->close_result = false;
-  EXPECT_FALSE(f.device.close());
-  EXPECT_EQ(f.fake->close_calls, 2);
+  testing::expectForwardsClose(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsCalibrateAndItsFlag) {
   Fixture f;
-  EXPECT_TRUE(f.device.calibrate(true));
-  EXPECT_TRUE(f.fake->last_calibrate_force);
-  f.fake->calibrate_result = false;
-  EXPECT_FALSE(f.device.calibrate());
-  EXPECT_FALSE(f.fake->last_calibrate_force);  // the default argument is false, as in CHAI3D
-  EXPECT_EQ(f.fake->calibrate_calls, 2);
+  testing::expectForwardsCalibrateAndItsFlag(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsGetPosition) {
   Fixture f;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  EXPECT_TRUE(f.device.getPosition(position));
-  EXPECT_EQ(position, f.fake->position);
-  f.fake->position_result = false;
-  EXPECT_FALSE(f.device.getPosition(position));
-  EXPECT_EQ(f.fake->get_position_calls, 2u);
+  testing::expectForwardsGetPosition(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsGetLinearVelocity) {
   Fixture f;
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  EXPECT_TRUE(f.device.getLinearVelocity(velocity));
-  EXPECT_EQ(velocity, f.fake->velocity);
-  f.fake->velocity_result = false;
-  EXPECT_FALSE(f.device.getLinearVelocity(velocity));
-  EXPECT_EQ(f.fake->get_velocity_calls, 2u);
+  testing::expectForwardsGetLinearVelocity(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsGetUserSwitch) {
   Fixture f;
-  bool pressed = false;
-  EXPECT_TRUE(f.device.getUserSwitch(3, pressed));
-  EXPECT_TRUE(pressed);
-  EXPECT_EQ(f.fake->last_switch_index, 3);
-  f.fake->switch_result = false;
-  f.fake->switch_pressed = false;
-  EXPECT_FALSE(f.device.getUserSwitch(1, pressed));
-  EXPECT_FALSE(pressed);
-  EXPECT_EQ(f.fake->last_switch_index, 1);
+  testing::expectForwardsGetUserSwitch(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsSpecifications) {
   Fixture f;
-  EXPECT_EQ(&f.device.specifications(), &f.fake->specs);
-  f.fake->specs.model_name = "renamed";
-  EXPECT_EQ(f.device.specifications().model_name, "renamed");
+  testing::expectForwardsSpecifications(f.device, *f.fake);
 }
 
 TEST(GravityCompensatedDeviceTest, ForwardsSetForceUnchangedWithoutAMap) {

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "../../demo/cli/wizard_auto_hand.h"
+#include "autograv/device/forwarding_device.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
@@ -184,29 +185,18 @@ TEST(DeviceFaultTest, ALongNanBurstIsADeviceFaultThatKeepsTheFinishedVertices) {
 
 /// Forwards to a simulated device, except that every setForce fails once refuse() was called: a
 /// driver whose force writes fail (a USB link that drops output reports).
-class RefusingForces final : public HapticDevice {
+class RefusingForces final : public ForwardingDevice {
  public:
-  explicit RefusingForces(std::shared_ptr<sim::SimulatedDevice> inner) : inner_(std::move(inner)) {}
+  explicit RefusingForces(std::shared_ptr<sim::SimulatedDevice> inner)
+      : ForwardingDevice(std::move(inner)) {}
   void refuse() { refusing_ = true; }
-  bool open() override { return inner_->open(); }
-  bool close() override { return inner_->close(); }
-  bool calibrate(bool force) override { return inner_->calibrate(force); }
-  bool getPosition(Eigen::Vector3d& position_m) override { return inner_->getPosition(position_m); }
-  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override {
-    return inner_->getLinearVelocity(velocity_m_per_s);
-  }
-  bool getUserSwitch(int index, bool& pressed) override {
-    return inner_->getUserSwitch(index, pressed);
-  }
   bool setForce(const Eigen::Vector3d& force_n) override {
     // A refused write leaves the actuators as a driver that lost the link does: unpowered.
-    return !refusing_ ? inner_->setForce(force_n)
-                      : (inner_->setForce(Eigen::Vector3d::Zero()), false);
+    return !refusing_ ? ForwardingDevice::setForce(force_n)
+                      : (ForwardingDevice::setForce(Eigen::Vector3d::Zero()), false);
   }
-  const DeviceSpecifications& specifications() const override { return inner_->specifications(); }
 
  private:
-  std::shared_ptr<sim::SimulatedDevice> inner_;
   bool refusing_ = false;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "autograv/device/forwarding_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
@@ -29,29 +30,17 @@ constexpr double kProbeOutsideGrid_m = 0.003;
 
 /// Remembers the largest force that went to the device: the check "never above the device's
 /// maximum" is made on what was sent, not on what the decorator meant to send.
-class ForceMeter final : public HapticDevice {
+class ForceMeter final : public ForwardingDevice {
  public:
-  explicit ForceMeter(std::shared_ptr<HapticDevice> inner) : inner_(std::move(inner)) {}
-  bool open() override { return inner_->open(); }
-  bool close() override { return inner_->close(); }
-  bool calibrate(bool force) override { return inner_->calibrate(force); }
-  bool getPosition(Eigen::Vector3d& position_m) override { return inner_->getPosition(position_m); }
-  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override {
-    return inner_->getLinearVelocity(velocity_m_per_s);
-  }
-  bool getUserSwitch(int index, bool& pressed) override {
-    return inner_->getUserSwitch(index, pressed);
-  }
+  explicit ForceMeter(std::shared_ptr<HapticDevice> inner) : ForwardingDevice(std::move(inner)) {}
   bool setForce(const Eigen::Vector3d& force_n) override {
     max_force_n_ = std::max(max_force_n_, force_n.norm());
-    return inner_->setForce(force_n);
+    return ForwardingDevice::setForce(force_n);
   }
-  const DeviceSpecifications& specifications() const override { return inner_->specifications(); }
   /// Unit: [N]
   double maxForce_n() const { return max_force_n_; }
 
  private:
-  std::shared_ptr<HapticDevice> inner_;
   double max_force_n_ = 0.0;
 };
 

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/forwarding_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/map/gravity_map.h"
@@ -127,7 +128,7 @@ struct CompensationOptions {
 /// sequence number it took. Maps published before the acknowledged one are released by publishMap
 /// or reclaimRetiredMaps on the publishing thread; the servo thread never frees, locks or
 /// allocates.
-class GravityCompensatedDevice final : public HapticDevice {
+class GravityCompensatedDevice final : public ForwardingDevice {
  public:
   /// Throws autograv::Error for a null device or unusable options. No compensation until a map
   /// is published (after open(), since maps are checked against the device's model name).
@@ -140,27 +141,22 @@ class GravityCompensatedDevice final : public HapticDevice {
   GravityCompensatedDevice& operator=(const GravityCompensatedDevice&) = delete;
 
   // --- HapticDevice ---------------------------------------------------------------------------
+  // calibrate, getLinearVelocity, getUserSwitch and specifications are ForwardingDevice's: passed
+  // to the inner device unchanged, real-time safe when the inner device's are.
+
   /// Forwards; compensation will ramp in from zero. Not real-time safe.
   bool open() override;
   /// Forwards (the inner device sends zero force); compensation restarts from zero on the next
   /// tick. Not real-time safe.
   bool close() override;
-  /// Forwards. Not real-time safe.
-  bool calibrate(bool force = false) override;
   /// Forwards, and on the servo thread remembers the reading for the next setForce.
   /// Real-time safe when the inner device's is.
   bool getPosition(Eigen::Vector3d& position_m) override;
-  /// Forwards. Real-time safe when the inner device's is.
-  bool getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) override;
-  /// Forwards. Real-time safe when the inner device's is.
-  bool getUserSwitch(int index, bool& pressed) override;
   /// Sends force_n + G_hat(X), clamped to max_linear_force_n keeping its direction; zero on a
   /// fault (see the class comment). One call is one servo tick. Returns false on a fault.
   /// Real-time safe: no allocation, no lock, no throw (when the inner device's calls are).
   /// Unit: [N]
   bool setForce(const Eigen::Vector3d& force_n) override;
-  /// The inner device's specifications. Real-time safe.
-  const DeviceSpecifications& specifications() const override;
 
   // --- Maps -----------------------------------------------------------------------------------
   /// Makes `map` the map of the running servo loop (null removes compensation, fading out).
@@ -209,7 +205,7 @@ class GravityCompensatedDevice final : public HapticDevice {
 
   const CompensationOptions& options() const noexcept { return options_; }
   /// The wrapped device. Not real-time safe to use from a thread other than the servo thread.
-  HapticDevice& innerDevice() noexcept { return *inner_; }
+  HapticDevice& innerDevice() noexcept { return inner(); }
 
  private:
   struct RetainedMap {
@@ -231,7 +227,6 @@ class GravityCompensatedDevice final : public HapticDevice {
   void resetServoState() noexcept;
   std::size_t reclaimLocked();
 
-  std::shared_ptr<HapticDevice> inner_;
   CompensationOptions options_;
   std::shared_ptr<ServoClock> clock_;
 

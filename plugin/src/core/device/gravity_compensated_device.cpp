@@ -50,13 +50,12 @@ const char* toString(ServoFault fault) noexcept {
 
 GravityCompensatedDevice::GravityCompensatedDevice(std::shared_ptr<HapticDevice> inner,
                                                    const CompensationOptions& options)
-    : inner_(std::move(inner)),
+    : ForwardingDevice(std::move(inner), "GravityCompensatedDevice"),
       options_(options),
       clock_(options.clock ? options.clock : std::make_shared<SteadyServoClock>()),
       resolution_m_(kUnknownResolution_m),
       enabled_(options.enabled),
       resolution_status_m_(kUnknownResolution_m) {
-  if (!inner_) throw Error("GravityCompensatedDevice: the inner device is null");
   const auto check = [](bool ok, const char* field, double value, const char* expected) {
     if (ok) return;
     std::ostringstream message;
@@ -87,21 +86,19 @@ GravityCompensatedDevice::~GravityCompensatedDevice() = default;
 // --- Forwarded methods ------------------------------------------------------------------------
 
 bool GravityCompensatedDevice::open() {
-  const bool ok = inner_->open();
+  const bool ok = inner().open();
   resetServoState();
   return ok;
 }
 
 bool GravityCompensatedDevice::close() {
-  const bool ok = inner_->close();
+  const bool ok = inner().close();
   resetServoState();
   return ok;
 }
 
-bool GravityCompensatedDevice::calibrate(bool force) { return inner_->calibrate(force); }
-
 bool GravityCompensatedDevice::getPosition(Eigen::Vector3d& position_m) {
-  const bool ok = inner_->getPosition(position_m);
+  const bool ok = inner().getPosition(position_m);
   // Only the servo thread's reading may stand for "the latest position" in setForce: a graphics
   // thread reading the device must neither race with it nor feed it an older sample.
   if (servo_thread_.load(std::memory_order_relaxed) == currentThreadToken()) {
@@ -110,18 +107,6 @@ bool GravityCompensatedDevice::getPosition(Eigen::Vector3d& position_m) {
     cached_fresh_ = true;
   }
   return ok;
-}
-
-bool GravityCompensatedDevice::getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) {
-  return inner_->getLinearVelocity(velocity_m_per_s);
-}
-
-bool GravityCompensatedDevice::getUserSwitch(int index, bool& pressed) {
-  return inner_->getUserSwitch(index, pressed);
-}
-
-const DeviceSpecifications& GravityCompensatedDevice::specifications() const {
-  return inner_->specifications();
 }
 
 // --- Servo path -------------------------------------------------------------------------------
@@ -145,14 +130,14 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
     position_m = cached_position_m_;
     read_ok = cached_ok_;
   } else {
-    read_ok = inner_->getPosition(position_m);
+    read_ok = inner().getPosition(position_m);
   }
   cached_fresh_ = false;
 
   if (!read_ok) return fault(ServoFault::kReadFailed);
   if (!position_m.allFinite()) return fault(ServoFault::kNonFinitePosition);
   if (!force_n.allFinite()) return fault(ServoFault::kNonFiniteForce);
-  const double max_force_n = inner_->specifications().max_linear_force_n;
+  const double max_force_n = inner().specifications().max_linear_force_n;
   if (!(std::isfinite(max_force_n) && max_force_n > 0.0)) return fault(ServoFault::kNoForceLimit);
   learnResolution(position_m);
 
@@ -193,7 +178,7 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   }
   if (frozen(position_m, commanded_n - gravity_n, dt_s)) return fault(ServoFault::kStalePosition);
   if (clamped) increment(clamp_count_);
-  if (!inner_->setForce(commanded_n)) {
+  if (!inner().setForce(commanded_n)) {
     // The force did not reach the actuators: whatever they do now, restart the ramp so that the
     // compensation does not arrive as a step when writes work again.
     level_.store(0.0, std::memory_order_relaxed);
@@ -315,7 +300,7 @@ bool GravityCompensatedDevice::frozen(const Eigen::Vector3d& position_m,
 }
 
 bool GravityCompensatedDevice::fault(ServoFault kind) noexcept {
-  inner_->setForce(Eigen::Vector3d::Zero());
+  inner().setForce(Eigen::Vector3d::Zero());
   level_.store(0.0, std::memory_order_relaxed);
   // A frozen driver stays caught while its readings stay frozen; any other fault restarts the
   // tracking, since the readings in between were not usable.
@@ -345,7 +330,7 @@ void GravityCompensatedDevice::resetServoState() noexcept {
 void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
                                           bool allow_model_mismatch) {
   if (map && !allow_model_mismatch) {
-    const std::string& device_model = inner_->specifications().model_name;
+    const std::string& device_model = inner().specifications().model_name;
     const std::string& map_model = map->metadata().device_model;
     if (device_model.empty()) {
       throw Error(
