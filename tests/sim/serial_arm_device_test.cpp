@@ -7,17 +7,16 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
-#include "allocation_counter.h"
 #include "autograv/error.h"
-#include "scripted_run.h"
+#include "joint_space_checks.h"
 
 namespace autograv::sim {
 namespace {
 
 constexpr double kServo_s = 0.001;
 
-SerialArmDevice makeOpenOmni(std::uint64_t seed = 7) {
-  SerialArmDevice device(omniParameters(), seed);
+SerialArmDevice makeOpenOmni() {
+  SerialArmDevice device(omniParameters(), 7);
   EXPECT_TRUE(device.open());
   EXPECT_TRUE(device.calibrate());
   return device;
@@ -87,33 +86,14 @@ TEST(SerialArmDeviceTest, JacobianIsTheDerivativeOfForwardKinematics) {
 
 TEST(SerialArmDeviceTest, GravityTorqueIsTheDerivativeOfThePotential) {
   const SerialArmDevice device(omniParameters(), 1);
-  const Eigen::Vector3d q(0.3, 0.7, -0.2);
-  for (int j = 0; j < 3; ++j) {
-    const Eigen::Vector3d step = 1e-6 * Eigen::Vector3d::Unit(j);
-    const double numeric =
-        (device.potentialEnergy_j(q + step) - device.potentialEnergy_j(q - step)) / 2e-6;
-    EXPECT_NEAR(numeric, device.gravityTorque(q)[j], 1e-9);
-  }
+  testing::expectGravityTorqueIsTheDerivativeOfThePotential(device,
+                                                            Eigen::Vector3d(0.3, 0.7, -0.2));
 }
 
 // The brief's check: J^-T g(q) is the Cartesian gradient of the potential energy.
 TEST(SerialArmDeviceTest, CartesianGravityMatchesFiniteDifferenceOfPotentialEnergy) {
   const SerialArmDevice device(omniParameters(), 1);
-  auto energyAt = [&](const Eigen::Vector3d& x) {
-    Eigen::Vector3d q;
-    EXPECT_TRUE(device.inverseKinematics(x, q));
-    return device.potentialEnergy_j(q);
-  };
-  const double h = 1e-6;
-  for (const auto& x : workspacePoints(0.09)) {
-    Eigen::Vector3d numeric;
-    for (int axis = 0; axis < 3; ++axis) {
-      const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(axis);
-      numeric[axis] = (energyAt(x + step) - energyAt(x - step)) / (2 * h);
-    }
-    const Eigen::Vector3d gravity = device.trueGravity(x);
-    EXPECT_LT((numeric - gravity).norm(), 1e-6 * gravity.norm() + 1e-8) << x.transpose();
-  }
+  testing::expectCartesianGravityIsTheGradientOfThePotential(device, workspacePoints(0.09));
 }
 
 TEST(SerialArmDeviceTest, GravityAndMassLookLikeAnOmni) {
@@ -145,7 +125,7 @@ TEST(SerialArmDeviceTest, GravityAndMassLookLikeAnOmni) {
 }
 
 // Largest energy error relative to the largest kinetic energy over 0.5 s of fast, frictionless
-// swinging at the given internal rate.
+// swinging at the given internal rate (yaw and pitch together, so the Coriolis terms matter).
 double relativeEnergyError(double internal_rate_hz) {
   SerialArmParameters parameters = omniParameters();
   parameters.friction = LuGreParameters{};  // no friction at all
@@ -153,30 +133,8 @@ double relativeEnergyError(double internal_rate_hz) {
   parameters.driver.internal_rate_hz = internal_rate_hz;
   SerialArmDevice device(parameters, 1);
   EXPECT_TRUE(device.open());
-  // A loose undamped spring to a fixed point keeps the arm swinging fast through the workspace
-  // (yaw and pitch together, so the Coriolis terms matter); total energy must stay put.
-  const Eigen::Vector3d anchor(0.01, 0.01, 0.0);
-  device.resetState(Eigen::Vector3d(-0.02, -0.02, 0.02));
-  device.hand().stiffness_n_per_m = 60.0;
-  device.hand().damping_n_s_per_m = 0.0;
-  device.hand().grab(anchor);
-  auto energy = [&] {
-    const Eigen::Vector3d x = device.truePosition_m();
-    return device.kineticEnergy_j(device.jointAngles_rad(), device.jointVelocities_rad_per_s()) +
-           device.potentialEnergy_j(device.jointAngles_rad()) +
-           0.5 * 60.0 * (x - anchor).squaredNorm();
-  };
-  const double start = energy();
-  double max_kinetic = 0.0, worst = 0.0;
-  for (int ms = 0; ms < 500; ++ms) {
-    device.advance(kServo_s);
-    max_kinetic = std::max(max_kinetic, device.kineticEnergy_j(device.jointAngles_rad(),
-                                                               device.jointVelocities_rad_per_s()));
-    worst = std::max(worst, std::abs(energy() - start));
-  }
-  EXPECT_FALSE(device.endStopHit());
-  EXPECT_GT(max_kinetic, 0.05);  // J: the tip reaches about 1.7 m/s
-  return worst / max_kinetic;
+  return testing::relativeSwingEnergyError(device, Eigen::Vector3d(-0.02, -0.02, 0.02),
+                                           Eigen::Vector3d(0.01, 0.01, 0.0), 60.0);
 }
 
 TEST(SerialArmDeviceTest, MotionConservesEnergyWithoutFriction) {
@@ -210,29 +168,6 @@ TEST(SerialArmDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
   EXPECT_GT(measured.normalized().dot(frictionless.normalized()), 0.97);
 }
 
-TEST(SerialArmDeviceTest, CommandingTheTrueGravityHoldsItStill) {
-  SerialArmDevice device = makeOpenOmni();
-  const Eigen::Vector3d start(0.031, -0.022, -0.04);
-  device.resetState(start);
-  // The force reaches the actuators one servo period after setForce: command it first.
-  ASSERT_TRUE(device.setForce(device.trueGravity(start)));
-  device.advance(kServo_s);
-  device.resetState(start);
-  Eigen::Vector3d first;
-  ASSERT_TRUE(device.getPosition(first));
-  double max_reading_change = 0.0;
-  for (int ms = 0; ms < 1000; ++ms) {
-    Eigen::Vector3d measured;
-    ASSERT_TRUE(device.getPosition(measured));
-    ASSERT_TRUE(device.setForce(device.trueGravity(measured)));
-    device.advance(kServo_s);
-    max_reading_change = std::max(max_reading_change, (measured - first).norm());
-  }
-  // One encoder count at the tip is about 0.055 mm.
-  EXPECT_LT((device.truePosition_m() - start).norm(), 0.055e-3);
-  EXPECT_LT(max_reading_change, 2 * 0.055e-3);
-}
-
 TEST(SerialArmDeviceTest, SaturationClampsTheMagnitudeAndCounts) {
   SerialArmDevice device = makeOpenOmni();
   ASSERT_TRUE(device.setForce(Eigen::Vector3d(0.0, 3.0, 0.0)));
@@ -244,32 +179,6 @@ TEST(SerialArmDeviceTest, SaturationClampsTheMagnitudeAndCounts) {
   EXPECT_NEAR(device.appliedForce_n().norm(), 3.3, 0.01);
   EXPECT_TRUE(device.appliedForce_n().normalized().isApprox(large.normalized(), 1e-3));
   EXPECT_EQ(device.saturationCount(), 1u);
-}
-
-std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
-  auto device = makeOpenOmni(seed);
-  return testing::scriptedTrajectory(device, {60.0, 0.5, 0.5});
-}
-
-TEST(SerialArmDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
-  testing::expectSameSeedSameBitsOtherSeedDiffers(runScript(5), runScript(5), runScript(6));
-}
-
-TEST(SerialArmDeviceTest, ServoPathAllocatesNothing) {
-  SerialArmDevice device = makeOpenOmni();
-  device.hand().grab(device.truePosition_m());
-  device.hand().moveTo(Eigen::Vector3d(0.02, -0.02, 0.01), 0.05);
-  Eigen::Vector3d x, v;
-  bool pressed = false;
-  testing::AllocationCounter counter;
-  for (int ms = 0; ms < 2000; ++ms) {
-    device.getPosition(x);
-    device.getLinearVelocity(v);
-    device.getUserSwitch(0, pressed);
-    device.setForce(Eigen::Vector3d(0.0, 0.0, 0.5) - 0.5 * v);
-    device.advance(kServo_s);
-  }
-  EXPECT_EQ(counter.count(), 0u);
 }
 
 TEST(SerialArmDeviceTest, VelocityIsZeroAtRestAndTracksConstantVelocity) {
@@ -298,33 +207,9 @@ TEST(SerialArmDeviceTest, VelocityIsZeroAtRestAndTracksConstantVelocity) {
   EXPECT_LT(worst, 0.005);  // m/s: 10 %; one tip count over the 15 ms window is 3.7 mm/s
 }
 
-TEST(SerialArmDeviceTest, ReleasedWithZeroForceFallsOntoTheEndStop) {
-  SerialArmDevice device = makeOpenOmni();
-  device.setForce(Eigen::Vector3d::Zero());
-  device.advance(2.0);
-  EXPECT_TRUE(device.endStopHit());
-  const double distance = device.truePosition_m().norm();
-  EXPECT_GT(distance, 0.099);
-  EXPECT_LT(distance, 0.1 + 0.002);
-  EXPECT_LT(device.truePosition_m().z(), -0.05);
-}
-
-TEST(SerialArmDeviceTest, ResetStateRejectsUnreachablePositions) {
-  SerialArmDevice device(omniParameters(), 1);
-  EXPECT_THROW(device.resetState(Eigen::Vector3d(0.0, 0.0, 0.3)), Error);
-  EXPECT_THROW(device.trueGravity(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
-  device.resetState(Eigen::Vector3d(0.05, 0.05, 0.05));
-  EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.05, 0.05, 0.05)).norm(), 1e-12);
-}
-
-TEST(SerialArmDeviceTest, SpecificationsDescribeAnOmni) {
+TEST(SerialArmDeviceTest, TrueGravityRefusesPointsOutOfReach) {
   const SerialArmDevice device(omniParameters(), 1);
-  const auto& spec = device.specifications();
-  EXPECT_EQ(spec.model_name, "sim:omni");
-  EXPECT_FALSE(spec.manufacturer.empty());
-  EXPECT_EQ(spec.max_linear_force_n, 3.3);
-  EXPECT_EQ(spec.workspace_radius_m, 0.10);
-  EXPECT_NO_THROW(validateSpecifications(spec));
+  EXPECT_THROW(device.trueGravity(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
 }
 
 TEST(SerialArmDeviceTest, BadParametersAreRefused) {
