@@ -8,6 +8,7 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "parameter_checks.h"
 
 namespace autograv::sim {
 
@@ -16,18 +17,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 // Damping of the elbow joint stop, so that a hit does not ring. Unit: [N m s/rad]
 constexpr double kElbowStopDamping = 0.02;
-
-void requirePositive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and > 0");
-  }
-}
-
-void requireNonNegative(double value, const char* name) {
-  if (!std::isfinite(value) || value < 0.0) {
-    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and >= 0");
-  }
-}
 
 }  // namespace
 
@@ -78,38 +67,32 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
       parameters_(parameters),
       q_rad_(parameters.home_joint_angles_rad) {
   const auto& p = parameters;
-  requirePositive(p.upper_arm_length_m, "upper_arm_length_m");
-  requirePositive(p.forearm_length_m, "forearm_length_m");
-  requireNonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
-  requireNonNegative(p.forearm_mass_kg, "forearm_mass_kg");
-  requirePositive(p.tip_mass_kg, "tip_mass_kg");
-  requireNonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
-  requireNonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
-  requireNonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
-  requireNonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
-  requirePositive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
-  if (!std::isfinite(p.upper_arm_com_m) || !std::isfinite(p.forearm_com_m)) {
-    throw Error("sim serial-arm device: upper_arm_com_m and forearm_com_m must be finite");
-  }
-  for (int j = 0; j < 3; ++j) {
-    requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
-    requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
-    requireNonNegative(p.cogging_amplitude_n_m[j], "cogging_amplitude_n_m");
-    requireNonNegative(p.cogging_cycles_per_rev[j], "cogging_cycles_per_rev");
-  }
-  if (!p.cogging_phase_rad.allFinite()) {
-    throw Error("sim serial-arm device: cogging_phase_rad must be finite");
-  }
-  friction_ = LuGreFriction(p.friction);  // validates
+  const ParameterChecks check("sim serial-arm device");
+  check.positive(p.upper_arm_length_m, "upper_arm_length_m");
+  check.positive(p.forearm_length_m, "forearm_length_m");
+  check.nonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
+  check.nonNegative(p.forearm_mass_kg, "forearm_mass_kg");
+  check.positive(p.tip_mass_kg, "tip_mass_kg");
+  check.nonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
+  check.nonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
+  check.nonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
+  check.nonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
+  check.positive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
+  check.finite(p.upper_arm_com_m, "upper_arm_com_m");
+  check.finite(p.forearm_com_m, "forearm_com_m");
+  check.nonNegative(p.rotor_inertia_kg_m2, "rotor_inertia_kg_m2");
+  check.positive(p.joint_counts_per_rev, "joint_counts_per_rev");
+  check.cogging(p.cogging_amplitude_n_m, "cogging_amplitude_n_m", p.cogging_phase_rad);
+  check.nonNegative(p.cogging_cycles_per_rev, "cogging_cycles_per_rev");
+  check.friction(p.friction);
+  friction_ = LuGreFriction(p.friction);
   cogging_ = CoggingRipple(p.cogging_amplitude_n_m);
-  if (!p.home_joint_angles_rad.allFinite()) {
-    throw Error("sim serial-arm device: home_joint_angles_rad must be finite");
-  }
-  requirePositive(p.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
-  requireNonNegative(p.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
-  requirePositive(p.elbow_stop_stiffness_n_m_per_rad, "elbow_stop_stiffness_n_m_per_rad");
+  check.finite(p.home_joint_angles_rad, "home_joint_angles_rad");
+  check.positive(p.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
+  check.nonNegative(p.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
+  check.positive(p.elbow_stop_stiffness_n_m_per_rad, "elbow_stop_stiffness_n_m_per_rad");
   if (!(p.max_elbow_offset_rad > 0.0 && p.max_elbow_offset_rad < 0.5 * kTwoPi / 2.0)) {
-    throw Error("sim serial-arm device: max_elbow_offset_rad must be in (0, pi/2)");
+    check.fail("max_elbow_offset_rad must be in (0, pi/2)");
   }
   counts_per_rad_ = p.joint_counts_per_rev / kTwoPi;
   // Constant parts of the dynamics, folded once so the 10 kHz step does not redo them.
@@ -136,9 +119,9 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
   home_tip_m_ = tipInShoulderFrame(trig(p.home_joint_angles_rad));
   const double home_offset = std::abs(p.home_joint_angles_rad[2] - p.home_joint_angles_rad[1]);
   if (home_offset >= p.max_elbow_offset_rad || home_tip_m_.head<2>().norm() <= 0.0) {
-    throw Error(
-        "sim serial-arm device: home_joint_angles_rad must put the tip in front of the yaw axis "
-        "with |q3 - q2| below max_elbow_offset_rad");
+    check.fail(
+        "home_joint_angles_rad must put the tip in front of the yaw axis with |q3 - q2| below "
+        "max_elbow_offset_rad");
   }
   // The whole workspace sphere (end stops included) must be reachable, away from singularities.
   const double reach_m = p.specifications.workspace_radius_m * 1.05;
@@ -151,11 +134,10 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
         const Eigen::Vector3d point = reach_m * direction.normalized();
         if (!inverseKinematics(point, q) || std::abs(q[2] - q[1]) >= p.max_elbow_offset_rad ||
             tipInShoulderFrame(trig(q)).head<2>().norm() < 0.01) {
-          throw Error(
-              "sim serial-arm device: the workspace sphere (radius " +
-              std::to_string(p.specifications.workspace_radius_m * 1000.0) +
-              " mm around the home pose) leaves the arm's reach; move home_joint_angles_rad "
-              "or shrink workspace_radius_m");
+          check.fail("the workspace sphere (radius " +
+                     std::to_string(p.specifications.workspace_radius_m * 1000.0) +
+                     " mm around the home pose) leaves the arm's reach; move home_joint_angles_rad "
+                     "or shrink workspace_radius_m");
         }
       }
     }

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <string>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "autograv/sim/friction.h"
+
+namespace autograv::sim {
+
+/// The checks a simulated device runs on its parameters at construction. Every failure throws
+/// autograv::Error naming the device and the parameter, e.g. "sim delta device: grip_mass_kg must
+/// be finite and > 0". Not real-time safe.
+class ParameterChecks {
+ public:
+  /// `device` starts every message, e.g. "sim delta device".
+  explicit ParameterChecks(std::string device) : device_(std::move(device)) {}
+
+  /// Finite and > 0; a vector on every component.
+  void positive(double value, const char* name) const;
+  void positive(const Eigen::Vector3d& values, const char* name) const;
+  /// Finite and >= 0; a vector on every component.
+  void nonNegative(double value, const char* name) const;
+  void nonNegative(const Eigen::Vector3d& values, const char* name) const;
+  /// Every component finite.
+  void finite(double value, const char* name) const;
+  void finite(const Eigen::Vector3d& values, const char* name) const;
+  void finite(const Eigen::Matrix3d& values, const char* name) const;
+  /// LuGre friction of the joints or axes (LuGreParameters::validate under the device's name).
+  void friction(const LuGreParameters& friction) const;
+  /// Cogging of the three motors: amplitudes finite and >= 0, phases finite.
+  void cogging(const Eigen::Vector3d& amplitude, const char* amplitude_name,
+               const Eigen::Vector3d& phase_rad) const;
+  /// Throws autograv::Error "<device>: <what>", for the checks particular to one device.
+  [[noreturn]] void fail(const std::string& what) const;
+
+ private:
+  std::string device_;
+};
+
+}  // namespace autograv::sim
