@@ -12,6 +12,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -49,8 +50,7 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   // Each motor's amplifier: 0.6 N m at an arm, just enough for 8.9 N in every direction at the
   // centre, so that away from it some directions saturate a motor before the Cartesian clamp;
   // through a 12-bit DAC (0.3 mN m, about 5 mN at the grip, per count). ASSUMED figures.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.6);
-  parameters.driver.dac_bits = 12;
+  parameters.driver = presetDriver(0.6, 12, 0.015);
   parameters.specifications.model_name = "sim:falcon";
   parameters.specifications.manufacturer = "autograv simulation (Novint Falcon-like)";
   parameters.specifications.serial_number = "SIM-FALCON-0001";
@@ -62,10 +62,6 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   // The sphere inscribed in the published 4 x 4 x 4 in cube: every direction reaches it. The
   // mechanism reaches the whole cube (and a little more) before its arm stops.
   parameters.specifications.workspace_radius_m = 0.0508;
-  parameters.driver.velocity_window_s = 0.015;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 
@@ -73,28 +69,20 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
     : SimulatedDriver(parameters.specifications, parameters.driver, seed), parameters_(parameters) {
   const auto& p = parameters;
   const ParameterChecks check("sim delta device");
+  check.armsAndMotors(p);
   check.positive(p.base_radius_m, "base_radius_m");
   check.nonNegative(p.effector_radius_m, "effector_radius_m");
-  check.positive(p.upper_arm_length_m, "upper_arm_length_m");
-  check.positive(p.forearm_length_m, "forearm_length_m");
   check.positive(p.center_distance_m, "center_distance_m");
-  check.nonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
-  check.nonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
-  check.nonNegative(p.forearm_mass_kg, "forearm_mass_kg");
+  check.finite(p.leg_angles_rad, "leg_angles_rad");
   check.nonNegative(p.platform_mass_kg, "platform_mass_kg");
   check.positive(p.grip_mass_kg, "grip_mass_kg");
   check.positive(p.joint_stop_stiffness_n_m_per_rad, "joint_stop_stiffness_n_m_per_rad");
   check.nonNegative(p.joint_stop_damping_n_m_s_per_rad, "joint_stop_damping_n_m_s_per_rad");
-  check.finite(p.upper_arm_com_m, "upper_arm_com_m");
-  check.finite(p.leg_angles_rad, "leg_angles_rad");
-  check.nonNegative(p.rotor_inertia_kg_m2, "rotor_inertia_kg_m2");
-  check.positive(p.joint_counts_per_rev, "joint_counts_per_rev");
   check.finite(p.joint_min_rad, "joint_min_rad");
   check.finite(p.joint_max_rad, "joint_max_rad");
   if ((p.joint_min_rad.array() >= p.joint_max_rad.array()).any()) {
     check.fail("joint_min_rad must be below joint_max_rad");
   }
-  check.friction(p.friction);
   friction_ = LuGreFriction(p.friction);
   counts_per_rad_ = p.joint_counts_per_rev / kTwoPi;
   double vertical_sum = 0.0;

@@ -32,6 +32,20 @@ class ParameterChecks {
   /// Cogging of the three motors: amplitudes finite and >= 0, phases finite.
   void cogging(const Eigen::Vector3d& amplitude, const char* amplitude_name,
                const Eigen::Vector3d& phase_rad) const;
+  /// The upper arms, forearms, motors, encoders and joint friction of a mechanism driven in joint
+  /// space: SerialArmParameters and DeltaParameters name and mean them alike.
+  template <class ArmParameters>
+  void armsAndMotors(const ArmParameters& p) const {
+    positive(p.upper_arm_length_m, "upper_arm_length_m");
+    positive(p.forearm_length_m, "forearm_length_m");
+    nonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
+    finite(p.upper_arm_com_m, "upper_arm_com_m");
+    nonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
+    nonNegative(p.forearm_mass_kg, "forearm_mass_kg");
+    nonNegative(p.rotor_inertia_kg_m2, "rotor_inertia_kg_m2");
+    positive(p.joint_counts_per_rev, "joint_counts_per_rev");
+    friction(p.friction);
+  }
   /// Throws autograv::Error "<device>: <what>", for the checks particular to one device.
   [[noreturn]] void fail(const std::string& what) const;
 

@@ -8,6 +8,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -56,9 +57,9 @@ PointMassParameters omegaParameters(FrictionLevel friction) {
                         std::sin(azimuth_rad) * std::cos(kTilt_rad), std::sin(kTilt_rad));
   }
   // One amplifier per axis over the full force range through a 14-bit DAC (1.5 mN per count).
-  // ASSUMED: Force Dimension does not publish its electronics' resolution.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(12.0);
-  parameters.driver.dac_bits = 14;
+  // ASSUMED: Force Dimension does not publish its electronics' resolution. Its SDK estimates
+  // velocity over a 20 ms window by default.
+  parameters.driver = presetDriver(12.0, 14, 0.02);
   parameters.specifications.model_name = "sim:omega";
   parameters.specifications.manufacturer = "autograv simulation (Force Dimension omega.3-like)";
   parameters.specifications.serial_number = "SIM-OMEGA-0001";
@@ -71,11 +72,6 @@ PointMassParameters omegaParameters(FrictionLevel friction) {
   parameters.gravity_gradient_n_per_m << 10.0, 2.0, 6.0,  //
       2.0, 5.0, -3.0,                                     //
       6.0, -3.0, -5.0;
-  // Force Dimension's SDK estimates velocity over a 20 ms window by default.
-  parameters.driver.velocity_window_s = 0.02;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 

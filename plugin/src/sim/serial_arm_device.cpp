@@ -9,6 +9,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -45,8 +46,7 @@ SerialArmParameters omniParameters(FrictionLevel friction) {
   // Each motor's amplifier: 0.45 N m (3.3 N at the tip along a joint's direction at the home
   // pose, so that near the edges of the workspace a joint saturates before the Cartesian clamp),
   // through a 12-bit DAC (0.22 mN m, about 1.7 mN at the tip, per count). ASSUMED figures.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.45);
-  parameters.driver.dac_bits = 12;
+  parameters.driver = presetDriver(0.45, 12, 0.015);
   parameters.specifications.model_name = "sim:omni";
   parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
   parameters.specifications.serial_number = "SIM-OMNI-0001";
@@ -55,10 +55,6 @@ SerialArmParameters omniParameters(FrictionLevel friction) {
   parameters.specifications.max_linear_stiffness_n_per_m = 1000.0;
   parameters.specifications.max_linear_damping_n_s_per_m = 3.0;
   parameters.specifications.workspace_radius_m = 0.10;
-  parameters.driver.velocity_window_s = 0.015;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 
@@ -68,23 +64,15 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
       q_rad_(parameters.home_joint_angles_rad) {
   const auto& p = parameters;
   const ParameterChecks check("sim serial-arm device");
-  check.positive(p.upper_arm_length_m, "upper_arm_length_m");
-  check.positive(p.forearm_length_m, "forearm_length_m");
-  check.nonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
-  check.nonNegative(p.forearm_mass_kg, "forearm_mass_kg");
-  check.positive(p.tip_mass_kg, "tip_mass_kg");
-  check.nonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
+  check.armsAndMotors(p);
   check.nonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
+  check.finite(p.forearm_com_m, "forearm_com_m");
   check.nonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
   check.nonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
+  check.positive(p.tip_mass_kg, "tip_mass_kg");
   check.positive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
-  check.finite(p.upper_arm_com_m, "upper_arm_com_m");
-  check.finite(p.forearm_com_m, "forearm_com_m");
-  check.nonNegative(p.rotor_inertia_kg_m2, "rotor_inertia_kg_m2");
-  check.positive(p.joint_counts_per_rev, "joint_counts_per_rev");
   check.cogging(p.cogging_amplitude_n_m, "cogging_amplitude_n_m", p.cogging_phase_rad);
   check.nonNegative(p.cogging_cycles_per_rev, "cogging_cycles_per_rev");
-  check.friction(p.friction);
   friction_ = LuGreFriction(p.friction);
   cogging_ = CoggingRipple(p.cogging_amplitude_n_m);
   check.finite(p.home_joint_angles_rad, "home_joint_angles_rad");
