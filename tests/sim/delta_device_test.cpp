@@ -11,7 +11,7 @@
 
 #include "autograv/error.h"
 #include "autograv/sim/friction_measurement.h"
-#include "joint_space_checks.h"
+#include "device_checks.h"
 
 namespace autograv::sim {
 namespace {
@@ -23,12 +23,7 @@ constexpr double kMaxForce_n = 8.9;
 constexpr double kResolution_m = 0.0254 / 400.0;
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
-DeltaDevice makeOpenFalcon() {
-  DeltaDevice device(falconParameters(), 7);
-  EXPECT_TRUE(device.open());
-  EXPECT_TRUE(device.calibrate());
-  return device;
-}
+DeltaDevice makeOpenFalcon() { return testing::openCalibrated<DeltaDevice>(falconParameters(), 7); }
 
 // A cubic grid of `per_axis` points per axis over a cube of side `side_m` around the centre.
 std::vector<Eigen::Vector3d> cubePoints(double side_m, int per_axis) {
@@ -147,32 +142,20 @@ TEST(DeltaDeviceTest, CartesianGravityMatchesFiniteDifferenceOfPotentialEnergy) 
 
 TEST(DeltaDeviceTest, GravityAndMassLookLikeAFalcon) {
   const DeltaDevice device(falconParameters(), 1);
-  double smallest = 1e9, largest = 0.0;
-  for (const auto& x : cubePoints(kCubeSide_m, 5)) {
-    const Eigen::Vector3d g = device.trueGravity(x);
-    EXPECT_GT(g.z(), 0.0);  // holding force points up
-    smallest = std::min(smallest, g.norm());
-    largest = std::max(largest, g.norm());
-    const Eigen::Matrix3d lambda = device.trueApparentMass(x);
-    EXPECT_TRUE(lambda.isApprox(lambda.transpose(), 1e-12));
-    const Eigen::Vector3d eigen =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
-    // At least the grip, platform and forearm halves; never more than the motors can push.
-    EXPECT_GT(eigen.minCoeff(), 0.098);
-    EXPECT_LT(eigen.maxCoeff(), 1.0);
-  }
+  const testing::FieldRange range = testing::fieldRange(device, cubePoints(kCubeSide_m, 5));
+  // At least the grip, platform and forearm halves; never more than the motors can push.
+  EXPECT_GT(range.lightest_kg, 0.098);
+  EXPECT_LT(range.heaviest_kg, 1.0);
   // The grip and platform alone weigh 0.78 N; the arms add to it at the centre. The field varies
   // by tens of percent over the cube, well within the 8.9 N the motors make.
   const Eigen::Vector3d centre_gravity = device.trueGravity(Eigen::Vector3d::Zero());
   EXPECT_NEAR(centre_gravity.norm(), 1.05, 0.05);
   EXPECT_LT(centre_gravity.head<2>().norm(), 1e-9);  // the centre is on the symmetric axis
-  EXPECT_GT(smallest, 0.4);
-  EXPECT_LT(largest, 1.5);
-  EXPECT_GT((largest - smallest) / centre_gravity.norm(), 0.3);
+  EXPECT_GT(range.smallest_gravity_n, 0.4);
+  EXPECT_LT(range.largest_gravity_n, 1.5);
+  EXPECT_GT((range.largest_gravity_n - range.smallest_gravity_n) / centre_gravity.norm(), 0.3);
   // Apparent mass: anisotropic (the axis differs from the cross directions).
-  const Eigen::Vector3d eigen = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(
-                                    device.trueApparentMass(Eigen::Vector3d::Zero()))
-                                    .eigenvalues();
+  const Eigen::Vector3d eigen = testing::apparentMassEigenvalues(device, Eigen::Vector3d::Zero());
   EXPECT_GT(eigen.maxCoeff() / eigen.minCoeff(), 1.15);
 }
 
@@ -206,26 +189,11 @@ TEST(DeltaDeviceTest, OneEncoderCountIsBelowThePublishedResolutionAtTheCentre) {
   }
 }
 
-// Largest energy error relative to the largest kinetic energy over 0.5 s of fast, frictionless
-// swinging at the given internal rate.
-double relativeEnergyError(double internal_rate_hz) {
-  DeltaParameters parameters = falconParameters();
-  parameters.friction = LuGreParameters{};
-  parameters.driver.internal_rate_hz = internal_rate_hz;
-  DeltaDevice device(parameters, 1);
-  EXPECT_TRUE(device.open());
-  return testing::relativeSwingEnergyError(device, Eigen::Vector3d(-0.02, -0.025, 0.03),
-                                           Eigen::Vector3d(0.01, 0.005, 0.0), 150.0);
-}
-
 TEST(DeltaDeviceTest, MotionConservesEnergyWithoutFriction) {
-  // Semi-implicit Euler keeps the energy error bounded and first order in the step: a wrong
-  // inertia or velocity-product term leaves an error that does not shrink with the step.
-  const double at_10khz = relativeEnergyError(10000.0);
-  const double at_100khz = relativeEnergyError(100000.0);
-  EXPECT_LT(at_10khz, 0.01);
-  EXPECT_LT(at_100khz, 0.001);
-  EXPECT_NEAR(at_10khz / at_100khz, 10.0, 1.5);
+  // The grip swings at about 1 m/s through the workspace.
+  testing::expectEnergyErrorFirstOrderInTheStep<DeltaDevice>(
+      falconParameters(),
+      {Eigen::Vector3d(-0.02, -0.025, 0.03), Eigen::Vector3d(0.01, 0.005, 0.0), 150.0}, 0.01, 1.5);
 }
 
 TEST(DeltaDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {

@@ -10,6 +10,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/sim/paper_frame.h"
+#include "device_checks.h"
 
 namespace autograv::sim {
 namespace {
@@ -17,10 +18,7 @@ namespace {
 constexpr double kServo_s = 0.001;
 
 PointMassDevice makeOpenOmega(std::uint64_t seed = 7) {
-  PointMassDevice device(omegaParameters(), seed);
-  EXPECT_TRUE(device.open());
-  EXPECT_TRUE(device.calibrate());
-  return device;
+  return testing::openCalibrated<PointMassDevice>(omegaParameters(), seed);
 }
 
 TEST(PointMassDeviceTest, GravityAtThePaperTargetWeighs214Grams) {

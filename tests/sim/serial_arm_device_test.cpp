@@ -8,7 +8,7 @@
 #include <Eigen/LU>
 
 #include "autograv/error.h"
-#include "joint_space_checks.h"
+#include "device_checks.h"
 
 namespace autograv::sim {
 namespace {
@@ -16,10 +16,7 @@ namespace {
 constexpr double kServo_s = 0.001;
 
 SerialArmDevice makeOpenOmni() {
-  SerialArmDevice device(omniParameters(), 7);
-  EXPECT_TRUE(device.open());
-  EXPECT_TRUE(device.calibrate());
-  return device;
+  return testing::openCalibrated<SerialArmDevice>(omniParameters(), 7);
 }
 
 // Points spread through the workspace sphere (radius 0.1 m), centre included.
@@ -98,53 +95,27 @@ TEST(SerialArmDeviceTest, CartesianGravityMatchesFiniteDifferenceOfPotentialEner
 
 TEST(SerialArmDeviceTest, GravityAndMassLookLikeAnOmni) {
   const SerialArmDevice device(omniParameters(), 1);
-  double smallest = 1e9, largest = 0.0;
-  for (const auto& x : workspacePoints(0.1)) {
-    const Eigen::Vector3d g = device.trueGravity(x);
-    EXPECT_GT(g.z(), 0.0);  // holding force points up
-    smallest = std::min(smallest, g.norm());
-    largest = std::max(largest, g.norm());
-    const Eigen::Matrix3d lambda = device.trueApparentMass(x);
-    EXPECT_TRUE(lambda.isApprox(lambda.transpose(), 1e-12));
-    const Eigen::Vector3d eigen =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
-    EXPECT_GT(eigen.minCoeff(), 0.0);
-  }
+  const testing::FieldRange range = testing::fieldRange(device, workspacePoints(0.1));
+  EXPECT_GT(range.lightest_kg, 0.0);
   // About 0.5 N at the centre, within the Omni's continuous force, varying by tens of percent.
   const Eigen::Vector3d centre_gravity = device.trueGravity(Eigen::Vector3d::Zero());
   EXPECT_NEAR(centre_gravity.norm(), 0.5, 0.1);
-  EXPECT_LT(largest, 0.88);
-  EXPECT_GT((largest - smallest) / centre_gravity.norm(), 0.2);
+  EXPECT_LT(range.largest_gravity_n, 0.88);
+  EXPECT_GT((range.largest_gravity_n - range.smallest_gravity_n) / centre_gravity.norm(), 0.2);
   // Apparent mass: tens of grams and anisotropic; the paper's |G|/g I is only an approximation.
-  const Eigen::Matrix3d lambda = device.trueApparentMass(Eigen::Vector3d::Zero());
-  const Eigen::Vector3d eigen =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(lambda).eigenvalues();
+  const Eigen::Vector3d eigen = testing::apparentMassEigenvalues(device, Eigen::Vector3d::Zero());
   EXPECT_GT(eigen.minCoeff(), 0.02);
   EXPECT_LT(eigen.maxCoeff(), 0.12);
   EXPECT_GT(eigen.maxCoeff() / eigen.minCoeff(), 1.5);
 }
 
-// Largest energy error relative to the largest kinetic energy over 0.5 s of fast, frictionless
-// swinging at the given internal rate (yaw and pitch together, so the Coriolis terms matter).
-double relativeEnergyError(double internal_rate_hz) {
-  SerialArmParameters parameters = omniParameters();
-  parameters.friction = LuGreParameters{};  // no friction at all
-  parameters.cogging_amplitude_n_m.setZero();
-  parameters.driver.internal_rate_hz = internal_rate_hz;
-  SerialArmDevice device(parameters, 1);
-  EXPECT_TRUE(device.open());
-  return testing::relativeSwingEnergyError(device, Eigen::Vector3d(-0.02, -0.02, 0.02),
-                                           Eigen::Vector3d(0.01, 0.01, 0.0), 60.0);
-}
-
 TEST(SerialArmDeviceTest, MotionConservesEnergyWithoutFriction) {
-  // Semi-implicit Euler keeps the energy error bounded and first order in the step: a wrong
-  // Coriolis or inertia term would leave an error that does not shrink with the step.
-  const double at_10khz = relativeEnergyError(10000.0);
-  const double at_100khz = relativeEnergyError(100000.0);
-  EXPECT_LT(at_10khz, 0.005);
-  EXPECT_LT(at_100khz, 0.0005);
-  EXPECT_NEAR(at_10khz / at_100khz, 10.0, 1.0);
+  // Yaw and pitch swing together, so the Coriolis terms matter; the tip reaches about 1.7 m/s.
+  SerialArmParameters parameters = omniParameters();
+  parameters.cogging_amplitude_n_m.setZero();
+  testing::expectEnergyErrorFirstOrderInTheStep<SerialArmDevice>(
+      parameters, {Eigen::Vector3d(-0.02, -0.02, 0.02), Eigen::Vector3d(0.01, 0.01, 0.0), 60.0},
+      0.005, 1.0);
 }
 
 TEST(SerialArmDeviceTest, ReleasedFromRestAcceleratesAsGOverM) {
