@@ -311,19 +311,15 @@ TEST(DeltaDeviceTest, SpecificationsDescribeAFalcon) {
   EXPECT_NE(device.specifications().manufacturer.find("Falcon"), std::string::npos);
 }
 
-TEST(DeltaDeviceTest, BadParametersAreRefused) {
-  DeltaParameters parameters = falconParameters();
-  parameters.specifications.workspace_radius_m = 0.09;  // beyond the mechanism's reach
-  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
-  parameters = falconParameters();
-  parameters.grip_mass_kg = -0.01;
-  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
-  parameters = falconParameters();
-  parameters.leg_angles_rad[2] += 0.3;  // not 120 degrees apart
-  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
-  parameters = falconParameters();
-  parameters.joint_max_rad[1] = parameters.joint_min_rad[1];
-  EXPECT_THROW(DeltaDevice(parameters, 1), Error);
+TEST(DeltaDeviceTest, BadParametersAreRefusedWithTheirName) {
+  using P = DeltaParameters;
+  const testing::RefusalCheck<DeltaDevice, P> refused(falconParameters(), "sim delta device");
+  // 90 mm is beyond the mechanism's reach.
+  refused([](P& p) { p.specifications.workspace_radius_m = 0.09; }, "the workspace sphere");
+  refused([](P& p) { p.grip_mass_kg = -0.01; }, "grip_mass_kg");
+  refused([](P& p) { p.leg_angles_rad[2] += 0.3; }, "leg_angles_rad must be 120 degrees apart");
+  refused([](P& p) { p.joint_max_rad[1] = p.joint_min_rad[1]; }, "joint_min_rad");
+  refused([](P& p) { p.friction.stiction[0] = -1.0; }, "friction stiction");
 }
 
 }  // namespace

@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include "autograv/error.h"
 #include "autograv/sim/simulated_device.h"
 
 // Checks of a simulated device's model, shared by the devices' own tests. The templates are for
@@ -17,6 +20,35 @@
 // inverseKinematics, potentialEnergy_j, gravityTorque, kineticEnergy_j and their joint state
 // under the same names.
 namespace autograv::testing {
+
+/// Checks that a device refuses a preset with one parameter made unusable, naming the device
+/// and the parameter in the autograv::Error it throws.
+template <class Device, class Parameters>
+class RefusalCheck {
+ public:
+  /// `device` starts every message, e.g. "sim delta device".
+  RefusalCheck(Parameters preset, std::string device)
+      : preset_(std::move(preset)), device_(std::move(device)) {}
+
+  /// Building from the preset changed by `change` must throw an Error whose message contains
+  /// "<device>: <what>".
+  template <class Change>
+  void operator()(Change change, const std::string& what) const {
+    const std::string expected = device_ + ": " + what;
+    Parameters parameters = preset_;
+    change(parameters);
+    try {
+      const Device device(parameters, 1);
+      ADD_FAILURE() << "expected autograv::Error naming \"" << expected << "\"";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+    }
+  }
+
+ private:
+  Parameters preset_;
+  std::string device_;
+};
 
 /// A device built from `parameters` and `seed`, opened and calibrated.
 template <class Device, class Parameters>

@@ -213,20 +213,14 @@ TEST(PointMassDeviceTest, HandPullsTheEndEffectorAlongItsPath) {
 }
 
 TEST(PointMassDeviceTest, BadParametersAreRefusedWithTheirName) {
-  PointMassParameters parameters = omegaParameters();
-  parameters.gravity_gradient_n_per_m(0, 1) = 7.0;  // not symmetric
-  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
-  parameters = omegaParameters();
-  parameters.friction.stiction[1] = 0.001;  // below Coulomb
-  try {
-    PointMassDevice device(parameters, 1);
-    FAIL() << "expected autograv::Error";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("stiction"), std::string::npos);
-  }
-  parameters = omegaParameters();
-  parameters.actuator_directions(0, 0) = 2.0;  // not a unit vector
-  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
+  using P = PointMassParameters;
+  const testing::RefusalCheck<PointMassDevice, P> refused(omegaParameters(),
+                                                          "sim point-mass device");
+  // Not symmetric, stiction below Coulomb, not a unit vector, no period.
+  refused([](P& p) { p.gravity_gradient_n_per_m(0, 1) = 7.0; }, "gravity_gradient_n_per_m");
+  refused([](P& p) { p.friction.stiction[1] = 0.001; }, "friction stiction");
+  refused([](P& p) { p.actuator_directions(0, 0) = 2.0; }, "actuator_directions");
+  refused([](P& p) { p.cogging_period_m[2] = 0.0; }, "cogging_period_m");
 }
 
 TEST(PointMassDeviceTest, SpecificationsDescribeAnOmega3) {

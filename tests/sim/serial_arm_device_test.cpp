@@ -183,13 +183,15 @@ TEST(SerialArmDeviceTest, TrueGravityRefusesPointsOutOfReach) {
   EXPECT_THROW(device.trueGravity(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
 }
 
-TEST(SerialArmDeviceTest, BadParametersAreRefused) {
-  SerialArmParameters parameters = omniParameters();
-  parameters.specifications.workspace_radius_m = 0.2;  // beyond the arm's reach
-  EXPECT_THROW(SerialArmDevice(parameters, 1), Error);
-  parameters = omniParameters();
-  parameters.tip_mass_kg = -0.01;
-  EXPECT_THROW(SerialArmDevice(parameters, 1), Error);
+TEST(SerialArmDeviceTest, BadParametersAreRefusedWithTheirName) {
+  using P = SerialArmParameters;
+  const testing::RefusalCheck<SerialArmDevice, P> refused(omniParameters(),
+                                                          "sim serial-arm device");
+  // 200 mm is beyond the arm's reach; stiction may not be below Coulomb friction.
+  refused([](P& p) { p.specifications.workspace_radius_m = 0.2; }, "the workspace sphere");
+  refused([](P& p) { p.tip_mass_kg = -0.01; }, "tip_mass_kg");
+  refused([](P& p) { p.cogging_phase_rad[1] = NAN; }, "cogging_phase_rad");
+  refused([](P& p) { p.friction.stiction[2] = 0.0; }, "friction stiction");
 }
 
 }  // namespace
