@@ -4,7 +4,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "autograv/error.h"
