@@ -51,15 +51,6 @@ std::vector<Eigen::Vector3d> unitDirections() {
   return directions;
 }
 
-// At rest at `position_m` with the true gravity already reaching the motors (a command acts one
-// servo period after setForce).
-void restWithGravityActing(DeltaDevice& device, const Eigen::Vector3d& position_m) {
-  device.resetState(position_m);
-  ASSERT_TRUE(device.setForce(device.trueGravity(position_m)));
-  device.advance(kServo_s);
-  device.resetState(position_m);
-}
-
 Eigen::Vector3d inverse(const DeltaDevice& device, const Eigen::Vector3d& position_m) {
   Eigen::Vector3d theta;
   EXPECT_TRUE(device.inverseKinematics(position_m, theta)) << position_m.transpose();
@@ -274,7 +265,7 @@ TEST(DeltaDeviceTest, TypicalFrictionBreaksAwayAtTensOfMillinewtons) {
 double driftUnderPush(FrictionLevel level, const Eigen::Vector3d& push_n, double seconds) {
   DeltaDevice device(falconParameters(level), 3);
   EXPECT_TRUE(device.open());
-  restWithGravityActing(device, Eigen::Vector3d::Zero());
+  testing::restWithGravityCancelled(device, Eigen::Vector3d::Zero());
   double worst_m = 0.0;
   for (int ms = 0; ms < static_cast<int>(seconds / kServo_s); ++ms) {
     device.setForce(device.trueGravity(device.truePosition_m()) + push_n);

@@ -50,6 +50,17 @@ class RefusalCheck {
   std::string device_;
 };
 
+/// Puts the end-effector at rest at `position_m` with its true gravity already acting (a force
+/// reaches the actuators one servo period after setForce).
+inline void restWithGravityCancelled(sim::SimulatedDevice& device,
+                                     const Eigen::Vector3d& position_m) {
+  constexpr double kServo_s = 0.001;
+  device.resetState(position_m);
+  ASSERT_TRUE(device.setForce(device.trueGravity(position_m)));
+  device.advance(kServo_s);
+  device.resetState(position_m);
+}
+
 /// A device built from `parameters` and `seed`, opened and calibrated.
 template <class Device, class Parameters>
 Device openCalibrated(const Parameters& parameters, std::uint64_t seed) {

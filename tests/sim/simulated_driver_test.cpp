@@ -13,6 +13,7 @@
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/sim/simulated_device.h"
+#include "device_checks.h"
 #include "scripted_run.h"
 
 namespace autograv::sim {
@@ -275,11 +276,7 @@ TEST_P(EveryPresetTest, CommandingTheTrueGravityHoldsItStill) {
   const PresetFigures& figures = GetParam();
   auto device = makeOpen(7);
   const Eigen::Vector3d start = device->workspaceCenter_m() + figures.hold_offset_m;
-  device->resetState(start);
-  // The force reaches the actuators one servo period after setForce: command it first.
-  ASSERT_TRUE(device->setForce(device->trueGravity(start)));
-  device->advance(kServo_s);
-  device->resetState(start);
+  testing::restWithGravityCancelled(*device, start);
   Eigen::Vector3d first;
   ASSERT_TRUE(device->getPosition(first));
   double max_reading_change = 0.0, max_axis_change = 0.0;
