@@ -79,45 +79,60 @@ TEST(VelocityEstimatorTest, LowPassSmoothsAStep) {
   EXPECT_NEAR(s, 1.0 * 0.001 / (0.002 + 0.001), 1e-12);
 }
 
-// What every simulated device must do, with each preset's own figures (its published or
+// What every simulated device must do, checked with each preset's own figures (its published or
 // assumed encoder resolution, force and workspace; see the presets' sources).
+
+// Commanding the true gravity at `offset_m` from the workspace centre must hold the device: it
+// may creep by `creep_m` in 1 s, its readings wander by `reading_change_m` (a distance) or by
+// `reading_axis_change_m` along any one axis. Unit: [m]
+struct HoldFigures {
+  Eigen::Vector3d offset_m;
+  double creep_m;
+  double reading_change_m;
+  double reading_axis_change_m;
+};
+
+// Released with zero force, after 2 s on its end stop: its distance from the centre lies between
+// `min_distance_m` and `max_distance_m`, and it is lower than `below_z_m` (from the centre).
+// Unit: [m]
+struct FallFigures {
+  double min_distance_m;
+  double max_distance_m;
+  double below_z_m;
+};
+
+// A frozen reading: the device falls for `before_s` and then, frozen, for `while_s` ([s]); once
+// unfrozen (or calibrated) a reading is within `reading_error_m` ([m]) of the truth.
+struct FreezeFigures {
+  double reading_error_m;
+  double before_s;
+  double while_s;
+};
+
+// The servo-path check: a hand leads the device to `hand_goal_m` (absolute) under a loop lifting
+// by `lift_n` and damping by `damping_n_s_per_m`. Units: [m], [N], [N s/m]
+struct ServoFigures {
+  Eigen::Vector3d hand_goal_m;
+  double lift_n;
+  double damping_n_s_per_m;
+};
+
 struct PresetFigures {
   const char* name;
-  /// Largest force the driver lets through, and how close the DAC lands to it. Unit: [N]
-  double max_force_n;
-  /// Radius of the workspace sphere. Unit: [m]
-  double workspace_radius_m;
-  /// Where commanding the true gravity must hold the device still, from the workspace centre;
-  /// how far it may creep there in 1 s; how far its readings may wander, as a distance and along
-  /// any one axis (kUnchecked where the preset's resolution is not per axis). Unit: [m]
-  Eigen::Vector3d hold_offset_m;
-  double hold_creep_m;
-  double hold_reading_change_m;
-  double hold_reading_axis_change_m;
-  /// Released with zero force, after 2 s on its end stop: the range of its distance from the
-  /// centre (kUnchecked above where the stop is in joint space) and the height it is below
-  /// (from the centre). Unit: [m]
-  double fall_min_distance_m;
-  double fall_max_distance_m;
-  double fall_below_z_m;
-  /// How well a reading matches the truth once calibrated or unfrozen. Unit: [m]
-  double reading_error_m;
-  /// A frozen reading: how long it falls before the freeze and while frozen. Unit: [s]
-  double fall_before_freeze_s;
-  double fall_while_frozen_s;
-  /// Where the servo-path check's hand leads the device (absolute), and the lift and damping of
-  /// its loop. Units: [m], [N], [N s/m]
-  Eigen::Vector3d hand_goal_m;
-  double servo_lift_n;
-  double servo_damping_n_s_per_m;
-  /// The scripted run of the determinism check.
-  testing::ScriptGains script;
+  double max_force_n;         // Unit: [N]
+  double workspace_radius_m;  // Unit: [m]
+  HoldFigures hold;
+  FallFigures fall;
+  FreezeFigures freeze;
+  ServoFigures servo;
+  testing::ScriptGains script;  // of the determinism check
   /// A point the device can be put at, from the workspace centre. Unit: [m]
   Eigen::Vector3d reachable_offset_m;
 };
 
 void PrintTo(const PresetFigures& figures, std::ostream* out) { *out << figures.name; }
 
+// An upper bound that is not checked for this preset.
 constexpr double kUnchecked = std::numeric_limits<double>::infinity();
 constexpr double kServo_s = 0.001;
 // sim:falcon's published resolution, 400 dpi.
@@ -127,31 +142,31 @@ constexpr double kOmniResolution_m = 0.055e-3;
 // sim:omega's Cartesian encoders.
 constexpr double kOmegaResolution_m = 1e-5;
 
-// One row a preset, in the order of PresetFigures' fields.
 // clang-format off
 const PresetFigures kPresets[] = {
     {"sim:omega", 12.0, 0.055,
-     Eigen::Vector3d(0.0123, -0.0271, 0.0189), kOmegaResolution_m, kUnchecked,
-     kOmegaResolution_m * 1.000001,
-     0.055, 0.055 + 0.002, -0.04,  // about |G| / k_stop = 1 mm into the stop
-     2e-5, 0.01, 0.05,
-     Eigen::Vector3d(0.01, 0.01, 0.0), 2.0, 5.0, {150.0, 8.0, 2.0},
-     Eigen::Vector3d(0.03, -0.02, 0.01)},
+     HoldFigures{Eigen::Vector3d(0.0123, -0.0271, 0.0189), kOmegaResolution_m, kUnchecked,
+                 kOmegaResolution_m * 1.000001},
+     FallFigures{0.055, 0.055 + 0.002, -0.04},  // about |G| / k_stop = 1 mm into the stop
+     FreezeFigures{2e-5, 0.01, 0.05},
+     ServoFigures{Eigen::Vector3d(0.01, 0.01, 0.0), 2.0, 5.0},
+     {150.0, 8.0, 2.0}, Eigen::Vector3d(0.03, -0.02, 0.01)},
     {"sim:omni", 3.3, 0.10,
-     Eigen::Vector3d(0.031, -0.022, -0.04), kOmniResolution_m, 2 * kOmniResolution_m, kUnchecked,
-     0.099, 0.1 + 0.002, -0.05,
-     1e-4, 0.02, 0.1,
-     Eigen::Vector3d(0.02, -0.02, 0.01), 0.5, 0.5, {60.0, 0.5, 0.5},
-     Eigen::Vector3d(0.05, 0.05, 0.05)},
+     HoldFigures{Eigen::Vector3d(0.031, -0.022, -0.04), kOmniResolution_m, 2 * kOmniResolution_m,
+                 kUnchecked},
+     FallFigures{0.099, 0.1 + 0.002, -0.05},
+     FreezeFigures{1e-4, 0.02, 0.1},
+     ServoFigures{Eigen::Vector3d(0.02, -0.02, 0.01), 0.5, 0.5},
+     {60.0, 0.5, 0.5}, Eigen::Vector3d(0.05, 0.05, 0.05)},
     // The falcon's arms stop in joint space, beyond the sphere inscribed in its cube (which it
     // falls below).
     {"sim:falcon", 8.9, 0.0508,
-     Eigen::Vector3d(0.031, -0.022, -0.04), kFalconResolution_m, 2 * kFalconResolution_m,
-     kUnchecked,
-     0.0508 - 0.002, kUnchecked, -0.0508,
-     1e-4, 0.02, 0.1,
-     Eigen::Vector3d(0.02, -0.02, 0.01), 1.0, 1.0, {100.0, 1.0, 1.0},
-     Eigen::Vector3d(0.04, 0.04, 0.04)},
+     HoldFigures{Eigen::Vector3d(0.031, -0.022, -0.04), kFalconResolution_m,
+                 2 * kFalconResolution_m, kUnchecked},
+     FallFigures{0.0508 - 0.002, kUnchecked, -0.0508},
+     FreezeFigures{1e-4, 0.02, 0.1},
+     ServoFigures{Eigen::Vector3d(0.02, -0.02, 0.01), 1.0, 1.0},
+     {100.0, 1.0, 1.0}, Eigen::Vector3d(0.04, 0.04, 0.04)},
 };
 // clang-format on
 
@@ -230,18 +245,18 @@ TEST_P(EveryPresetTest, FaultsBehaveAsDeclared) {
   EXPECT_TRUE(device->setForce(Eigen::Vector3d::Zero()));
 
   device->injectFault(DeviceFault::kNone);
-  device->advance(figures.fall_before_freeze_s);
+  device->advance(figures.freeze.before_s);
   Eigen::Vector3d before;
   ASSERT_TRUE(device->getPosition(before));
   device->injectFault(DeviceFault::kFrozenPosition);
-  device->advance(figures.fall_while_frozen_s);  // falls with zero force
+  device->advance(figures.freeze.while_s);  // falls with zero force
   ASSERT_TRUE(device->getPosition(x));
   EXPECT_EQ(x, before);
   EXPECT_GT((device->truePosition_m() - before).norm(), 0.005);
 
   device->injectFault(DeviceFault::kNone);
   ASSERT_TRUE(device->getPosition(x));
-  EXPECT_LT((x - device->truePosition_m()).norm(), figures.reading_error_m);
+  EXPECT_LT((x - device->truePosition_m()).norm(), figures.freeze.reading_error_m);
 }
 
 TEST_P(EveryPresetTest, UncalibratedUntilForcedHoming) {
@@ -258,7 +273,7 @@ TEST_P(EveryPresetTest, UncalibratedUntilForcedHoming) {
   EXPECT_TRUE(device->calibrate());
   device->advance(0.001);
   ASSERT_TRUE(device->getPosition(x));
-  EXPECT_LT((x - device->truePosition_m()).norm(), GetParam().reading_error_m);
+  EXPECT_LT((x - device->truePosition_m()).norm(), GetParam().freeze.reading_error_m);
 }
 
 TEST_P(EveryPresetTest, TickSourceAdvancesOnePeriodPerTick) {
@@ -275,7 +290,7 @@ TEST_P(EveryPresetTest, TickSourceAdvancesOnePeriodPerTick) {
 TEST_P(EveryPresetTest, CommandingTheTrueGravityHoldsItStill) {
   const PresetFigures& figures = GetParam();
   auto device = makeOpen(7);
-  const Eigen::Vector3d start = device->workspaceCenter_m() + figures.hold_offset_m;
+  const Eigen::Vector3d start = device->workspaceCenter_m() + figures.hold.offset_m;
   testing::restWithGravityCancelled(*device, start);
   Eigen::Vector3d first;
   ASSERT_TRUE(device->getPosition(first));
@@ -288,9 +303,9 @@ TEST_P(EveryPresetTest, CommandingTheTrueGravityHoldsItStill) {
     max_reading_change = std::max(max_reading_change, (measured - first).norm());
     max_axis_change = std::max(max_axis_change, (measured - first).cwiseAbs().maxCoeff());
   }
-  EXPECT_LT((device->truePosition_m() - start).norm(), figures.hold_creep_m);
-  EXPECT_LT(max_reading_change, figures.hold_reading_change_m);
-  EXPECT_LE(max_axis_change, figures.hold_reading_axis_change_m);
+  EXPECT_LT((device->truePosition_m() - start).norm(), figures.hold.creep_m);
+  EXPECT_LT(max_reading_change, figures.hold.reading_change_m);
+  EXPECT_LE(max_axis_change, figures.hold.reading_axis_change_m);
 }
 
 TEST_P(EveryPresetTest, ReleasedDeviceSettlesOnTheEndStop) {
@@ -301,9 +316,9 @@ TEST_P(EveryPresetTest, ReleasedDeviceSettlesOnTheEndStop) {
   device->advance(2.0);
   EXPECT_TRUE(device->endStopHit());
   Eigen::Vector3d offset = device->truePosition_m() - device->workspaceCenter_m();
-  EXPECT_GT(offset.norm(), figures.fall_min_distance_m);
-  EXPECT_LT(offset.norm(), figures.fall_max_distance_m);
-  EXPECT_LT(offset.z(), figures.fall_below_z_m);
+  EXPECT_GT(offset.norm(), figures.fall.min_distance_m);
+  EXPECT_LT(offset.norm(), figures.fall.max_distance_m);
+  EXPECT_LT(offset.z(), figures.fall.below_z_m);
   EXPECT_LT(device->trueVelocity_m_per_s().norm(), 0.005);  // settled, not sliding round
   // Still there a second later: the stop holds it, it does not creep round the sphere.
   device->advance(1.0);
@@ -311,7 +326,7 @@ TEST_P(EveryPresetTest, ReleasedDeviceSettlesOnTheEndStop) {
   EXPECT_LT(device->trueVelocity_m_per_s().norm(), 0.005);
   offset = device->truePosition_m() - device->workspaceCenter_m();
   EXPECT_GT(offset.norm(), figures.workspace_radius_m - 0.002);
-  EXPECT_LT(offset.norm(), figures.fall_max_distance_m);
+  EXPECT_LT(offset.norm(), figures.fall.max_distance_m);
   device->resetState(device->workspaceCenter_m());
   EXPECT_FALSE(device->endStopHit());
 }
@@ -348,7 +363,7 @@ TEST_P(EveryPresetTest, ServoPathAllocatesNothing) {
   const PresetFigures& figures = GetParam();
   auto device = makeOpen(7);
   device->hand().grab(device->truePosition_m());
-  device->hand().moveTo(figures.hand_goal_m, 0.05);
+  device->hand().moveTo(figures.servo.hand_goal_m, 0.05);
   Eigen::Vector3d x, v;
   bool pressed = false;
   testing::AllocationCounter counter;
@@ -356,8 +371,8 @@ TEST_P(EveryPresetTest, ServoPathAllocatesNothing) {
     device->getPosition(x);
     device->getLinearVelocity(v);
     device->getUserSwitch(0, pressed);
-    device->setForce(Eigen::Vector3d(0.0, 0.0, figures.servo_lift_n) -
-                     figures.servo_damping_n_s_per_m * v);
+    device->setForce(Eigen::Vector3d(0.0, 0.0, figures.servo.lift_n) -
+                     figures.servo.damping_n_s_per_m * v);
     device->advance(kServo_s);
     if (ms == 1000) device->injectFault(DeviceFault::kFrozenPosition);
   }
