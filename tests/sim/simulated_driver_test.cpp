@@ -244,19 +244,24 @@ TEST_P(EveryPresetTest, FaultsBehaveAsDeclared) {
   EXPECT_TRUE(v.array().isNaN().all());
   EXPECT_TRUE(device->setForce(Eigen::Vector3d::Zero()));
 
-  device->injectFault(DeviceFault::kNone);
-  device->advance(figures.freeze.before_s);
-  Eigen::Vector3d before;
-  ASSERT_TRUE(device->getPosition(before));
-  device->injectFault(DeviceFault::kFrozenPosition);
-  device->advance(figures.freeze.while_s);  // falls with zero force
-  ASSERT_TRUE(device->getPosition(x));
-  EXPECT_EQ(x, before);
-  EXPECT_GT((device->truePosition_m() - before).norm(), 0.005);
+  // Frozen while it falls from the centre: over the common 20 ms + 100 ms and the preset's own.
+  const FreezeFigures common{figures.freeze.reading_error_m, 0.02, 0.1};
+  for (const FreezeFigures& freeze : {common, figures.freeze}) {
+    device->injectFault(DeviceFault::kNone);
+    device->resetState(device->workspaceCenter_m());
+    device->advance(freeze.before_s);
+    Eigen::Vector3d before;
+    ASSERT_TRUE(device->getPosition(before));
+    device->injectFault(DeviceFault::kFrozenPosition);
+    device->advance(freeze.while_s);  // falls with zero force
+    ASSERT_TRUE(device->getPosition(x));
+    EXPECT_EQ(x, before);
+    EXPECT_GT((device->truePosition_m() - before).norm(), 0.005);
 
-  device->injectFault(DeviceFault::kNone);
-  ASSERT_TRUE(device->getPosition(x));
-  EXPECT_LT((x - device->truePosition_m()).norm(), figures.freeze.reading_error_m);
+    device->injectFault(DeviceFault::kNone);
+    ASSERT_TRUE(device->getPosition(x));
+    EXPECT_LT((x - device->truePosition_m()).norm(), freeze.reading_error_m);
+  }
 }
 
 TEST_P(EveryPresetTest, UncalibratedUntilForcedHoming) {
