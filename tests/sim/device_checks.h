@@ -15,10 +15,10 @@
 #include "autograv/error.h"
 #include "autograv/sim/simulated_device.h"
 
-// Checks of a simulated device's model, shared by the devices' own tests. The templates are for
-// the devices whose dynamics live in joint space (SerialArmDevice, DeltaDevice): both expose
-// inverseKinematics, potentialEnergy_j, gravityTorque, kineticEnergy_j and their joint state
-// under the same names.
+// Checks and set-ups shared by the simulated devices' tests. The energy and potential templates
+// are for the devices whose dynamics live in joint space (SerialArmDevice, DeltaDevice): both
+// expose inverseKinematics, potentialEnergy_j, gravityTorque, kineticEnergy_j and their joint
+// state under the same names.
 namespace autograv::testing {
 
 /// Checks that a device refuses a preset with one parameter made unusable, naming the device
