@@ -17,6 +17,7 @@
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/serial_arm_device.h"
 #include "autograv/sim/simulated_device.h"
+#include "device_checks.h"
 
 namespace autograv::sim {
 namespace {
@@ -40,21 +41,12 @@ std::unique_ptr<SimulatedDevice> openDevice(const std::string& name, FrictionLev
   return device;
 }
 
-// Puts the end-effector at rest at `position_m` with its true gravity already acting (a force
-// reaches the actuators one servo period after setForce).
-void restWithGravityCancelled(SimulatedDevice& device, const Eigen::Vector3d& position_m) {
-  device.resetState(position_m);
-  ASSERT_TRUE(device.setForce(device.trueGravity(position_m)));
-  device.advance(kServo_s);
-  device.resetState(position_m);
-}
-
 // From rest at the centre, pushes with `force_n` on top of the true gravity, faded in over 0.1 s
 // as a hand would, then held for `seconds`; returns the largest distance of the true position
 // from the start.
 double driftUnder(SimulatedDevice& device, const Eigen::Vector3d& force_n, double seconds) {
   const Eigen::Vector3d start = device.workspaceCenter_m();
-  restWithGravityCancelled(device, start);
+  testing::restWithGravityCancelled(device, start);
   constexpr double kFadeIn_s = 0.1;
   double worst_m = 0.0;
   for (double t = 0.0; t < kFadeIn_s + seconds; t += kServo_s) {
@@ -134,7 +126,7 @@ TEST(DeviceFrictionTest, StuckBelowBreakawaySlidesAbove) {
 TEST(DeviceFrictionTest, PreSlidingIsSmallAndSpringsBack) {
   auto device = openDevice("sim:omni", FrictionLevel::kTypical);
   const Eigen::Vector3d start = device->workspaceCenter_m();
-  restWithGravityCancelled(*device, start);
+  testing::restWithGravityCancelled(*device, start);
   const Eigen::Vector3d push_n(0.0, 0.03, 0.0);  // below the breakaway along y
   for (int ms = 0; ms < 500; ++ms) {
     device->setForce(device->trueGravity(device->truePosition_m()) + push_n);

@@ -7,10 +7,10 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
-#include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/sim/paper_frame.h"
+#include "device_checks.h"
 
 namespace autograv::sim {
 namespace {
@@ -18,10 +18,7 @@ namespace {
 constexpr double kServo_s = 0.001;
 
 PointMassDevice makeOpenOmega(std::uint64_t seed = 7) {
-  PointMassDevice device(omegaParameters(), seed);
-  EXPECT_TRUE(device.open());
-  EXPECT_TRUE(device.calibrate());
-  return device;
+  return testing::openCalibrated<PointMassDevice>(omegaParameters(), seed);
 }
 
 TEST(PointMassDeviceTest, GravityAtThePaperTargetWeighs214Grams) {
@@ -109,29 +106,6 @@ TEST(PointMassDeviceTest, ReleasedFromRestAcceleratesAsMInverseG) {
             0.999 * acceleration.norm() * 0.005);
 }
 
-TEST(PointMassDeviceTest, CommandingTheTrueGravityHoldsItStill) {
-  PointMassDevice device = makeOpenOmega();
-  const Eigen::Vector3d start =
-      device.workspaceCenter_m() + Eigen::Vector3d(0.0123, -0.0271, 0.0189);
-  // The force reaches the actuators one servo period after setForce: command it first.
-  ASSERT_TRUE(device.setForce(device.trueGravity(start)));
-  device.advance(kServo_s);
-  device.resetState(start);
-  Eigen::Vector3d first;
-  ASSERT_TRUE(device.getPosition(first));
-  double max_reading_change = 0.0;
-  for (int ms = 0; ms < 1000; ++ms) {
-    Eigen::Vector3d measured;
-    ASSERT_TRUE(device.getPosition(measured));
-    ASSERT_TRUE(device.setForce(device.trueGravity(measured)));
-    device.advance(kServo_s);
-    max_reading_change = std::max(max_reading_change, (measured - first).cwiseAbs().maxCoeff());
-  }
-  const double resolution = device.parameters().encoder_resolution_m;
-  EXPECT_LT((device.truePosition_m() - start).norm(), resolution);
-  EXPECT_LE(max_reading_change, resolution * 1.000001);
-}
-
 TEST(PointMassDeviceTest, SaturationClampsTheMagnitudeKeepsTheDirectionAndCounts) {
   PointMassDevice device = makeOpenOmega();
   const Eigen::Vector3d small(1.0, -2.0, 3.0);
@@ -157,77 +131,6 @@ TEST(PointMassDeviceTest, SaturationClampsTheMagnitudeKeepsTheDirectionAndCounts
        (device.appliedForce_n() - device.trueGravity(centre)))
           .normalized();
   EXPECT_GT((device.truePosition_m() - centre).normalized().dot(expected_direction), 0.999);
-}
-
-TEST(PointMassDeviceTest, NonFiniteForceIsRefusedAndZeroed) {
-  PointMassDevice device = makeOpenOmega();
-  ASSERT_TRUE(device.setForce(Eigen::Vector3d(1.0, 1.0, 1.0)));
-  EXPECT_FALSE(device.setForce(Eigen::Vector3d(NAN, 0.0, 0.0)));
-  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
-}
-
-// A PD loop on measured positions toward a moving target, with the hand pulling meanwhile: the
-// noise reaches the trajectory through the feedback.
-std::vector<Eigen::Vector3d> runScript(std::uint64_t seed) {
-  PointMassDevice device = makeOpenOmega(seed);
-  std::vector<Eigen::Vector3d> trajectory;
-  device.hand().grab(device.truePosition_m());
-  device.hand().moveTo(Eigen::Vector3d(0.02, 0.0, 0.0), 0.05);
-  for (int ms = 0; ms < 1500; ++ms) {
-    if (ms == 500) device.hand().release();
-    Eigen::Vector3d x, v;
-    EXPECT_TRUE(device.getPosition(x));
-    EXPECT_TRUE(device.getLinearVelocity(v));
-    const Eigen::Vector3d target(0.01 * std::sin(ms * 0.004), 0.0, -0.01);
-    device.setForce(150.0 * (target - x) - 8.0 * v + Eigen::Vector3d(0, 0, 2.0));
-    device.advance(kServo_s);
-    trajectory.push_back(device.truePosition_m());
-    trajectory.push_back(x);
-  }
-  return trajectory;
-}
-
-TEST(PointMassDeviceTest, SameSeedSameTrajectoryBitForBitOtherSeedDiffers) {
-  const auto a = runScript(42);
-  const auto b = runScript(42);
-  const auto c = runScript(43);
-  ASSERT_EQ(a.size(), b.size());
-  bool identical = true, differs = false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    identical = identical && (a[i].array() == b[i].array()).all();
-    differs = differs || (a[i].array() != c[i].array()).any();
-  }
-  EXPECT_TRUE(identical);
-  EXPECT_TRUE(differs);
-}
-
-TEST(PointMassDeviceTest, ChunkingOfAdvanceDoesNotChangeTheTrajectory) {
-  PointMassDevice a = makeOpenOmega(3);
-  PointMassDevice b = makeOpenOmega(3);
-  for (int i = 0; i < 100; ++i) a.advance(0.001);
-  b.advance(0.1);
-  EXPECT_EQ(a.time_s(), b.time_s());
-  EXPECT_TRUE((a.truePosition_m().array() == b.truePosition_m().array()).all());
-  EXPECT_NEAR(a.time_s(), 0.1, 1e-12);
-}
-
-TEST(PointMassDeviceTest, ServoPathAllocatesNothing) {
-  PointMassDevice device = makeOpenOmega();
-  device.hand().grab(device.truePosition_m());
-  device.hand().moveTo(Eigen::Vector3d(0.01, 0.01, 0.0), 0.05);
-  Eigen::Vector3d x, v;
-  bool pressed = false;
-  testing::AllocationCounter counter;
-  for (int ms = 0; ms < 2000; ++ms) {
-    device.getPosition(x);
-    device.getLinearVelocity(v);
-    device.getUserSwitch(0, pressed);
-    device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0) - 5.0 * v);
-    device.advance(kServo_s);
-    if (ms == 1000) device.injectFault(DeviceFault::kFrozenPosition);
-  }
-  device.injectFault(DeviceFault::kNone);
-  EXPECT_EQ(counter.count(), 0u);
 }
 
 TEST(PointMassDeviceTest, VelocityIsExactlyZeroAtRestAndTracksConstantVelocity) {
@@ -294,64 +197,6 @@ TEST(PointMassDeviceTest, VelocityReadsZeroWheneverTheCountsDidNotChangeOverTheW
   EXPECT_LT((device.truePosition_m() - Eigen::Vector3d(0.000005, 0.0, -0.03)).norm(), 1e-6);
 }
 
-TEST(PointMassDeviceTest, StopsAnsweringFailsEveryCallAndZeroesTheForce) {
-  PointMassDevice device = makeOpenOmega();
-  ASSERT_TRUE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
-  device.injectFault(DeviceFault::kStopsAnswering);
-  Eigen::Vector3d x, v;
-  bool pressed = false;
-  EXPECT_FALSE(device.getPosition(x));
-  EXPECT_FALSE(device.getLinearVelocity(v));
-  EXPECT_FALSE(device.getUserSwitch(0, pressed));
-  EXPECT_FALSE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
-  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
-  device.injectFault(DeviceFault::kNone);
-  EXPECT_TRUE(device.getPosition(x));
-  EXPECT_TRUE(device.setForce(Eigen::Vector3d(0.0, 0.0, 2.0)));
-}
-
-TEST(PointMassDeviceTest, NanPositionReturnsTrueWithNaN) {
-  PointMassDevice device = makeOpenOmega();
-  device.injectFault(DeviceFault::kNanPosition);
-  Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
-  EXPECT_TRUE(device.getPosition(x));
-  EXPECT_TRUE(x.array().isNaN().all());
-  EXPECT_TRUE(device.getLinearVelocity(v));
-  EXPECT_TRUE(v.array().isNaN().all());
-}
-
-TEST(PointMassDeviceTest, FrozenPositionKeepsTheLastSampleWhileTheDeviceMoves) {
-  PointMassDevice device = makeOpenOmega();
-  device.setForce(Eigen::Vector3d::Zero());
-  device.advance(0.01);  // falling
-  Eigen::Vector3d before, v;
-  ASSERT_TRUE(device.getPosition(before));
-  device.injectFault(DeviceFault::kFrozenPosition);
-  device.advance(0.05);
-  Eigen::Vector3d after;
-  ASSERT_TRUE(device.getPosition(after));
-  EXPECT_EQ(after, before);
-  EXPECT_GT((device.truePosition_m() - before).norm(), 0.005);
-  device.injectFault(DeviceFault::kNone);
-  ASSERT_TRUE(device.getPosition(after));
-  EXPECT_NEAR((after - device.truePosition_m()).norm(), 0.0, 2e-5);
-}
-
-TEST(PointMassDeviceTest, ReleasedWithZeroForceFallsOntoTheEndStop) {
-  PointMassDevice device = makeOpenOmega();
-  device.setForce(Eigen::Vector3d::Zero());
-  EXPECT_FALSE(device.endStopHit());
-  device.advance(2.0);
-  EXPECT_TRUE(device.endStopHit());
-  const double radius = device.specifications().workspace_radius_m;
-  const Eigen::Vector3d offset = device.truePosition_m() - device.workspaceCenter_m();
-  EXPECT_GT(offset.norm(), radius);
-  EXPECT_LT(offset.norm(), radius + 0.002);  // about |G| / k_stop = 1 mm in
-  EXPECT_LT(offset.z(), -0.04);
-  device.resetState(device.workspaceCenter_m());
-  EXPECT_FALSE(device.endStopHit());
-}
-
 TEST(PointMassDeviceTest, HandPullsTheEndEffectorAlongItsPath) {
   PointMassDevice device = makeOpenOmega();
   device.hand().grab(device.truePosition_m());
@@ -367,72 +212,20 @@ TEST(PointMassDeviceTest, HandPullsTheEndEffectorAlongItsPath) {
   EXPECT_LT(device.truePosition_m().z(), goal.z() + sag.z() - 0.005);
 }
 
-TEST(PointMassDeviceTest, UncalibratedDeviceNeedsForcedHoming) {
-  PointMassDevice device(omegaParameters(), 1);
-  device.setCalibrated(false);
-  ASSERT_TRUE(device.open());
-  EXPECT_FALSE(device.isCalibrated());
-  EXPECT_FALSE(device.calibrate());
-  Eigen::Vector3d x;
-  ASSERT_TRUE(device.getPosition(x));
-  EXPECT_GT((x - device.truePosition_m()).norm(), 0.01);
-  EXPECT_TRUE(device.calibrate(true));
-  EXPECT_TRUE(device.calibrate());
-  device.advance(0.001);
-  ASSERT_TRUE(device.getPosition(x));
-  EXPECT_LT((x - device.truePosition_m()).norm(), 2e-5);
-}
-
-TEST(PointMassDeviceTest, ClosedDeviceAnswersNothingAndSwitchesWork) {
-  PointMassDevice device(omegaParameters(), 1);
-  Eigen::Vector3d x;
-  bool pressed = true;
-  EXPECT_FALSE(device.getPosition(x));
-  EXPECT_FALSE(device.setForce(Eigen::Vector3d::Zero()));
-  ASSERT_TRUE(device.open());
-  EXPECT_TRUE(device.getUserSwitch(0, pressed));
-  EXPECT_FALSE(pressed);
-  device.setUserSwitch(1, true);
-  EXPECT_TRUE(device.getUserSwitch(1, pressed));
-  EXPECT_TRUE(pressed);
-  EXPECT_FALSE(device.getUserSwitch(SimulatedDriver::kSwitchCount, pressed));
-  EXPECT_FALSE(device.getUserSwitch(-1, pressed));
-  ASSERT_TRUE(device.setForce(Eigen::Vector3d(0, 0, 1)));
-  ASSERT_TRUE(device.close());
-  EXPECT_EQ(device.appliedForce_n(), Eigen::Vector3d::Zero());
-  EXPECT_FALSE(device.getPosition(x));
-}
-
-TEST(PointMassDeviceTest, ResetStateRejectsUnreachablePositions) {
-  PointMassDevice device(omegaParameters(), 1);
-  EXPECT_THROW(device.resetState(Eigen::Vector3d(0.5, 0.0, 0.0)), Error);
-  EXPECT_THROW(device.resetState(Eigen::Vector3d(NAN, 0.0, 0.0)), Error);
-}
-
 TEST(PointMassDeviceTest, BadParametersAreRefusedWithTheirName) {
-  PointMassParameters parameters = omegaParameters();
-  parameters.gravity_gradient_n_per_m(0, 1) = 7.0;  // not symmetric
-  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
-  parameters = omegaParameters();
-  parameters.friction.stiction[1] = 0.001;  // below Coulomb
-  try {
-    PointMassDevice device(parameters, 1);
-    FAIL() << "expected autograv::Error";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("stiction"), std::string::npos);
-  }
-  parameters = omegaParameters();
-  parameters.actuator_directions(0, 0) = 2.0;  // not a unit vector
-  EXPECT_THROW(PointMassDevice(parameters, 1), Error);
+  using P = PointMassParameters;
+  const testing::RefusalCheck<PointMassDevice, P> refused(omegaParameters(),
+                                                          "sim point-mass device");
+  // Not symmetric, stiction below Coulomb, not a unit vector, no period.
+  refused([](P& p) { p.gravity_gradient_n_per_m(0, 1) = 7.0; }, "gravity_gradient_n_per_m");
+  refused([](P& p) { p.friction.stiction[1] = 0.001; }, "friction stiction");
+  refused([](P& p) { p.actuator_directions(0, 0) = 2.0; }, "actuator_directions");
+  refused([](P& p) { p.cogging_period_m[2] = 0.0; }, "cogging_period_m");
 }
 
 TEST(PointMassDeviceTest, SpecificationsDescribeAnOmega3) {
   const PointMassDevice device(omegaParameters(), 1);
   const auto& spec = device.specifications();
-  EXPECT_EQ(spec.model_name, "sim:omega");
-  EXPECT_FALSE(spec.manufacturer.empty());
-  EXPECT_EQ(spec.max_linear_force_n, 12.0);
-  EXPECT_EQ(spec.workspace_radius_m, 0.055);  // 110 mm high
   EXPECT_EQ(spec.max_linear_stiffness_n_per_m, 14500.0);
   EXPECT_EQ(spec.max_linear_damping_n_s_per_m, 20.0);
   EXPECT_EQ(device.internalStep_s(), 1e-4);

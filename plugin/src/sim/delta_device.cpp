@@ -11,6 +11,8 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -23,18 +25,6 @@ const Eigen::Vector3d kAxis = Eigen::Vector3d::UnitX();
 constexpr double kSingularDeterminant = 1e-6;
 // Smallest singular-value ratio of J accepted over the workspace sphere at construction.
 constexpr double kMaxJacobianCondition = 20.0;
-
-void requirePositive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw Error(std::string("sim delta device: ") + name + " must be finite and > 0");
-  }
-}
-
-void requireNonNegative(double value, const char* name) {
-  if (!std::isfinite(value) || value < 0.0) {
-    throw Error(std::string("sim delta device: ") + name + " must be finite and >= 0");
-  }
-}
 
 }  // namespace
 
@@ -60,8 +50,7 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   // Each motor's amplifier: 0.6 N m at an arm, just enough for 8.9 N in every direction at the
   // centre, so that away from it some directions saturate a motor before the Cartesian clamp;
   // through a 12-bit DAC (0.3 mN m, about 5 mN at the grip, per count). ASSUMED figures.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.6);
-  parameters.driver.dac_bits = 12;
+  parameters.driver = presetDriver(0.6, 12, 0.015);
   parameters.specifications.model_name = "sim:falcon";
   parameters.specifications.manufacturer = "autograv simulation (Novint Falcon-like)";
   parameters.specifications.serial_number = "SIM-FALCON-0001";
@@ -73,44 +62,27 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   // The sphere inscribed in the published 4 x 4 x 4 in cube: every direction reaches it. The
   // mechanism reaches the whole cube (and a little more) before its arm stops.
   parameters.specifications.workspace_radius_m = 0.0508;
-  parameters.driver.velocity_window_s = 0.015;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 
 DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
     : SimulatedDriver(parameters.specifications, parameters.driver, seed), parameters_(parameters) {
   const auto& p = parameters;
-  requirePositive(p.base_radius_m, "base_radius_m");
-  requireNonNegative(p.effector_radius_m, "effector_radius_m");
-  requirePositive(p.upper_arm_length_m, "upper_arm_length_m");
-  requirePositive(p.forearm_length_m, "forearm_length_m");
-  requirePositive(p.center_distance_m, "center_distance_m");
-  requireNonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
-  requireNonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
-  requireNonNegative(p.forearm_mass_kg, "forearm_mass_kg");
-  requireNonNegative(p.platform_mass_kg, "platform_mass_kg");
-  requirePositive(p.grip_mass_kg, "grip_mass_kg");
-  requirePositive(p.joint_stop_stiffness_n_m_per_rad, "joint_stop_stiffness_n_m_per_rad");
-  requireNonNegative(p.joint_stop_damping_n_m_s_per_rad, "joint_stop_damping_n_m_s_per_rad");
-  if (!std::isfinite(p.upper_arm_com_m)) {
-    throw Error("sim delta device: upper_arm_com_m must be finite");
+  const ParameterChecks check("sim delta device");
+  check.armsAndMotors(p);
+  check.positive(p.base_radius_m, "base_radius_m");
+  check.nonNegative(p.effector_radius_m, "effector_radius_m");
+  check.positive(p.center_distance_m, "center_distance_m");
+  check.finite(p.leg_angles_rad, "leg_angles_rad");
+  check.nonNegative(p.platform_mass_kg, "platform_mass_kg");
+  check.positive(p.grip_mass_kg, "grip_mass_kg");
+  check.positive(p.joint_stop_stiffness_n_m_per_rad, "joint_stop_stiffness_n_m_per_rad");
+  check.nonNegative(p.joint_stop_damping_n_m_s_per_rad, "joint_stop_damping_n_m_s_per_rad");
+  check.finite(p.joint_min_rad, "joint_min_rad");
+  check.finite(p.joint_max_rad, "joint_max_rad");
+  if ((p.joint_min_rad.array() >= p.joint_max_rad.array()).any()) {
+    check.fail("joint_min_rad must be below joint_max_rad");
   }
-  if (!p.leg_angles_rad.allFinite()) {
-    throw Error("sim delta device: leg_angles_rad must be finite");
-  }
-  for (int j = 0; j < 3; ++j) {
-    requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
-    requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
-    if (!std::isfinite(p.joint_min_rad[j]) || !std::isfinite(p.joint_max_rad[j]) ||
-        p.joint_min_rad[j] >= p.joint_max_rad[j]) {
-      throw Error("sim delta device: joint_min_rad must be finite and below joint_max_rad");
-    }
-  }
-
-  p.friction.validate("sim delta device");
   friction_ = LuGreFriction(p.friction);
   counts_per_rad_ = p.joint_counts_per_rev / kTwoPi;
   double vertical_sum = 0.0;
@@ -129,7 +101,7 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   // The potential drops the hips' and the platform joints' constant heights, which cancel only
   // when the legs' heights do (legs 120 degrees apart).
   if (std::abs(vertical_sum) > 1e-9) {
-    throw Error("sim delta device: leg_angles_rad must be 120 degrees apart");
+    check.fail("leg_angles_rad must be 120 degrees apart");
   }
   moving_mass_kg_ = p.platform_mass_kg + p.grip_mass_kg + 1.5 * p.forearm_mass_kg;
 
@@ -139,9 +111,7 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   if (!inverseKinematics(Eigen::Vector3d::Zero(), home_theta) ||
       (home_theta.array() <= p.joint_min_rad.array()).any() ||
       (home_theta.array() >= p.joint_max_rad.array()).any()) {
-    throw Error(
-        "sim delta device: center_distance_m puts the workspace centre out of reach or beyond the "
-        "arm stops");
+    check.fail("center_distance_m puts the workspace centre out of reach or beyond the arm stops");
   }
   // The whole workspace sphere must be reachable within the arm stops, away from singularities.
   const double radius_m = p.specifications.workspace_radius_m;
@@ -162,10 +132,9 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
           usable = singular[2] * kMaxJacobianCondition > singular[0];
         }
         if (!usable) {
-          throw Error("sim delta device: the workspace sphere (radius " +
-                      std::to_string(radius_m * 1000.0) +
-                      " mm around the centre) leaves the mechanism's reach, its arm stops or its "
-                      "well-conditioned region; change the geometry or shrink workspace_radius_m");
+          check.fail("the workspace sphere (radius " + std::to_string(radius_m * 1000.0) +
+                     " mm around the centre) leaves the mechanism's reach, its arm stops or its "
+                     "well-conditioned region; change the geometry or shrink workspace_radius_m");
         }
       }
     }

@@ -7,6 +7,8 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -14,18 +16,6 @@ namespace {
 
 // Below this apparent mass the model would stop being a device; the field never comes close.
 constexpr double kMinimumMass_kg = 0.01;
-
-void requireNonNegative(double value, const char* name) {
-  if (!std::isfinite(value) || value < 0.0) {
-    throw Error(std::string("sim point-mass device: ") + name + " must be finite and >= 0");
-  }
-}
-
-void requirePositive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw Error(std::string("sim point-mass device: ") + name + " must be finite and > 0");
-  }
-}
 
 }  // namespace
 
@@ -67,9 +57,9 @@ PointMassParameters omegaParameters(FrictionLevel friction) {
                         std::sin(azimuth_rad) * std::cos(kTilt_rad), std::sin(kTilt_rad));
   }
   // One amplifier per axis over the full force range through a 14-bit DAC (1.5 mN per count).
-  // ASSUMED: Force Dimension does not publish its electronics' resolution.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(12.0);
-  parameters.driver.dac_bits = 14;
+  // ASSUMED: Force Dimension does not publish its electronics' resolution. Its SDK estimates
+  // velocity over a 20 ms window by default.
+  parameters.driver = presetDriver(12.0, 14, 0.02);
   parameters.specifications.model_name = "sim:omega";
   parameters.specifications.manufacturer = "autograv simulation (Force Dimension omega.3-like)";
   parameters.specifications.serial_number = "SIM-OMEGA-0001";
@@ -82,11 +72,6 @@ PointMassParameters omegaParameters(FrictionLevel friction) {
   parameters.gravity_gradient_n_per_m << 10.0, 2.0, 6.0,  //
       2.0, 5.0, -3.0,                                     //
       6.0, -3.0, -5.0;
-  // Force Dimension's SDK estimates velocity over a 20 ms window by default.
-  parameters.driver.velocity_window_s = 0.02;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 
@@ -94,40 +79,36 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
     : SimulatedDriver(parameters.specifications, parameters.driver, seed),
       parameters_(parameters),
       position_m_(parameters.workspace_center_m) {
+  const ParameterChecks check("sim point-mass device");
   const Eigen::Matrix3d& k = parameters.gravity_gradient_n_per_m;
   if (!k.allFinite() || !k.isApprox(k.transpose(), 1e-12)) {
-    throw Error(
-        "sim point-mass device: gravity_gradient_n_per_m must be finite and symmetric (the "
-        "gravity field of a mechanism is the gradient of its potential energy)");
+    check.fail(
+        "gravity_gradient_n_per_m must be finite and symmetric (the gravity field of a mechanism "
+        "is the gradient of its potential energy)");
   }
-  if (!std::isfinite(parameters.radial_curvature_n_per_m2) ||
-      !std::isfinite(parameters.vertical_curvature_n_per_m2)) {
-    throw Error("sim point-mass device: curvatures must be finite");
-  }
-  if (!parameters.reference_point_m.allFinite() || !parameters.workspace_center_m.allFinite()) {
-    throw Error("sim point-mass device: reference_point_m and workspace_center_m must be finite");
-  }
-  requirePositive(parameters.reference_mass_kg, "reference_mass_kg");
-  requirePositive(parameters.base_mass_kg, "base_mass_kg");
-  requireNonNegative(parameters.rotor_mass_kg, "rotor_mass_kg");
-  requirePositive(parameters.inertia_length_m, "inertia_length_m");
+  check.finite(parameters.radial_curvature_n_per_m2, "radial_curvature_n_per_m2");
+  check.finite(parameters.vertical_curvature_n_per_m2, "vertical_curvature_n_per_m2");
+  check.finite(parameters.reference_point_m, "reference_point_m");
+  check.finite(parameters.workspace_center_m, "workspace_center_m");
+  check.positive(parameters.reference_mass_kg, "reference_mass_kg");
+  check.positive(parameters.base_mass_kg, "base_mass_kg");
+  check.nonNegative(parameters.rotor_mass_kg, "rotor_mass_kg");
+  check.positive(parameters.inertia_length_m, "inertia_length_m");
   for (int i = 0; i < 3; ++i) {
     if (!parameters.actuator_directions.col(i).allFinite() ||
         std::abs(parameters.actuator_directions.col(i).norm() - 1.0) > 1e-9) {
-      throw Error("sim point-mass device: actuator_directions must be unit column vectors");
+      check.fail("actuator_directions must be unit column vectors");
     }
-    requireNonNegative(parameters.cogging_amplitude_n[i], "cogging_amplitude_n");
-    requirePositive(parameters.cogging_period_m[i], "cogging_period_m");
   }
-  if (!parameters.cogging_phase_rad.allFinite()) {
-    throw Error("sim point-mass device: cogging_phase_rad must be finite");
-  }
-  parameters.friction.validate("sim point-mass device");
+  check.cogging(parameters.cogging_amplitude_n, "cogging_amplitude_n",
+                parameters.cogging_phase_rad);
+  check.positive(parameters.cogging_period_m, "cogging_period_m");
+  check.friction(parameters.friction);
   friction_ = LuGreFriction(parameters.friction);
   cogging_ = CoggingRipple(parameters.cogging_amplitude_n);
-  requirePositive(parameters.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
-  requireNonNegative(parameters.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
-  requirePositive(parameters.encoder_resolution_m, "encoder_resolution_m");
+  check.positive(parameters.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
+  check.nonNegative(parameters.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
+  check.positive(parameters.encoder_resolution_m, "encoder_resolution_m");
 
   // Solve for w: ||G(X_ref)|| = m_ref g, with G_z = w + (rest of G_z).
   vertical_offset_n_ = 0.0;
@@ -135,9 +116,9 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
   const double target_n = parameters.reference_mass_kg * kStandardGravity;
   const double horizontal2 = rest.x() * rest.x() + rest.y() * rest.y();
   if (horizontal2 >= target_n * target_n) {
-    throw Error(
-        "sim point-mass device: the gradient's horizontal force at reference_point_m exceeds "
-        "reference_mass_kg * g; lower gravity_gradient_n_per_m");
+    check.fail(
+        "the gradient's horizontal force at reference_point_m exceeds reference_mass_kg * g; "
+        "lower gravity_gradient_n_per_m");
   }
   vertical_offset_n_ = std::sqrt(target_n * target_n - horizontal2) - rest.z();
 
@@ -150,9 +131,9 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
         if (offset.norm() > reach_m) continue;
         const Eigen::Vector3d g = gravityAt(parameters.workspace_center_m + offset);
         if (g.z() <= 0.0 || g.norm() / kStandardGravity < 2.0 * kMinimumMass_kg) {
-          throw Error(
-              "sim point-mass device: the gravity field must point up with a mass above 20 g "
-              "over the whole workspace; lower the gradient or the curvatures");
+          check.fail(
+              "the gravity field must point up with a mass above 20 g over the whole workspace; "
+              "lower the gradient or the curvatures");
         }
       }
     }

@@ -8,6 +8,8 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "parameter_checks.h"
+#include "preset_driver.h"
 
 namespace autograv::sim {
 
@@ -16,18 +18,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 // Damping of the elbow joint stop, so that a hit does not ring. Unit: [N m s/rad]
 constexpr double kElbowStopDamping = 0.02;
-
-void requirePositive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and > 0");
-  }
-}
-
-void requireNonNegative(double value, const char* name) {
-  if (!std::isfinite(value) || value < 0.0) {
-    throw Error(std::string("sim serial-arm device: ") + name + " must be finite and >= 0");
-  }
-}
 
 }  // namespace
 
@@ -56,8 +46,7 @@ SerialArmParameters omniParameters(FrictionLevel friction) {
   // Each motor's amplifier: 0.45 N m (3.3 N at the tip along a joint's direction at the home
   // pose, so that near the edges of the workspace a joint saturates before the Cartesian clamp),
   // through a 12-bit DAC (0.22 mN m, about 1.7 mN at the tip, per count). ASSUMED figures.
-  parameters.driver.motor_limit = Eigen::Vector3d::Constant(0.45);
-  parameters.driver.dac_bits = 12;
+  parameters.driver = presetDriver(0.45, 12, 0.015);
   parameters.specifications.model_name = "sim:omni";
   parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
   parameters.specifications.serial_number = "SIM-OMNI-0001";
@@ -66,10 +55,6 @@ SerialArmParameters omniParameters(FrictionLevel friction) {
   parameters.specifications.max_linear_stiffness_n_per_m = 1000.0;
   parameters.specifications.max_linear_damping_n_s_per_m = 3.0;
   parameters.specifications.workspace_radius_m = 0.10;
-  parameters.driver.velocity_window_s = 0.015;
-  parameters.driver.velocity_time_constant_s = 0.001;
-  parameters.driver.noise_sigma_counts = 0.05;
-  parameters.driver.noise_correlation_time_s = 0.01;
   return parameters;
 }
 
@@ -78,38 +63,24 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
       parameters_(parameters),
       q_rad_(parameters.home_joint_angles_rad) {
   const auto& p = parameters;
-  requirePositive(p.upper_arm_length_m, "upper_arm_length_m");
-  requirePositive(p.forearm_length_m, "forearm_length_m");
-  requireNonNegative(p.upper_arm_mass_kg, "upper_arm_mass_kg");
-  requireNonNegative(p.forearm_mass_kg, "forearm_mass_kg");
-  requirePositive(p.tip_mass_kg, "tip_mass_kg");
-  requireNonNegative(p.upper_arm_inertia_kg_m2, "upper_arm_inertia_kg_m2");
-  requireNonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
-  requireNonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
-  requireNonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
-  requirePositive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
-  if (!std::isfinite(p.upper_arm_com_m) || !std::isfinite(p.forearm_com_m)) {
-    throw Error("sim serial-arm device: upper_arm_com_m and forearm_com_m must be finite");
-  }
-  for (int j = 0; j < 3; ++j) {
-    requireNonNegative(p.rotor_inertia_kg_m2[j], "rotor_inertia_kg_m2");
-    requirePositive(p.joint_counts_per_rev[j], "joint_counts_per_rev");
-    requireNonNegative(p.cogging_amplitude_n_m[j], "cogging_amplitude_n_m");
-    requireNonNegative(p.cogging_cycles_per_rev[j], "cogging_cycles_per_rev");
-  }
-  if (!p.cogging_phase_rad.allFinite()) {
-    throw Error("sim serial-arm device: cogging_phase_rad must be finite");
-  }
-  friction_ = LuGreFriction(p.friction);  // validates
+  const ParameterChecks check("sim serial-arm device");
+  check.armsAndMotors(p);
+  check.nonNegative(p.upper_arm_axial_inertia_kg_m2, "upper_arm_axial_inertia_kg_m2");
+  check.finite(p.forearm_com_m, "forearm_com_m");
+  check.nonNegative(p.forearm_inertia_kg_m2, "forearm_inertia_kg_m2");
+  check.nonNegative(p.forearm_axial_inertia_kg_m2, "forearm_axial_inertia_kg_m2");
+  check.positive(p.tip_mass_kg, "tip_mass_kg");
+  check.positive(p.turret_inertia_kg_m2, "turret_inertia_kg_m2");
+  check.cogging(p.cogging_amplitude_n_m, "cogging_amplitude_n_m", p.cogging_phase_rad);
+  check.nonNegative(p.cogging_cycles_per_rev, "cogging_cycles_per_rev");
+  friction_ = LuGreFriction(p.friction);
   cogging_ = CoggingRipple(p.cogging_amplitude_n_m);
-  if (!p.home_joint_angles_rad.allFinite()) {
-    throw Error("sim serial-arm device: home_joint_angles_rad must be finite");
-  }
-  requirePositive(p.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
-  requireNonNegative(p.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
-  requirePositive(p.elbow_stop_stiffness_n_m_per_rad, "elbow_stop_stiffness_n_m_per_rad");
+  check.finite(p.home_joint_angles_rad, "home_joint_angles_rad");
+  check.positive(p.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
+  check.nonNegative(p.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
+  check.positive(p.elbow_stop_stiffness_n_m_per_rad, "elbow_stop_stiffness_n_m_per_rad");
   if (!(p.max_elbow_offset_rad > 0.0 && p.max_elbow_offset_rad < 0.5 * kTwoPi / 2.0)) {
-    throw Error("sim serial-arm device: max_elbow_offset_rad must be in (0, pi/2)");
+    check.fail("max_elbow_offset_rad must be in (0, pi/2)");
   }
   counts_per_rad_ = p.joint_counts_per_rev / kTwoPi;
   // Constant parts of the dynamics, folded once so the 10 kHz step does not redo them.
@@ -136,9 +107,9 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
   home_tip_m_ = tipInShoulderFrame(trig(p.home_joint_angles_rad));
   const double home_offset = std::abs(p.home_joint_angles_rad[2] - p.home_joint_angles_rad[1]);
   if (home_offset >= p.max_elbow_offset_rad || home_tip_m_.head<2>().norm() <= 0.0) {
-    throw Error(
-        "sim serial-arm device: home_joint_angles_rad must put the tip in front of the yaw axis "
-        "with |q3 - q2| below max_elbow_offset_rad");
+    check.fail(
+        "home_joint_angles_rad must put the tip in front of the yaw axis with |q3 - q2| below "
+        "max_elbow_offset_rad");
   }
   // The whole workspace sphere (end stops included) must be reachable, away from singularities.
   const double reach_m = p.specifications.workspace_radius_m * 1.05;
@@ -151,11 +122,10 @@ SerialArmDevice::SerialArmDevice(const SerialArmParameters& parameters, std::uin
         const Eigen::Vector3d point = reach_m * direction.normalized();
         if (!inverseKinematics(point, q) || std::abs(q[2] - q[1]) >= p.max_elbow_offset_rad ||
             tipInShoulderFrame(trig(q)).head<2>().norm() < 0.01) {
-          throw Error(
-              "sim serial-arm device: the workspace sphere (radius " +
-              std::to_string(p.specifications.workspace_radius_m * 1000.0) +
-              " mm around the home pose) leaves the arm's reach; move home_joint_angles_rad "
-              "or shrink workspace_radius_m");
+          check.fail("the workspace sphere (radius " +
+                     std::to_string(p.specifications.workspace_radius_m * 1000.0) +
+                     " mm around the home pose) leaves the arm's reach; move home_joint_angles_rad "
+                     "or shrink workspace_radius_m");
         }
       }
     }
