@@ -166,7 +166,8 @@ TEST(VertexEstimatorTest, DitherIsZeroMeanOverEachWindowAndHalfWaveSymmetric) {
   VertexEstimator estimator(parameters, 12.0);
   const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
   estimator.start(vertex, device.gravity(vertex));
-  EXPECT_NEAR(estimator.ditherAmplitude_n(), EstimationParameters::kAutoDitherFraction * 12.0, 1e-12);
+  EXPECT_NEAR(estimator.ditherAmplitude_n(), EstimationParameters::kAutoDitherFraction * 12.0,
+              1e-12);
   EXPECT_NEAR(estimator.ditherAmplitude_n(), 1.08, 1e-12);
   // Held exactly at the vertex with zero velocity, the force is G_hat plus the dither alone.
   const ServoSample at_vertex{vertex, Eigen::Vector3d::Zero(), true};

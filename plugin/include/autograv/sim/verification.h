@@ -10,10 +10,10 @@
 #include <Eigen/Core>
 
 #include "autograv/device/gravity_compensated_device.h"
-#include "autograv/map/gravity_map.h"
 #include "autograv/device/haptic_device.h"
-#include "autograv/sim/simulated_device.h"
 #include "autograv/device/tick_source.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/sim/simulated_device.h"
 
 namespace autograv::sim {
 
