@@ -361,17 +361,19 @@ TEST(GravityCompensatedDeviceTest, ANonFiniteApplicationForceIsNeverSent) {
   EXPECT_EQ(f.device.activeFault(), ServoFault::kNonFiniteForce);
 }
 
-TEST(GravityCompensatedDeviceTest, WithinTheMarginTheBoundaryValueIsUsed) {
+TEST(GravityCompensatedDeviceTest, WithinTheMarginTheMapIsExtended) {
   Fixture f;
   f.device.publishMap(makeMap(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()));
   f.fake->position = Eigen::Vector3d(0.059, 0.0, 0.0);  // 9 mm outside, margin 10 mm
   EXPECT_TRUE(f.device.setForce(Eigen::Vector3d::Zero()));
-  EXPECT_TRUE(f.fake->last_force.isApprox(Eigen::Vector3d(0.05, 0.0, 0.0), 1e-12));
+  EXPECT_TRUE(f.fake->last_force.isApprox(Eigen::Vector3d(0.059, 0.0, 0.0), 1e-12));
+  EXPECT_FALSE(f.device.outsideMap());
 }
 
-// Outside the map the application's force passes and compensation goes on with the boundary's
-// value: continuous across the boundary, bounded, and reported as a status, never a fault.
-TEST(GravityCompensatedDeviceTest, OutsideTheMapTheForcePassesWithTheBoundaryValue) {
+// Outside the map the application's force passes and compensation goes on with the map extended
+// linearly for one cell (50 mm here), then held: continuous across the boundary, bounded, and
+// reported as a status, never a fault.
+TEST(GravityCompensatedDeviceTest, OutsideTheMapTheForcePassesWithTheMapExtendedThenHeld) {
   Fixture f;
   const Eigen::Vector3d offset(0.0, 0.0, -2.0);
   f.device.publishMap(makeMap(offset, Eigen::Matrix3d::Identity()));  // grid: +-0.05 m
@@ -382,7 +384,7 @@ TEST(GravityCompensatedDeviceTest, OutsideTheMapTheForcePassesWithTheBoundaryVal
     f.fake->position = Eigen::Vector3d(0.001 * k, 0.0, 0.01);
     ASSERT_TRUE(f.device.setForce(wall)) << k;
     const Eigen::Vector3d expected =
-        wall + offset + Eigen::Vector3d(std::min(0.001 * k, 0.05), 0.0, 0.01);
+        wall + offset + Eigen::Vector3d(std::min(0.001 * k, 0.10), 0.0, 0.01);
     EXPECT_TRUE(f.fake->last_force.isApprox(expected, 1e-12)) << k;
     EXPECT_EQ(f.device.outsideMap(), 0.001 * k > 0.05 + 0.01 + 1e-9) << k;
     if (k > 0)

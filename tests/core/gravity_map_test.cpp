@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -38,12 +39,31 @@ TEST(GravityMapTest, TrilinearInterpolationIsExactForAnAffineField) {
   EXPECT_TRUE(map.isComplete());
 }
 
-TEST(GravityMapTest, PointsOutsideAreClampedToTheBoundary) {
-  const GravityMap map = makeAffineMap(Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
-  const Eigen::Vector3d outside(0.5, 0.0, -0.01);
-  const Eigen::Vector3d boundary(0.04, 0.0, -0.01);
-  EXPECT_TRUE(map.gravityAt(outside).isApprox(map.gravityAt(boundary)));
+TEST(GravityMapTest, OutsideTheMapExtendsLinearlyForOneCellThenHolds) {
+  // The 5-vertex grid from -0.04 to 0.04 m has 20 mm cells: an affine field is exact up to 20 mm
+  // outside, along one axis as in a corner, and holds the value reached there beyond.
+  Eigen::Matrix3d gradient;
+  gradient << 1.0, 2.0, -3.0, 0.5, -1.0, 4.0, 2.0, 0.0, 1.5;
+  const Eigen::Vector3d offset(0.1, -0.2, -2.0);
+  const GravityMap map = makeAffineMap(gradient, offset);
+  const auto affine = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    return offset + gradient * p;
+  };
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.055, 0.0, -0.01), Eigen::Vector3d(-0.06, 0.01, -0.01),
+        Eigen::Vector3d(0.0, 0.0, -0.065), Eigen::Vector3d(0.059, -0.059, 0.045)}) {
+    EXPECT_TRUE(map.gravityAt(p).isApprox(affine(p), 1e-12)) << p.transpose();
+  }
+  const Eigen::Vector3d far(0.5, 0.0, -0.01);
+  const Eigen::Vector3d one_cell_out(0.06, 0.0, -0.01);
+  EXPECT_TRUE(map.gravityAt(far).isApprox(affine(one_cell_out), 1e-12));
+  // However far and whichever way, the value stays within the vertices' range extended by a
+  // cell's change: bounded.
+  EXPECT_TRUE(map.gravityAt(Eigen::Vector3d::Constant(1e9))
+                  .isApprox(affine(Eigen::Vector3d(0.06, 0.06, 0.05)), 1e-12));
   EXPECT_TRUE(map.gravityAt(Eigen::Vector3d::Constant(NAN)).allFinite());
+  EXPECT_TRUE(map.gravityAt(Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()))
+                  .allFinite());
 }
 
 // The textbook form of trilinear interpolation, eight weighted corners, for comparison.
@@ -53,9 +73,10 @@ Eigen::Vector3d referenceTrilinear(const GravityMap& map, const Eigen::Vector3d&
   int cell[3];
   double t[3];
   for (int axis = 0; axis < 3; ++axis) {
+    // One cell of linear extension beyond the grid, held further out.
     const int last = grid.resolution()[axis] - 1;
-    const double clamped = std::clamp(cells[axis], 0.0, static_cast<double>(last));
-    cell[axis] = std::min(static_cast<int>(std::floor(clamped)), last - 1);
+    const double clamped = std::clamp(cells[axis], -1.0, last + 1.0);
+    cell[axis] = std::clamp(static_cast<int>(std::floor(clamped)), 0, last - 1);
     t[axis] = clamped - cell[axis];
   }
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();

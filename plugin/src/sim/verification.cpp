@@ -303,7 +303,7 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
     // Every point starts afresh: held by hand at the point until compensation is fully in,
     // whatever the previous release did.
     point.ready = carryAndHold(device, decorated, ticks, point.point_m, fully_compensated);
-    // Outside the grid the map holds its boundary value, so G - G_hat grows with the distance,
+    // Outside the grid the map is extrapolated, then held, so G - G_hat grows with the distance,
     // a negative spring against the soft hold: the probe keeps close to the grid.
     ResidualProbeOptions probe = options.probe;
     probe.keep_within_min_m = grid.minCorner_m().array() - kProbeOutsideGrid_m;

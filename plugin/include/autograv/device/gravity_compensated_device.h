@@ -89,11 +89,12 @@ struct CompensationOptions {
 /// and compensation ramps in again from zero, so recovery does not jolt either.
 ///
 /// Outside the map: the application's force always passes, and compensation goes on with the
-/// map's value at the nearest point of its grid (trilinear interpolation clamped to the
-/// boundary). That value is continuous across the boundary (no step when the hand leaves or
-/// re-enters the map), bounded by the measured estimates (an extrapolation grows without bound
-/// with the distance and would push the end-effector off), and the closest measurement there is;
-/// fading compensation out over a band would drop the stylus, the very jolt a user notices.
+/// map extended linearly from its boundary cell for one cell, and held at the value reached
+/// there further out (GravityMap::gravityAt). That value is continuous across the boundary (no
+/// step when the hand leaves or re-enters the map) and bounded by a combination of measured
+/// estimates (an unlimited extrapolation grows with the distance and would push the end-effector
+/// off); the slope of a smooth field makes it a better guess than the boundary value. Fading
+/// compensation out over a band would drop the stylus, the very jolt a user notices.
 /// outsideMap() and outsideMapTickCount() tell the application, which may show it.
 ///
 /// Frozen driver (kStalePosition). Bit-identical readings alone prove nothing: an encoder at
@@ -195,8 +196,8 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   /// setForce calls so far.
   std::uint64_t tickCount() const noexcept;
   /// True when the latest tick's position was farther than outside_margin_m outside the grid of
-  /// a map in use: compensation there is the boundary's value, a less certain estimate the
-  /// application may want to show. Not a fault.
+  /// a map in use: compensation there is extrapolated from the boundary, a less certain estimate
+  /// the application may want to show. Not a fault.
   bool outsideMap() const noexcept;
   /// Ticks whose position was outside the map (see outsideMap).
   std::uint64_t outsideMapTickCount() const noexcept;

@@ -86,8 +86,9 @@ class GravityMap {
   const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
   const MapMetadata& metadata() const noexcept { return metadata_; }
 
-  /// Trilinear interpolation of the vertex estimates in the cell containing `position_m`; a point
-  /// outside the grid is clamped to the grid's boundary first. Unit: [N].
+  /// Trilinear interpolation of the vertex estimates in the cell containing `position_m`; outside
+  /// the grid, the boundary cell's interpolant extended linearly for one cell, and the value one
+  /// cell out beyond that (detail::kExtrapolationCells). Unit: [N].
   /// Real-time safe: no allocation, no lock, no throw.
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
 

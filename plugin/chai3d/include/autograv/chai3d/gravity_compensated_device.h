@@ -33,10 +33,10 @@ namespace autograv::chai3d {
 /// The compensation itself is autograv::GravityCompensatedDevice (ramps, clamping to
 /// m_maxLinearForce, faults, lock-free map swaps): reach it with compensation(). The linear force
 /// is zero only when the position cannot be trusted (failed read, NaN/Inf, frozen driver);
-/// outside the map the application's force passes and compensation continues with the map's
-/// boundary value (compensation().outsideMap() says so). The torque and gripper force always
-/// pass unchanged, since they do not depend on the position. Ramps and windows are in seconds of
-/// a steady clock, so they last as long on a free-running haptic loop at any rate.
+/// outside the map the application's force passes and compensation continues with the map
+/// extended from its boundary (compensation().outsideMap() says so). The torque and gripper force
+/// always pass unchanged, since they do not depend on the position. Ramps and windows are in
+/// seconds of a steady clock, so they last as long on a free-running haptic loop at any rate.
 class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
  public:
   /// Throws autograv::Error for a null device or unusable options. Not real-time safe.
