@@ -7,11 +7,11 @@
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
-#include "autograv/estimation/pd_design.h"
 #include "autograv/maintenance/map_check.h"
 #include "autograv/maintenance/retare.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "cube_calibration.h"
 
 namespace autograv {
 namespace {
@@ -19,12 +19,8 @@ namespace {
 constexpr double kPayload_kg = 0.030;
 constexpr double kTilt_rad = 10.0 * M_PI / 180.0;
 
-EstimationParameters omniParameters(const sim::SimulatedDevice& device) {
-  // What the tools use: the dither method, which converges through the Omni's dry friction.
-  EstimationParameters parameters = EstimationParameters::frictionRobust();
-  parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
-  return parameters;
-}
+using testing::calibrateDefaultCube;
+using testing::toolParameters;
 
 class MapMaintenanceTest : public ::testing::Test {
  protected:
@@ -32,19 +28,7 @@ class MapMaintenanceTest : public ::testing::Test {
   static void SetUpTestSuite() {
     auto device = sim::makeSimulatedDevice("sim:omni", 1);
     ASSERT_TRUE(device->open());
-    sim::CalibrationRunOptions options;
-    options.grid_center_m = device->workspaceCenter_m();
-    options.grid_size_m =
-        Eigen::Vector3d::Constant(defaultGridSide_m(device->specifications().workspace_radius_m));
-    options.grid_resolution = Eigen::Vector3i::Constant(3);
-    options.parameters = omniParameters(*device);
-    const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
-    MapMetadata metadata;
-    metadata.device_model = device->specifications().model_name;
-    metadata.parameters = options.parameters;
-    map_ = std::make_unique<GravityMap>(
-        WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
-        run.vertices, metadata);
+    map_ = std::make_unique<GravityMap>(calibrateDefaultCube(*device, 3));
     ASSERT_TRUE(map_->isComplete());
   }
   static void TearDownTestSuite() { map_.reset(); }
@@ -59,7 +43,7 @@ class MapMaintenanceTest : public ::testing::Test {
   static MapCheckResult check(sim::SimulatedDevice& device) {
     sim::SimulatedTickSource ticks(device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
     MapCheckOptions options;
-    options.measurement.parameters = omniParameters(device);
+    options.measurement.parameters = toolParameters(device);
     return checkMap(device, ticks, *map_, options);
   }
 
@@ -105,7 +89,7 @@ TEST_F(MapMaintenanceTest, RetareMeasuresThePayloadAndShiftsTheMapToTheLoadedTru
   device->setPayload_kg(kPayload_kg);
   sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
   RetareOptions options;
-  options.measurement.parameters = omniParameters(*device);
+  options.measurement.parameters = toolParameters(*device);
   const RetareResult result = retareMap(*device, ticks, *map_, options);
   EXPECT_NEAR(result.payload_kg, kPayload_kg, 0.0015);
   EXPECT_LT(result.measurement.seconds, 15.0);
@@ -126,37 +110,20 @@ TEST_F(MapMaintenanceTest, RetareMeasuresThePayloadAndShiftsTheMapToTheLoadedTru
   }
 }
 
-/// A 5x5x5 calibration of `device` on the default cube (every vertex reachable), as a map.
-GravityMap calibrateCube(sim::SimulatedDevice& device) {
-  sim::CalibrationRunOptions options;
-  options.grid_center_m = device.workspaceCenter_m();
-  options.grid_size_m =
-      Eigen::Vector3d::Constant(defaultGridSide_m(device.specifications().workspace_radius_m));
-  options.grid_resolution = Eigen::Vector3i::Constant(5);
-  options.parameters = omniParameters(device);
-  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(device, options);
-  MapMetadata metadata;
-  metadata.device_model = device.specifications().model_name;
-  metadata.parameters = options.parameters;
-  return GravityMap(
-      WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
-      run.vertices, metadata);
-}
-
 TEST(RetareAgainstFullCalibrationTest, ReTaredMapIsWithinHalfAPercentOfACalibrationWithThePayload) {
   // The handle change as a user makes it: a 5x5x5 map, a 30 g handle, `retare`; against it, the
   // whole grid calibrated again with the handle on (typical friction, seed 1).
   auto device = sim::makeSimulatedDevice("sim:omni", 1);
   ASSERT_TRUE(device->open());
-  const GravityMap unloaded = calibrateCube(*device);
+  const GravityMap unloaded = calibrateDefaultCube(*device, 5);
   ASSERT_TRUE(unloaded.isComplete());
   device->setPayload_kg(kPayload_kg);
   sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
   RetareOptions options;
-  options.measurement.parameters = omniParameters(*device);
+  options.measurement.parameters = toolParameters(*device);
   const RetareResult retared = retareMap(*device, ticks, unloaded, options);
   EXPECT_LT(retared.measurement.seconds, 15.0);
-  const GravityMap full = calibrateCube(*device);
+  const GravityMap full = calibrateDefaultCube(*device, 5);
   ASSERT_TRUE(full.isComplete());
   double worst_rel = 0.0;
   for (std::size_t i = 0; i < full.vertices().size(); ++i) {
@@ -172,7 +139,7 @@ TEST_F(MapMaintenanceTest, RetareRefusesATiltedDevice) {
   device->setTilt_rad(kTilt_rad);
   sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
   RetareOptions options;
-  options.measurement.parameters = omniParameters(*device);
+  options.measurement.parameters = toolParameters(*device);
   try {
     retareMap(*device, ticks, *map_, options);
     FAIL() << "expected autograv::Error";

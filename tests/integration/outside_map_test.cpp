@@ -5,9 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/estimation/pd_design.h"
-#include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "cube_calibration.h"
 
 namespace autograv {
 namespace {
@@ -17,17 +16,7 @@ class OutsideMapTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(OutsideMapTest, TheExtendedMapIsCloserToTheTruthThanTheBoundaryValue) {
   auto device = sim::makeSimulatedDevice(GetParam(), 1);
   ASSERT_TRUE(device->open());
-  sim::CalibrationRunOptions options;
-  options.grid_center_m = device->workspaceCenter_m();
-  options.grid_size_m =
-      Eigen::Vector3d::Constant(defaultGridSide_m(device->specifications().workspace_radius_m));
-  options.grid_resolution = Eigen::Vector3i::Constant(5);
-  options.parameters = EstimationParameters::frictionRobust();
-  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
-  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
-  const GravityMap map(
-      WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
-      run.vertices, MapMetadata{});
+  const GravityMap map = testing::calibrateDefaultCube(*device, 5);
   ASSERT_TRUE(map.isComplete());
 
   // Reachable points 8-12 mm outside the box, where a hand that leaves the map goes first.

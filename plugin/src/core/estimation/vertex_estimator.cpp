@@ -177,11 +177,12 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   gravity_n_ = updated_n;
   estimate_.gravity_n = updated_n;
   const double update_n = (updated_n - previous_n).norm();
+  const bool small_update = update_n <= parameters_.eps_g_n;
   detector_.reset();
-  detector_.setRequired(requiredSteadyCount(update_n <= parameters_.eps_g_n));
+  detector_.setRequired(requiredSteadyCount(small_update));
   dither_ticks_ = 0;  // the next window starts at phase 0 again
 
-  small_updates_ = update_n <= parameters_.eps_g_n ? small_updates_ + 1 : 0;
+  small_updates_ = small_update ? small_updates_ + 1 : 0;
   const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
   const bool stalled = estimate_.iterations > 1 && update_n > stall_floor_n &&
                        update_n >= kStallRatio * last_update_n_;
