@@ -15,8 +15,8 @@ namespace autograv::cli {
 
 void addEstimationOptions(CLI::App& command, EstimationParameters& p,
                           EstimationMethod default_method) {
-  p = default_method == EstimationMethod::kDither ? EstimationParameters::frictionRobust()
-                                                  : EstimationParameters{};
+  p = default_method == EstimationMethod::kDither ? EstimationParameters{}
+                                                  : EstimationParameters::paper();
   command
       .add_option_function<std::string>(
           "--method", [&p](const std::string& name) { p.method = parseEstimationMethod(name); },
@@ -100,11 +100,22 @@ void addGridOptions(CLI::App& command, GridOptions& options) {
   auto* box = command.add_option(
       "--box-mm", options.box_mm,
       "Grid box extents [mm]: 160x120x70 along x, y, z, or one number for a cube (default: "
-      "fitted to the device's reachable workspace, at least 90 % of it inside)");
+      "the box around the workspace the device explores before the grid run)");
   command
       .add_option("--side-mm", options.side_mm, "Grid edge of a cubic grid [mm] (as --box-mm N)")
       ->check(CLI::PositiveNumber)
       ->excludes(box);
+}
+
+Eigen::Vector3i gridResolution(const GridOptions& options) {
+  if (options.grid.empty()) return Eigen::Vector3i::Constant(5);
+  Eigen::Vector3d counts;
+  if (!parseTriple(options.grid, counts) || (counts.array() != counts.array().round()).any() ||
+      (counts.array() < 2.0).any() || (counts.array() > 16.0).any()) {
+    throw Error("--grid: expected vertices per axis, 2 to 16, as N or NxNxN (e.g. 7x5x4), got \"" +
+                options.grid + "\"");
+  }
+  return counts.cast<int>();
 }
 
 WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device,
@@ -118,17 +129,7 @@ WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device
     return simulation != nullptr ? simulation->isReachable(position_m)
                                  : (position_m - sphere_center_m).norm() <= radius_m;
   };
-  Eigen::Vector3i resolution = Eigen::Vector3i::Constant(5);
-  if (!options.grid.empty()) {
-    Eigen::Vector3d counts;
-    if (!parseTriple(options.grid, counts) || (counts.array() != counts.array().round()).any() ||
-        (counts.array() < 2.0).any() || (counts.array() > 16.0).any()) {
-      throw Error(
-          "--grid: expected vertices per axis, 2 to 16, as N or NxNxN (e.g. 7x5x4), got \"" +
-          options.grid + "\"");
-    }
-    resolution = counts.cast<int>();
-  }
+  const Eigen::Vector3i resolution = gridResolution(options);
   Eigen::Vector3d size_m;
   const Eigen::Vector3d center_m = sphere_center_m;
   if (!options.box_mm.empty()) {
@@ -162,8 +163,8 @@ void applyDeviceDefaults(const CLI::App& command, EstimationParameters& paramete
   }
   if (command.count("--n-g") == 0) {
     parameters.n_g = parameters.method == EstimationMethod::kDither
-                         ? EstimationParameters::frictionRobust().n_g
-                         : EstimationParameters{}.n_g;
+                         ? EstimationParameters{}.n_g
+                         : EstimationParameters::paper().n_g;
   }
 }
 

@@ -12,8 +12,9 @@
 
 namespace autograv::cli {
 
-/// Resets `parameters` to the defaults of `default_method` (EstimationParameters{} for the paper's,
-/// frictionRobust() for the dither method) and adds --method, --alpha, --beta, --k0, --n-s,
+/// Resets `parameters` to the defaults of `default_method` (EstimationParameters::paper() for the
+/// paper's, EstimationParameters{} for the dither method) and adds --method, --alpha, --beta, --k0,
+/// --n-s,
 /// --eps-s, --n-g, --eps-g, --max-iterations and --dither-mn to `command`, in the paper's units
 /// (N/mm, mm/s, grams-force, mN) and writing SI values into `parameters`.
 void addEstimationOptions(CLI::App& command, EstimationParameters& parameters,
@@ -37,6 +38,14 @@ void addGridOptions(CLI::App& command, GridOptions& options);
 /// malformed value.
 WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device,
                           const sim::SimulatedDevice* simulation, double& workspace_coverage);
+
+/// Vertices per axis that `options.grid` asks for (5 per axis when empty). Throws autograv::Error
+/// naming --grid on a malformed value.
+Eigen::Vector3i gridResolution(const GridOptions& options);
+/// True when no box was given: the grid is then fitted to the explored workspace.
+inline bool gridFromWorkspace(const GridOptions& options) {
+  return options.box_mm.empty() && !(options.side_mm > 0.0);
+}
 
 /// Fills in what depends on the device or the method and was not given on the command line: k0
 /// (see defaultInitializationStiffness) and n_G (5 for the paper's method, 3 for the dither

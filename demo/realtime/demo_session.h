@@ -63,7 +63,7 @@ struct SessionOptions {
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< Of the simulated device.
   double servo_period_s = 1.0e-3;                              ///< Unit: [s]
   CompensationOptions compensation;
-  EstimationParameters estimation = EstimationParameters::frictionRobust();
+  EstimationParameters estimation;
   /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed
   /// in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
   int calibration_resolution = 5;

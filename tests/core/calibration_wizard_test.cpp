@@ -569,7 +569,10 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
 TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path);
-  config.parameters.max_iterations = 5;  // tight: some vertices hit the cap
+  // The paper's method with a tight cap: some vertices hit it.
+  config.parameters = EstimationParameters::paper();
+  config.parameters.k0_n_per_m = smallConfig(path).parameters.k0_n_per_m;
+  config.parameters.max_iterations = 5;
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
   rig.frame();

@@ -80,9 +80,9 @@ TEST(SteadyStateDetectorTest, WindowMeansDoNotSettleWhileTheMeanCreeps) {
 }
 
 TEST(SteadyStateDetectorTest, ForParametersFollowsTheMethod) {
-  EstimationParameters paper;
+  const EstimationParameters paper = EstimationParameters::paper();
   EXPECT_EQ(SteadyStateDetector::forParameters(paper).windowTicks(), 0);
-  const EstimationParameters dither = EstimationParameters::frictionRobust();
+  const EstimationParameters dither = EstimationParameters{};
   EXPECT_EQ(SteadyStateDetector::forParameters(dither).windowTicks(), 50);  // 1 period at 20 Hz
 }
 

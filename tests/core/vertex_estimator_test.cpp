@@ -29,7 +29,7 @@ VertexEstimator::Status runToEnd(VertexEstimator& estimator, testing::IdealPoint
 TEST(VertexEstimatorTest, ConvergesToTheApparentGravityAtTheVertex) {
   testing::IdealPointMass device;
   device.position_m = Eigen::Vector3d(0.0116, -0.0092, -0.0683) - Eigen::Vector3d(0, 0, -0.03);
-  EstimationParameters parameters;  // the paper's
+  EstimationParameters parameters = EstimationParameters::paper();
   VertexEstimator estimator(parameters, 12.0);
   const Eigen::Vector3d vertex(0.0, 0.0, 0.0);
   // A 40 % wrong initial estimate, as a coarse eq. (7) might give.
@@ -51,7 +51,7 @@ TEST(VertexEstimatorTest, ConvergesToTheApparentGravityAtTheVertex) {
 
 TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
   testing::IdealPointMass device;
-  EstimationParameters parameters;
+  EstimationParameters parameters = EstimationParameters::paper();
   VertexEstimator estimator(parameters, 12.0);
   const Eigen::Vector3d vertex(0.01, 0.0, 0.0);
   const Eigen::Vector3d initial = device.gravity(vertex) + Eigen::Vector3d(0.2, 0.0, -0.3);
@@ -71,7 +71,7 @@ TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
 
 TEST(VertexEstimatorTest, StopsAtTheIterationCapAndKeepsTheEstimate) {
   testing::IdealPointMass device;
-  EstimationParameters parameters;
+  EstimationParameters parameters = EstimationParameters::paper();
   parameters.max_iterations = 6;
   parameters.eps_g_n = 1e-9;  // unreachable
   VertexEstimator estimator(parameters, 12.0);
@@ -146,12 +146,12 @@ double estimationError_n(const EstimationParameters& parameters, const Eigen::Ve
 TEST(VertexEstimatorTest, PaperMethodStopsAnywhereInTheFrictionDeadBand) {
   // Started 50 mN off, the paper's rule settles at once inside the dead band: eq. (12) keeps
   // the error, which only friction bounds.
-  EstimationParameters paper;
+  const EstimationParameters paper = EstimationParameters::paper();
   EXPECT_GT(estimationError_n(paper, Eigen::Vector3d(0.0, 0.03, -0.04)), 0.02);
 }
 
 TEST(VertexEstimatorTest, DitherMethodMeasuresBelowTheFriction) {
-  const EstimationParameters dither = EstimationParameters::frictionRobust();
+  const EstimationParameters dither = EstimationParameters{};
   for (const Eigen::Vector3d& bias_n :
        {Eigen::Vector3d(0.0, 0.03, -0.04), Eigen::Vector3d(-0.05, 0.0, 0.05),
         Eigen::Vector3d(0.3, -0.2, 0.4)}) {
@@ -162,7 +162,7 @@ TEST(VertexEstimatorTest, DitherMethodMeasuresBelowTheFriction) {
 
 TEST(VertexEstimatorTest, DitherIsZeroMeanOverEachWindowAndHalfWaveSymmetric) {
   testing::IdealPointMass device;
-  const EstimationParameters parameters = EstimationParameters::frictionRobust();
+  const EstimationParameters parameters = EstimationParameters{};
   VertexEstimator estimator(parameters, 12.0);
   const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
   estimator.start(vertex, device.gravity(vertex));
@@ -209,21 +209,21 @@ void stepsWithoutAllocating(const EstimationParameters& parameters) {
 
 TEST(VertexEstimatorTest, StepAllocatesNothingWithEitherMethod) {
   for (const EstimationParameters& parameters :
-       {EstimationParameters{}, EstimationParameters::frictionRobust()}) {
+       {EstimationParameters::paper(), EstimationParameters{}}) {
     SCOPED_TRACE(toString(parameters.method));
     stepsWithoutAllocating(parameters);
   }
 }
 
 TEST(VertexEstimatorTest, RejectsBadParameters) {
-  EstimationParameters parameters;
+  EstimationParameters parameters = EstimationParameters::paper();
   parameters.beta_per_s2 = -1.0;
   EXPECT_THROW(VertexEstimator(parameters, 12.0), Error);
   EXPECT_THROW(VertexEstimator(EstimationParameters{}, 0.0), Error);
-  EstimationParameters loud = EstimationParameters::frictionRobust();
+  EstimationParameters loud = EstimationParameters{};
   loud.dither_amplitude_n = 7.0;  // more than half of a 12 N device
   EXPECT_THROW(VertexEstimator(loud, 12.0), Error);
-  EstimationParameters fast = EstimationParameters::frictionRobust();
+  EstimationParameters fast = EstimationParameters{};
   fast.dither_frequency_hz = 400.0;  // under 4 samples per period at 1 kHz
   EXPECT_THROW(VertexEstimator(fast, 12.0), Error);
 }

@@ -13,7 +13,7 @@ namespace autograv::testing {
 /// What the tools use: the dither method, which converges through dry friction, with the
 /// device-aware initialization stiffness.
 inline EstimationParameters toolParameters(const sim::SimulatedDevice& device) {
-  EstimationParameters parameters = EstimationParameters::frictionRobust();
+  EstimationParameters parameters = EstimationParameters{};
   parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
   return parameters;
 }

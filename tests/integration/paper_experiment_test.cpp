@@ -12,7 +12,7 @@ TEST(PaperExperimentTest, ConvergesToTheTrueApparentMassWithinTwoPercent) {
     auto device = sim::makeSimulatedDevice("sim:omega", seed);
     ASSERT_TRUE(device->open());
     const sim::PaperExperimentResult result =
-        sim::runPaperExperiment(*device, EstimationParameters{});
+        sim::runPaperExperiment(*device, EstimationParameters::paper());
     ASSERT_TRUE(result.initialization.ok) << result.initialization.message;
     EXPECT_EQ(result.estimate.outcome, VertexOutcome::kConverged) << "seed " << seed;
     // The simulated Omega is built so that M(X_D) is the 214 g the paper measured.

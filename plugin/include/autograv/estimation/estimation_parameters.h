@@ -25,11 +25,13 @@ const char* toString(EstimationMethod method) noexcept;
 /// Inverse of toString; throws autograv::Error listing the valid names.
 EstimationMethod parseEstimationMethod(const std::string& name);
 
-/// User-defined parameters of the iterative estimation (paper Sections II-III). Defaults are the
-/// paper's Section V values converted to SI units, with the paper's method; frictionRobust()
-/// gives the dither method that the tools use by default.
+/// User-defined parameters of the iterative estimation (paper Sections II-III). The defaults are
+/// what every tool uses: the paper's Section V values converted to SI units, with the
+/// friction-robust dither method and n_G = 3 (every dithered update is an average over whole
+/// periods, so three small updates in a row are as telling as the paper's five noisy ones).
+/// paper() gives eqs. 7-13 exactly as published.
 struct EstimationParameters {
-  EstimationMethod method = EstimationMethod::kPaper;
+  EstimationMethod method = EstimationMethod::kDither;
   /// Closed-loop damping of Xdd = beta (X_D - X) - alpha Xd; K_D = alpha M. Unit: [1/s]
   double alpha_per_s = 40.0;
   /// Closed-loop stiffness; K_P = beta M. Unit: [1/s^2]
@@ -40,8 +42,8 @@ struct EstimationParameters {
   int n_s = 20;
   /// Steady-state speed threshold. Unit: [m/s] (paper: 0.1 mm/s)
   double eps_s_m_per_s = 1.0e-4;
-  /// Consecutive estimate updates under eps_g that end the inner loop.
-  int n_g = 5;
+  /// Consecutive estimate updates under eps_g that end the inner loop (paper: 5).
+  int n_g = 3;
   /// Estimate-change threshold. Unit: [N] (paper: 0.5 g-force = 4.905 mN)
   double eps_g_n = 0.5e-3 * kStandardGravity;
   /// Lower bound on the duration of one iteration (the paper used 100 ms). Unit: [s]
@@ -76,15 +78,18 @@ struct EstimationParameters {
 
   static constexpr double kAutoDitherFraction = 0.09;
 
-  /// The paper's values with the friction-robust dither method, and n_G = 3: every dithered
-  /// update is an average over whole periods, so three small updates in a row are as telling as
-  /// the paper's five noisy ones.
-  static EstimationParameters frictionRobust() {
+  /// The paper's method exactly as published (Section V's values, n_G = 5, no dither): what
+  /// `paper-experiment` runs. Dry friction biases each of its updates by up to the breakaway
+  /// force, so calibrate real devices with the defaults.
+  static EstimationParameters paper() {
     EstimationParameters parameters;
-    parameters.method = EstimationMethod::kDither;
-    parameters.n_g = 3;
+    parameters.method = EstimationMethod::kPaper;
+    parameters.n_g = 5;
     return parameters;
   }
+  /// The defaults (the dither method). Kept for programs written when the defaults were the
+  /// paper's method.
+  static EstimationParameters frictionRobust() { return EstimationParameters{}; }
 };
 
 }  // namespace autograv
