@@ -51,6 +51,7 @@ SerialArmParameters omniParameters(FrictionLevel friction) {
   parameters.specifications.manufacturer = "autograv simulation (SensAble PHANToM Omni-like)";
   parameters.specifications.serial_number = "SIM-OMNI-0001";
   parameters.specifications.max_linear_force_n = 3.3;
+  parameters.specifications.max_continuous_force_n = 0.88;  // datasheet, 24 h
   // SensAble quotes > 1.02 N/mm along its weakest axis.
   parameters.specifications.max_linear_stiffness_n_per_m = 1000.0;
   parameters.specifications.max_linear_damping_n_s_per_m = 3.0;
