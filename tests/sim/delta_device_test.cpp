@@ -231,17 +231,19 @@ TEST(DeltaDeviceTest, ForceIsLimitedInMagnitudeAndPerMotor) {
   EXPECT_LT(device.appliedForce_n().dot(direction), 0.95 * kMaxForce_n);
 }
 
-// EveryPresetTest checks where it lands; here, that the arms' stops hold it.
-TEST(DeltaDeviceTest, ReleasedWithZeroForceFallsOntoTheArmStops) {
+// EveryPresetTest checks where it lands; here, that the grip's travel stops hold it, at the
+// bottom of the published cube, before the arms reach theirs.
+TEST(DeltaDeviceTest, ReleasedWithZeroForceFallsOntoTheTravelStops) {
   DeltaDevice device = makeOpenFalcon();
   device.setForce(Eigen::Vector3d::Zero());
   device.advance(2.0);
   EXPECT_TRUE(device.endStopHit());
   const auto& p = device.parameters();
+  EXPECT_NEAR(device.truePosition_m().z(), -p.travel_stop_half_width_m, 2e-3);
   const Eigen::Vector3d& theta = device.jointAngles_rad();
   EXPECT_TRUE(
-      ((theta.array() < p.joint_min_rad.array()) || (theta.array() > p.joint_max_rad.array()))
-          .any());
+      ((theta.array() >= p.joint_min_rad.array()) && (theta.array() <= p.joint_max_rad.array()))
+          .all());
 }
 
 TEST(DeltaDeviceTest, TypicalFrictionBreaksAwayAtTensOfMillinewtons) {

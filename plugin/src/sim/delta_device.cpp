@@ -60,8 +60,10 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   parameters.specifications.max_linear_stiffness_n_per_m = 2000.0;
   parameters.specifications.max_linear_damping_n_s_per_m = 10.0;
   // The sphere inscribed in the published 4 x 4 x 4 in cube: every direction reaches it. The
-  // mechanism reaches the whole cube (and a little more) before its arm stops.
+  // mechanism reaches the whole cube (and a little more) before its arm stops; the grip's travel
+  // stops hold it in the cube.
   parameters.specifications.workspace_radius_m = 0.0508;
+  parameters.travel_stop_half_width_m = 0.0508;
   return parameters;
 }
 
@@ -72,6 +74,9 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   check.armsAndMotors(p);
   check.positive(p.base_radius_m, "base_radius_m");
   check.nonNegative(p.effector_radius_m, "effector_radius_m");
+  check.nonNegative(p.travel_stop_half_width_m, "travel_stop_half_width_m");
+  check.positive(p.travel_stop_stiffness_n_per_m, "travel_stop_stiffness_n_per_m");
+  check.nonNegative(p.travel_stop_damping_n_s_per_m, "travel_stop_damping_n_s_per_m");
   check.positive(p.center_distance_m, "center_distance_m");
   check.finite(p.leg_angles_rad, "leg_angles_rad");
   check.nonNegative(p.platform_mass_kg, "platform_mass_kg");
@@ -339,10 +344,29 @@ void DeltaDevice::integrateStep(const Eigen::Vector3d& motor_command,
   const Eigen::Vector3d& thetad = thetad_rad_per_s_;
   const Eigen::Matrix3d jacobian_t = at.jacobian.transpose();
 
+  // The grip's travel stops push back on each face of their box and drag on the grip's speed.
+  Eigen::Vector3d grip_force_n = external_force_n;
+  if (p.travel_stop_half_width_m > 0.0) {
+    const Eigen::Vector3d offset_m = at.tip_m - home_tip_m_ - workspaceCenter_m();
+    Eigen::Vector3d grip_velocity;
+    bool touching = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double beyond_m =
+          offset_m[axis] -
+          std::clamp(offset_m[axis], -p.travel_stop_half_width_m, p.travel_stop_half_width_m);
+      if (beyond_m == 0.0) continue;
+      if (!touching) grip_velocity = at.jacobian * thetad;
+      touching = true;
+      grip_force_n[axis] -= p.travel_stop_stiffness_n_per_m * beyond_m +
+                            p.travel_stop_damping_n_s_per_m * grip_velocity[axis];
+    }
+    if (touching) end_stop_hit_ = true;
+  }
+
   // The motors' torques (saturated, quantized and delayed by the driver) and the hand's force on
   // the grip.
-  Eigen::Vector3d torque = motor_command + jacobian_t * external_force_n - gravityTorque(at) -
-                           friction_.step(thetad, dt_s);
+  Eigen::Vector3d torque =
+      motor_command + jacobian_t * grip_force_n - gravityTorque(at) - friction_.step(thetad, dt_s);
 
   // Arm stops: a rubber spring and damper while an arm presses beyond its range.
   for (int j = 0; j < 3; ++j) {

@@ -70,6 +70,13 @@ struct DeltaParameters {
   Eigen::Vector3d joint_max_rad = Eigen::Vector3d::Constant(1.798);   // 103 deg
   double joint_stop_stiffness_n_m_per_rad = 10.0;
   double joint_stop_damping_n_m_s_per_rad = 0.02;
+  /// Stops of the grip's travel about the workspace centre (the grip against the body and the
+  /// parallelograms' ball joints at their limits, which keep a real Falcon in its box long before
+  /// the arms reach their stops): a rubber wall on each face of a box of this half-width.
+  /// 0: none. Units: [m], [N/m], [N s/m]
+  double travel_stop_half_width_m = 0.0;
+  double travel_stop_stiffness_n_per_m = 2000.0;
+  double travel_stop_damping_n_s_per_m = 5.0;
 };
 
 /// The "sim:falcon" preset: a Novint-Falcon-like delta (8.9 N, 4-inch cube, > 400 dpi) with
