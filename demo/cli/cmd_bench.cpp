@@ -118,8 +118,8 @@ CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resoluti
   options.grid_size_m = grid.size_m();
   options.grid_resolution = grid.resolution();
   options.calibrator.extrapolate_initial_estimate = extrapolate;
-  options.parameters = method == EstimationMethod::kDither ? EstimationParameters::frictionRobust()
-                                                           : EstimationParameters{};
+  options.parameters =
+      method == EstimationMethod::kDither ? EstimationParameters{} : EstimationParameters::paper();
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
   const auto start = Clock::now();
   const sim::CalibrationRunResult result = sim::runSimulatedCalibration(device, options);
@@ -138,7 +138,7 @@ CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resoluti
   figures.iterations_median = spread.median;
   figures.iterations_max = static_cast<int>(spread.max);
   const GravityMap map(grid, result.vertices,
-                       MapMetadata{device.specifications().model_name, "", "", {}});
+                       MapMetadata{device.specifications().model_name, "", "", {}, {}});
   figures.accuracy = sim::measureAccuracy(map, device, 1000);
   if (map_out != nullptr) *map_out = map;
   return figures;

@@ -11,7 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
@@ -55,14 +57,20 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
-  // Default grid: a box fitted to the device's reachable workspace (at least 90 % of it inside);
-  // vertices beyond the end stops are found unreachable and filled.
-  double workspace_coverage = 0.0;
-  const WorkspaceGrid grid = resolveGrid(options.grid, *device, device.get(), workspace_coverage);
+  // Default grid: the box around the workspace the device explores first; the simulated user
+  // initializes near the workspace's centre, as a person would.
   sim::CalibrationRunOptions run;
-  run.grid_center_m = grid.center_m();
-  run.grid_size_m = grid.size_m();
-  run.grid_resolution = grid.resolution();
+  run.grid_from_workspace = gridFromWorkspace(options.grid);
+  run.initialization_center_m = device->workspaceCenter_m();
+  double workspace_coverage = 0.0;
+  if (run.grid_from_workspace) {
+    run.grid_resolution = gridResolution(options.grid);
+  } else {
+    const WorkspaceGrid box = resolveGrid(options.grid, *device, device.get(), workspace_coverage);
+    run.grid_center_m = box.center_m();
+    run.grid_size_m = box.size_m();
+    run.grid_resolution = box.resolution();
+  }
   run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
   run.redo_passes = options.redo_failed;
@@ -71,6 +79,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
+  metadata.lookup_refinement = kDefaultLookupRefinement;
   const std::string checkpoint_path = options.out_path + ".partial";
   // Refuse now, not after minutes of calibration, when the files cannot be written.
   checkWritable(options.out_path, "map");
@@ -82,7 +91,15 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
                 "it, or delete it to start afresh");
   }
   if (options.resume) {
-    // The wizard's reader: either command resumes the other's run, with the same checks.
+    // The checkpoint holds the grid and the explored workspace of the interrupted run: the
+    // device is not explored again. The wizard's reader: either command resumes the other's run.
+    const GravityMap partial = loadMap(checkpoint_path);
+    const WorkspaceGrid& grid = partial.grid();
+    run.grid_from_workspace = false;
+    run.grid_center_m = grid.center_m();
+    run.grid_size_m = grid.size_m();
+    run.grid_resolution = grid.resolution();
+    run.workspace = partial.metadata().workspace;
     run.resume_from = loadCheckpoint(checkpoint_path, grid, specs.model_name);
     const auto converged = std::count_if(
         run.resume_from.begin(), run.resume_from.end(),
@@ -91,13 +108,23 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
                  static_cast<int>(converged), grid.vertexCount(), checkpoint_path.c_str());
   }
 
-  std::printf(
-      "Calibrating %s: grid %s, %.1f %% of the reachable workspace inside, seed %llu, friction "
-      "%s\n",
-      specs.model_name.c_str(), grid.describe().c_str(), 100.0 * workspace_coverage,
-      static_cast<unsigned long long>(options.seed), sim::toString(options.friction));
+  std::printf("Calibrating %s: seed %llu, friction %s\n", specs.model_name.c_str(),
+              static_cast<unsigned long long>(options.seed), sim::toString(options.friction));
+  if (run.workspace.empty()) {
+    std::printf("Exploring the workspace: %d probe directions under a %.2f N cap...\n",
+                run.explorer.directions,
+                1.5 * std::min(WorkspaceExplorer::kContactForceFraction * specs.max_linear_force_n,
+                               0.5 * continuousForceRating_n(specs)));
+  }
   std::fflush(stdout);
   ProgressBar progress("vertex");
+  run.on_explored = [&](const ExploredWorkspace& workspace, const WorkspaceGrid& grid) {
+    metadata.workspace = workspace;
+    std::printf("Explored: reach %.1f to %.1f mm from the centre; grid %s\n",
+                workspace.minRadius_m() * 1e3, workspace.maxRadius_m() * 1e3,
+                grid.describe().c_str());
+    std::fflush(stdout);
+  };
   run.on_progress = [&](const AutoCalibrator& calibrator) {
     char detail[128];
     const double delta_mm = calibrator.estimator().lastPositionError_m() * 1e3;
@@ -130,6 +157,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
 
+  const WorkspaceGrid& grid = result.grid;
+  workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);
@@ -160,6 +189,9 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     }
   }
   const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
+  // The field where the hand can be, judged against the simulation's truth (scoring only).
+  const sim::FieldErrorReport field = sim::measureFieldError(map, *device, 4000, options.seed);
+  const double device_seconds = result.simulated_seconds;
   const int iterations_max = *std::max_element(iterations.begin(), iterations.end());
 
   std::printf("\n%-34s %s\n", "map", options.out_path.c_str());
@@ -171,9 +203,27 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
               median(iterations), iterations_max);
   std::printf("%-34s %.1f s (%.2f s per vertex), wall %.1f s\n", "simulated time",
               result.simulated_seconds, vertex_seconds / grid.vertexCount(), wall_s);
-  std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n",
-              "worst vertex |G_hat - G| / |G|", 100.0 * accuracy.max_error_rel,
-              accuracy.worst_vertex, accuracy.max_error_n * 1e3);
+  std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
+              100.0 * accuracy.max_error_rel, accuracy.worst_vertex, accuracy.max_error_n * 1e3);
+  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+              "field error over the workspace", 100.0 * field.p50_rel, 100.0 * field.p90_rel,
+              100.0 * field.p99_rel, 100.0 * field.max_rel, field.samples);
+  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+              "  within 5 mm of the stops", 100.0 * field.shell_p50_rel,
+              100.0 * field.shell_p90_rel, 100.0 * field.shell_p99_rel, 100.0 * field.shell_max_rel,
+              field.shell_samples);
+  std::printf("%-34s %d at the vertex, %d just inside the stops, %d beyond reach\n",
+              "measurement points", result.plan.at_vertex, result.plan.off_vertex,
+              result.plan.skipped);
+  std::printf("%-34s %.1f s, %d directions, stops recognised within %.0f ms\n",
+              "workspace exploration", result.exploration_seconds,
+              static_cast<int>(result.workspace.directions().size()),
+              result.longest_stop_recognition_s * 1e3);
+  std::printf("%-34s %.1f s above %.2f N (%.1f %% of %.0f s), %llu ticks at the force limit\n",
+              "force on the device", result.seconds_above_continuous_force,
+              continuousForceRating_n(specs),
+              100.0 * result.seconds_above_continuous_force / device_seconds, device_seconds,
+              static_cast<unsigned long long>(result.force_limit_ticks));
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
   auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
@@ -231,6 +281,28 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       {"worst_vertex", accuracy.worst_vertex},
       {"max_error_n", accuracy.max_error_n},
       {"rms_residual_rel", accuracy.rms_residual_rel},
+      {"field_samples", field.samples},
+      {"field_error_p50_rel", field.p50_rel},
+      {"field_error_p90_rel", field.p90_rel},
+      {"field_error_p99_rel", field.p99_rel},
+      {"field_error_max_rel", field.max_rel},
+      {"field_error_max_n", field.max_n},
+      {"field_worst_point_m",
+       {field.worst_point_m.x(), field.worst_point_m.y(), field.worst_point_m.z()}},
+      {"shell_field_samples", field.shell_samples},
+      {"shell_field_error_p50_rel", field.shell_p50_rel},
+      {"shell_field_error_p90_rel", field.shell_p90_rel},
+      {"shell_field_error_p99_rel", field.shell_p99_rel},
+      {"shell_field_error_max_rel", field.shell_max_rel},
+      {"measured_at_vertex", result.plan.at_vertex},
+      {"measured_inside_stops", result.plan.off_vertex},
+      {"beyond_reach", result.plan.skipped},
+      {"exploration_seconds", result.exploration_seconds},
+      {"exploration_directions", result.workspace.directions().size()},
+      {"longest_stop_recognition_s", result.longest_stop_recognition_s},
+      {"continuous_force_n", continuousForceRating_n(specs)},
+      {"seconds_above_continuous_force", result.seconds_above_continuous_force},
+      {"force_limit_ticks", result.force_limit_ticks},
       {"mean_true_gravity_n", accuracy.mean_true_norm_n},
       {"lipschitz_n_per_m", result.lipschitz_n_per_m},
       {"peak_force_n", result.peak_force_n},

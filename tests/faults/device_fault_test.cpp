@@ -56,7 +56,7 @@ FaultyRun runWithScript(
   EXPECT_TRUE(device->open());
   sim::CalibrationRunOptions options = smallGrid(*device);
   const std::string checkpoint = folder.file("map.json.partial");
-  const MapMetadata metadata{"sim:omega", "", "", {}};
+  const MapMetadata metadata{"sim:omega", "", "", {}, {}};
   FaultyRun run;
   bool injected = false;
   options.progress_period_s = 0.0;  // the script sees every tick

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
@@ -131,20 +132,100 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
   return result;
 }
 
+ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationParameters& parameters,
+                                   const InitializationResult& initialization,
+                                   const WorkspaceExplorer::Options& options,
+                                   const std::atomic<bool>* stop_requested, double timeout_s) {
+  const DeviceSpecifications& specs = device.specifications();
+  const double continuous_n = continuousForceRating_n(specs);
+  WorkspaceExplorer explorer(parameters, specs, options);
+  explorer.start(initialization.settled_m, initialization.gravity_n);
+  ExplorationResult result;
+  const double start_s = device.time_s();
+  const std::uint64_t saturations_before = device.saturationCount();
+  WorkspaceExplorer::Status state = WorkspaceExplorer::Status::kTransfer;
+  while (state != WorkspaceExplorer::Status::kFinished &&
+         state != WorkspaceExplorer::Status::kDeviceFault &&
+         device.time_s() - start_s < timeout_s) {
+    if (stop_requested != nullptr && stop_requested->load()) {
+      result.stopped = true;
+      break;
+    }
+    servoTick(device, parameters.servo_period_s,
+              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+                state = explorer.step(sample, force_n);
+                const double norm_n = force_n.norm();
+                result.peak_force_n = std::max(result.peak_force_n, norm_n);
+                if (norm_n > continuous_n) {
+                  result.seconds_above_continuous_force += parameters.servo_period_s;
+                }
+              });
+  }
+  result.seconds = device.time_s() - start_s;
+  result.longest_recognition_s = explorer.longestRecognition_s();
+  result.saturation_count = device.saturationCount() - saturations_before;
+  if (state == WorkspaceExplorer::Status::kDeviceFault) {
+    throw Error("calibration: the device stopped answering while its workspace was explored");
+  }
+  if (result.stopped) return result;
+  if (state != WorkspaceExplorer::Status::kFinished) {
+    throw Error("calibration: the workspace exploration did not finish within " +
+                std::to_string(timeout_s) + " s");
+  }
+  result.workspace = explorer.workspace();
+  return result;
+}
+
 CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
                                              const CalibrationRunOptions& options) {
-  const WorkspaceGrid grid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
   const EstimationParameters& parameters = options.parameters;
-  const double max_force_n = device.specifications().max_linear_force_n;
+  const DeviceSpecifications& specs = device.specifications();
+  const double max_force_n = specs.max_linear_force_n;
+  const double continuous_n = continuousForceRating_n(specs);
   const double start_s = device.time_s();
   CalibrationRunResult result;
+  result.grid = WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
+  const std::uint64_t saturations_before = device.saturationCount();
+  // What a real device would feel: the force sent each tick, against its ratings.
+  const auto account = [&](const Eigen::Vector3d& force_n) {
+    if (force_n.norm() > continuous_n)
+      result.seconds_above_continuous_force += parameters.servo_period_s;
+  };
 
-  result.initialization = initializeWithSimulatedHand(device, parameters, grid.center_m());
+  const Eigen::Vector3d x0_m =
+      options.grid_from_workspace ? options.initialization_center_m : result.grid.center_m();
+  result.initialization = initializeWithSimulatedHand(device, parameters, x0_m);
   if (!result.initialization.ok) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
-  const auto problems = checkCalibrationPlan(parameters, grid.maxSpacing_m(), max_force_n,
-                                             result.initialization.gravity_n);
+
+  if (options.explore && !options.workspace.empty()) {
+    result.workspace = options.workspace;
+  } else if (options.explore) {
+    const ExplorationResult exploration =
+        exploreWorkspace(device, parameters, result.initialization, options.explorer,
+                         options.stop_requested, options.timeout_s);
+    result.exploration_seconds = exploration.seconds;
+    result.longest_stop_recognition_s = exploration.longest_recognition_s;
+    result.seconds_above_continuous_force += exploration.seconds_above_continuous_force;
+    if (exploration.stopped) {
+      device.setForce(Eigen::Vector3d::Zero());
+      result.stopped = true;
+      result.status = AutoCalibrator::Status::kAborted;
+      result.simulated_seconds = device.time_s() - start_s;
+      return result;
+    }
+    result.workspace = exploration.workspace;
+  }
+  if (options.grid_from_workspace && !result.workspace.empty()) {
+    result.grid = gridAroundWorkspace(result.workspace, options.grid_resolution);
+  }
+  const WorkspaceGrid& grid = result.grid;
+  result.plan = planMeasurements(grid, result.workspace);
+  if (options.on_explored) options.on_explored(result.workspace, grid);
+  const auto problems = checkCalibrationPlan(
+      parameters, AutoCalibrator::largestHoldStep_m(parameters, options.calibrator), max_force_n,
+      result.initialization.gravity_n);
   if (!problems.empty()) {
     std::string message = "calibration refused before the device moves by itself:";
     for (const auto& problem : problems) message += "\n  - " + problem;
@@ -153,11 +234,11 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
 
   AutoCalibrator calibrator(grid, parameters, max_force_n, options.calibrator);
   if (!options.resume_from.empty()) calibrator.restore(options.resume_from);
+  calibrator.setPlan(result.plan);
   const ServoSample first = readServoSample(device);
   calibrator.start(first.valid ? first.position_m : grid.center_m(),
                    result.initialization.gravity_n);
 
-  const std::uint64_t saturations_before = device.saturationCount();
   double next_progress_s = device.time_s();
   AutoCalibrator::Status status = AutoCalibrator::Status::kMoving;
   while (device.time_s() - start_s < options.timeout_s) {
@@ -168,6 +249,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
     servoTick(device, parameters.servo_period_s,
               [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
                 status = calibrator.step(sample, force_n);
+                account(force_n);
               });
     if (status == AutoCalibrator::Status::kVertexFinished) {
       if (options.on_vertex_finished) {
@@ -214,11 +296,12 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   if (options.on_progress) options.on_progress(calibrator);
   device.setForce(Eigen::Vector3d::Zero());
   result.status = status;
-  result.vertices = calibrator.makeMap(MapMetadata{}).vertices();  // unreachable ones filled
+  result.vertices = calibrator.makeMap(MapMetadata{}).vertices();  // solved from all measurements
   result.simulated_seconds = device.time_s() - start_s;
   result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
   result.peak_force_n = calibrator.peakForce_n();
   result.saturation_count = device.saturationCount() - saturations_before;
+  result.force_limit_ticks = result.saturation_count;
   return result;
 }
 
@@ -229,8 +312,12 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
     if (vertex.outcome != VertexOutcome::kConverged) continue;
-    const Eigen::Vector3d truth = device.trueGravity(grid.vertexPosition(i));
-    const double error_n = (vertex.gravity_n - truth).norm();
+    // The measurement, where it was made (a vertex beyond the stops is measured inside them).
+    const bool off_vertex = vertex.measuredOffVertex();
+    const Eigen::Vector3d truth =
+        device.trueGravity(off_vertex ? vertex.measured_at_m : grid.vertexPosition(i));
+    const double error_n =
+        ((off_vertex ? vertex.measured_gravity_n : vertex.gravity_n) - truth).norm();
     report.max_error_n = std::max(report.max_error_n, error_n);
     const double error = error_n / truth.norm();
     if (error > report.max_error_rel) {
@@ -271,6 +358,75 @@ ReachabilityTest reachabilityOf(const SimulatedDevice& device) {
   return [&device](const Eigen::Vector3d& position_m) { return device.isReachable(position_m); };
 }
 }  // namespace
+
+namespace {
+// The q-quantile of `values` (sorted in place), by the nearest rank; 0 when empty.
+double quantile(std::vector<double>& values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+bool nearBoundary(const SimulatedDevice& device, const Eigen::Vector3d& point_m, double shell_m) {
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        const Eigen::Vector3d direction = Eigen::Vector3d(x, y, z).normalized();
+        if (!device.isReachable(point_m + shell_m * direction)) return true;
+      }
+    }
+  }
+  return false;
+}
+}  // namespace
+
+FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice& device,
+                                   int samples, std::uint64_t seed, double shell_m) {
+  if (samples < 1 || !(shell_m >= 0.0)) {
+    throw Error("measureFieldError: samples must be at least 1 and shell_m non-negative");
+  }
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double bound_m = kReachBoundFactor * device.specifications().workspace_radius_m;
+  // The Falcon's cube has its corners beyond the inscribed radius: draw from the cube's corners.
+  const double half_box_m = std::sqrt(3.0) * bound_m;
+  FieldErrorReport report;
+  std::vector<double> errors, shell_errors;
+  errors.reserve(static_cast<std::size_t>(samples));
+  constexpr int kMaxDrawsPerSample = 1000;
+  for (long draws = 0; report.samples < samples; ++draws) {
+    if (draws > static_cast<long>(kMaxDrawsPerSample) * samples) {
+      throw Error("measureFieldError: " + device.specifications().model_name +
+                  " reaches almost none of its workspace box");
+    }
+    const Eigen::Vector3d point =
+        device.workspaceCenter_m() +
+        half_box_m * Eigen::Vector3d(unit(random), unit(random), unit(random));
+    if (!device.isReachable(point)) continue;
+    ++report.samples;
+    const Eigen::Vector3d truth = device.trueGravity(point);
+    const double error_n = (map.gravityAt(point) - truth).norm();
+    const double error = error_n / truth.norm();
+    errors.push_back(error);
+    report.max_n = std::max(report.max_n, error_n);
+    if (error > report.max_rel) {
+      report.max_rel = error;
+      report.worst_point_m = point;
+    }
+    if (nearBoundary(device, point, shell_m)) shell_errors.push_back(error);
+  }
+  report.p50_rel = quantile(errors, 0.5);
+  report.p90_rel = quantile(errors, 0.9);
+  report.p99_rel = quantile(errors, 0.99);
+  report.shell_samples = static_cast<int>(shell_errors.size());
+  report.shell_p50_rel = quantile(shell_errors, 0.5);
+  report.shell_p90_rel = quantile(shell_errors, 0.9);
+  report.shell_p99_rel = quantile(shell_errors, 0.99);
+  report.shell_max_rel = shell_errors.empty() ? 0.0 : shell_errors.back();
+  return report;
+}
 
 WorkspaceFit fitGridToDevice(const SimulatedDevice& device, double target_coverage) {
   return fitWorkspaceBox(reachabilityOf(device), device.workspaceCenter_m(),

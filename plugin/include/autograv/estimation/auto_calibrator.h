@@ -10,6 +10,7 @@
 #include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/gravity_map.h"
+#include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_grid.h"
 
 namespace autograv {
@@ -40,6 +41,18 @@ class AutoCalibrator {
     bool extrapolate_initial_estimate = true;
   };
 
+  /// The largest gap between hold target and end-effector that the moves leave for the PD to
+  /// close, the `cell_m` of checkCalibrationPlan: the paper's worst case is a step of a whole cell
+  /// (Sec. VI), but the moves here are minimum-jerk paths with their acceleration fed forward on
+  /// the estimated mass, so the gap is what a mass kMassUncertainty times the estimate lags at
+  /// the peak acceleration. Unit: [m]. Real-time safe.
+  static double largestHoldStep_m(const EstimationParameters& parameters,
+                                  const Options& options) noexcept {
+    return kMassUncertainty * options.max_move_acceleration_m_per_s2 / parameters.beta_per_s2;
+  }
+  /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
+  static constexpr double kMassUncertainty = 3.0;
+
   /// Allocates everything the run needs. Throws autograv::Error on bad parameters.
   /// Not real-time safe.
   AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
@@ -55,6 +68,16 @@ class AutoCalibrator {
   /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order.
   /// Throws autograv::Error on an index out of range. Not real-time safe.
   void visitOnly(const std::vector<int>& indices);
+  /// Measures each vertex where `plan` says (planMeasurements: at the vertex, or at a point just
+  /// inside the explored workspace), and marks the vertices it skips kUnreachable without
+  /// visiting them, so that no move or hold targets a point outside the explored workspace.
+  /// Call after restore() and before start(). Throws autograv::Error when the plan does not
+  /// match the grid. Not real-time safe.
+  void setPlan(const MeasurementPlan& plan);
+  /// Where vertex `index` is measured: the vertex, or the plan's point. Real-time safe. Unit: [m]
+  const Eigen::Vector3d& measurementPoint_m(int index) const noexcept {
+    return targets_[static_cast<std::size_t>(index)];
+  }
 
   /// Starts from the end-effector at `position_m` with the estimate `initial_gravity_n` (G_hat_0
   /// from the manual initialization, eq. 7). Real-time safe.
@@ -102,6 +125,7 @@ class AutoCalibrator {
   Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
 
   WorkspaceGrid grid_;
+  std::vector<Eigen::Vector3d> targets_;  // per vertex: where it is measured
   EstimationParameters parameters_;
   double max_force_n_;
   Options options_;

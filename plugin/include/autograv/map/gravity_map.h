@@ -1,12 +1,14 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/explored_workspace.h"
 #include "autograv/map/workspace_grid.h"
 
 namespace autograv {
@@ -59,6 +61,15 @@ struct VertexEstimate {
   VertexOutcome outcome = VertexOutcome::kPending;
   VertexProvenance provenance = VertexProvenance::kMeasured;
   std::vector<IterationRecord> history;  ///< One record per iteration, oldest first.
+  /// Where the inner loop ran when not at the vertex itself: a vertex beyond the explored
+  /// workspace's boundary is measured at a point just inside it (MeasurementPlan), and its value
+  /// gravity_n is then solved from every measurement (fillUnreachableVertices); NaN when measured
+  /// at the vertex, or not at all. Unit: [m]
+  Eigen::Vector3d measured_at_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The estimate measured at measured_at_m (only when measuredOffVertex()). Unit: [N]
+  Eigen::Vector3d measured_gravity_n = Eigen::Vector3d::Zero();
+  bool measuredOffVertex() const noexcept { return measured_at_m.allFinite(); }
 };
 
 /// Where a map came from.
@@ -67,7 +78,21 @@ struct MapMetadata {
   std::string device_serial;  ///< Empty when unknown.
   std::string created_utc;    ///< ISO 8601, e.g. "2026-11-23T13:25:00Z".
   EstimationParameters parameters;
+  /// What the end-effector was found to reach before the grid run (empty for maps made before
+  /// the exploration existed, or without it).
+  ExploredWorkspace workspace;
+  /// The lookup's cells per grid cell along each axis. 1: the paper's trilinear interpolation of
+  /// the vertex values. k > 1: trilinear on a grid k times finer whose values are the thin-plate
+  /// interpolant of every measurement (refinedVertexValues), which follows a curved field
+  /// between the vertices where the coarse cells cut its corners; the same cost per lookup.
+  int lookup_refinement = 1;
 };
+
+/// The lookup refinement of the maps that calibrations make: on the simulated devices it cuts the
+/// field's 99th-percentile error between the vertices by a quarter at no extra device time.
+inline constexpr int kDefaultLookupRefinement = 2;
+/// Largest lookup refinement a map accepts.
+inline constexpr int kMaxLookupRefinement = 8;
 
 /// Largest magnitude of a vertex estimate's component that a map accepts. No device's gravity
 /// comes near it; the bound keeps interpolation, ramps and the application's force plus the
@@ -78,15 +103,18 @@ inline constexpr double kMaxGravityEstimate_n = 1e9;
 /// phase). Immutable once built, so one instance can be shared by a servo thread and others.
 class GravityMap {
  public:
-  /// Throws autograv::Error when vertices.size() != grid.vertexCount() or an estimate is not
-  /// finite or has a component beyond kMaxGravityEstimate_n. Not real-time safe.
+  /// Throws autograv::Error when vertices.size() != grid.vertexCount(), an estimate is not
+  /// finite or has a component beyond kMaxGravityEstimate_n, or the lookup refinement lies
+  /// outside 1..kMaxLookupRefinement or makes more than 64 lookup vertices along an axis.
+  /// Not real-time safe.
   GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices, MapMetadata metadata);
 
   const WorkspaceGrid& grid() const noexcept { return grid_; }
   const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
   const MapMetadata& metadata() const noexcept { return metadata_; }
 
-  /// Trilinear interpolation of the vertex estimates in the cell containing `position_m`; outside
+  /// Trilinear interpolation of the vertex estimates (on the refined lookup grid when
+  /// metadata().lookup_refinement > 1) in the cell containing `position_m`; outside
   /// the grid, the boundary cell's interpolant extended linearly for one cell, and the value one
   /// cell out beyond that (detail::kExtrapolationCells). Unit: [N].
   /// Real-time safe: no allocation, no lock, no throw.
@@ -112,7 +140,9 @@ class GravityMap {
   WorkspaceGrid grid_;
   std::vector<VertexEstimate> vertices_;
   MapMetadata metadata_;
-  // The lookup's view of the grid, computed once: no division per query.
+  // The lookup's view of the grid (refined by metadata.lookup_refinement), computed once: no
+  // division per query.
+  Eigen::Vector3i lookup_resolution_;
   Eigen::Vector3d min_corner_m_;
   Eigen::Vector3d inverse_spacing_per_m_;  ///< Per axis. Unit: [1/m]
   Eigen::Vector3d last_cell_;              ///< resolution - 1 per axis. Unit: [cells]

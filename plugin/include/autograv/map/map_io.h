@@ -7,9 +7,10 @@
 
 namespace autograv {
 
-/// Map file schema version written by saveMap. Schema 2 stores box grids and where each vertex's
-/// value came from; schema 1 files (cubic grids) still load. Other versions are refused.
-inline constexpr int kMapSchemaVersion = 2;
+/// Map file schema version written by saveMap. Schema 3 adds the explored workspace and the
+/// points measured off their vertices; schema 2 (box grids and where each vertex's value came
+/// from) and schema 1 (cubic grids) files still load. Other versions are refused.
+inline constexpr int kMapSchemaVersion = 3;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 

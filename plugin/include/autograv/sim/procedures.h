@@ -10,7 +10,9 @@
 
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/gravity_map.h"
+#include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_fit.h"
 #include "autograv/sim/simulated_device.h"
 
@@ -38,6 +40,27 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
                                                  const Eigen::Vector3d& center_m,
                                                  double timeout_s = 30.0);
 
+/// What the workspace exploration did on a simulated device.
+struct ExplorationResult {
+  ExploredWorkspace workspace;  ///< Empty when stopped.
+  double seconds = 0.0;         ///< Servo time. Unit: [s]
+  /// Longest time from the end-effector's last progress to a recognised stop. Unit: [s]
+  double longest_recognition_s = 0.0;
+  double seconds_above_continuous_force = 0.0;  ///< Unit: [s]
+  double peak_force_n = 0.0;                    ///< Largest force sent. Unit: [N]
+  std::uint64_t saturation_count = 0;           ///< setForce calls the device clamped.
+  bool stopped = false;                         ///< stop_requested was honoured.
+};
+
+/// Runs WorkspaceExplorer on `device` from the end-effector at rest where `initialization` left
+/// it, on simulated time. Throws autograv::Error when the device stops answering.
+/// Not real-time safe.
+ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationParameters& parameters,
+                                   const InitializationResult& initialization,
+                                   const WorkspaceExplorer::Options& options = {},
+                                   const std::atomic<bool>* stop_requested = nullptr,
+                                   double timeout_s = 600.0);
+
 /// The paper's Section V experiment on a simulated device.
 struct PaperExperimentResult {
   InitializationResult initialization;
@@ -55,6 +78,19 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
                                          const EstimationParameters& parameters);
 
 struct CalibrationRunOptions {
+  /// Explore the workspace from the device's own data before the grid run (WorkspaceExplorer),
+  /// and measure only inside what it reached (planMeasurements). False: every vertex is visited
+  /// where it is, as before the exploration existed.
+  bool explore = true;
+  /// With explore: fit the grid's box to the explored workspace (gridAroundWorkspace, with
+  /// grid_resolution) instead of grid_center_m and grid_size_m.
+  bool grid_from_workspace = false;
+  /// Where the simulated hand initializes (X0) when grid_from_workspace; else the grid's centre.
+  /// Unit: [m]
+  Eigen::Vector3d initialization_center_m = Eigen::Vector3d::Zero();
+  WorkspaceExplorer::Options explorer;
+  /// A workspace explored before (a resumed run's checkpoint): used instead of exploring again.
+  ExploredWorkspace workspace;
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
   /// Extent of the grid's box along x, y, z. Unit: [m]
   Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
@@ -67,6 +103,8 @@ struct CalibrationRunOptions {
   /// Called every `progress_period_s` of simulated time, and when a vertex finishes.
   std::function<void(const AutoCalibrator&)> on_progress;
   double progress_period_s = 0.5;
+  /// Called once the workspace is explored and the grid known, before the grid run.
+  std::function<void(const ExploredWorkspace&, const WorkspaceGrid&)> on_explored;
   /// Called after each finished vertex (checkpoint it here: it runs between servo ticks).
   std::function<void(const AutoCalibrator&, int vertex)> on_vertex_finished;
   /// Set to true from another thread or a signal handler to stop after the current tick.
@@ -82,6 +120,17 @@ struct CalibrationRunOptions {
 struct CalibrationRunResult {
   AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
   InitializationResult initialization;
+  /// The grid calibrated (the options' box, or the one fitted to the explored workspace).
+  WorkspaceGrid grid{Eigen::Vector3d::Zero(), 0.06, 2};
+  ExploredWorkspace workspace;  ///< Empty without explore.
+  MeasurementPlan plan;
+  double exploration_seconds = 0.0;  ///< Servo time of the exploration. Unit: [s]
+  /// Longest time from the end-effector's last progress to a recognised stop. Unit: [s]
+  double longest_stop_recognition_s = 0.0;
+  /// Servo ticks whose force reached the device's limit (clamped by the device), and the servo
+  /// time spent above its continuous rating, exploration and grid run together. Unit: [s]
+  std::uint64_t force_limit_ticks = 0;
+  double seconds_above_continuous_force = 0.0;
   /// Every vertex; the unreachable ones filled from the converged ones (AutoCalibrator::makeMap).
   std::vector<VertexEstimate> vertices;
   double simulated_seconds = 0.0;      ///< Initialization included. Unit: [s]
@@ -111,7 +160,9 @@ double deviceWorkspaceCoverage(const SimulatedDevice& device, const WorkspaceGri
 
 /// Accuracy of a map against the device's ground truth.
 struct AccuracyReport {
-  double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
+  /// Worst measured point |G_hat - G| / |G| (a converged vertex, or its point inside the
+  /// workspace when it was measured off the vertex).
+  double max_error_rel = 0.0;
   int worst_vertex = -1;
   double max_error_n = 0.0;  ///< Worst converged vertex |G_hat - G| (maybe another one). Unit: [N]
   double rms_residual_n = 0.0;    ///< RMS of |G_hat(X) - G(X)| at random points. Unit: [N]
@@ -125,5 +176,32 @@ struct AccuracyReport {
 /// Not real-time safe.
 AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& device,
                                int samples = 1000, std::uint64_t seed = 1);
+
+/// The error of a map's field where the hand can be: |G_hat(X) - G(X)| / |G(X)| at points drawn
+/// uniformly from the device's reachable workspace (isReachable, so ground truth: for scoring
+/// only), inside the grid's box or not. The shell is the part within `shell_m` of the workspace's
+/// boundary, where hands rest against the stops.
+struct FieldErrorReport {
+  int samples = 0;  ///< Points drawn (all reachable).
+  double p50_rel = 0.0;
+  double p90_rel = 0.0;
+  double p99_rel = 0.0;
+  double max_rel = 0.0;
+  double max_n = 0.0;  ///< Largest |G_hat(X) - G(X)|. Unit: [N]
+  /// Where max_rel was found. Unit: [m]
+  Eigen::Vector3d worst_point_m = Eigen::Vector3d::Zero();
+  int shell_samples = 0;  ///< Of those, the points within shell_m of the boundary.
+  double shell_p50_rel = 0.0;
+  double shell_p90_rel = 0.0;
+  double shell_p99_rel = 0.0;
+  double shell_max_rel = 0.0;
+};
+
+/// Draws `samples` reachable points uniformly (seeded) and measures the map's error there; a point
+/// is in the shell when a point `shell_m` away from it in one of 26 directions is unreachable.
+/// Deterministic. Not real-time safe. Unit of shell_m: [m]
+FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice& device,
+                                   int samples = 4000, std::uint64_t seed = 1,
+                                   double shell_m = 5e-3);
 
 }  // namespace autograv::sim

@@ -34,6 +34,8 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
   if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
     throw Error("auto-calibrator: move acceleration and duration must be positive");
   }
+  targets_.reserve(vertices_.size());
+  for (int i = 0; i < grid.vertexCount(); ++i) targets_.push_back(grid.vertexPosition(i));
   // Reserve every history now so that finishing a vertex in the servo loop never allocates.
   for (auto& vertex : vertices_) {
     vertex.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
@@ -78,6 +80,31 @@ void AutoCalibrator::visitOnly(const std::vector<int>& indices) {
   next_in_order_ = 0;
 }
 
+void AutoCalibrator::setPlan(const MeasurementPlan& plan) {
+  if (static_cast<int>(plan.points_m.size()) != grid_.vertexCount() ||
+      plan.measure.size() != plan.points_m.size()) {
+    std::ostringstream message;
+    message << "auto-calibrator: the measurement plan has " << plan.points_m.size()
+            << " points for a grid of " << grid_.vertexCount() << " vertices";
+    throw Error(message.str());
+  }
+  targets_ = plan.points_m;
+  std::vector<int> order;
+  for (int index : order_) {
+    const auto i = static_cast<std::size_t>(index);
+    if (plan.measure[i]) {
+      order.push_back(index);
+    } else {
+      vertices_[i].outcome = VertexOutcome::kUnreachable;  // beyond the explored workspace
+      vertices_[i].iterations = 0;
+      vertices_[i].seconds = 0.0;
+      vertices_[i].history.clear();
+    }
+  }
+  order_ = std::move(order);
+  next_in_order_ = 0;
+}
+
 void AutoCalibrator::start(const Eigen::Vector3d& position_m,
                            const Eigen::Vector3d& initial_gravity_n) noexcept {
   gravity_n_ = initial_gravity_n;
@@ -104,7 +131,7 @@ void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
 }
 
 void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
-  const Eigen::Vector3d target_m = grid_.vertexPosition(current_vertex_);
+  const Eigen::Vector3d target_m = targets_[static_cast<std::size_t>(current_vertex_)];
   move_.start(from_m, target_m,
               MinimumJerkMove::durationFor((target_m - from_m).norm(),
                                            options_.max_move_acceleration_m_per_s2,
@@ -148,6 +175,11 @@ void AutoCalibrator::recordFinished() noexcept {
   slot.iterations = result.iterations;
   slot.seconds = result.seconds;
   slot.outcome = result.outcome;
+  const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(index)];
+  if ((point_m - grid_.vertexPosition(index)).norm() > 1e-9) {
+    slot.measured_at_m = point_m;
+    slot.measured_gravity_n = result.gravity_n;
+  }
   slot.history.clear();
   for (const auto& record : result.history) {
     if (slot.history.size() < slot.history.capacity()) slot.history.push_back(record);
@@ -164,9 +196,13 @@ void AutoCalibrator::recordFinished() noexcept {
         const auto& neighbour =
             vertices_[static_cast<std::size_t>(grid_.vertexIndex(other.x(), other.y(), other.z()))];
         if (!isDone(neighbour)) continue;
-        lipschitz_n_per_m_ =
-            std::max(lipschitz_n_per_m_,
-                     (slot.gravity_n - neighbour.gravity_n).norm() / grid_.spacing_m()[axis]);
+        const double distance_m =
+            (point_m -
+             targets_[static_cast<std::size_t>(grid_.vertexIndex(other.x(), other.y(), other.z()))])
+                .norm();
+        if (distance_m < 1e-6) continue;
+        lipschitz_n_per_m_ = std::max(lipschitz_n_per_m_,
+                                      (slot.gravity_n - neighbour.gravity_n).norm() / distance_m);
       }
     }
     previous_vertex_ = index;
@@ -216,7 +252,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
       clampForce(force_n, max_force_n_);
       hold_m_ = desired_m;
       if (move_ticks_ * parameters_.servo_period_s >= move_.duration_s()) {
-        estimator_.start(grid_.vertexPosition(current_vertex_),
+        estimator_.start(targets_[static_cast<std::size_t>(current_vertex_)],
                          initialEstimateFor(current_vertex_));
         state_ = Status::kEstimating;
       }
@@ -229,7 +265,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
         break;
       }
       recordFinished();
-      hold_m_ = grid_.vertexPosition(current_vertex_);
+      hold_m_ = targets_[static_cast<std::size_t>(current_vertex_)];
       if (inner == VertexEstimator::Status::kDeviceFault) {
         force_n.setZero();
         state_ = Status::kDeviceFault;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "autograv/error.h"
+#include "autograv/map/vertex_fill.h"
 #include "map/trilinear.h"
 
 namespace autograv {
@@ -68,6 +69,7 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
     : grid_(std::move(grid)),
       vertices_(std::move(vertices)),
       metadata_(std::move(metadata)),
+      lookup_resolution_(grid_.resolution()),
       min_corner_m_(grid_.minCorner_m()),
       inverse_spacing_per_m_(grid_.spacing_m().cwiseInverse()),
       last_cell_((grid_.resolution().array() - 1).cast<double>()) {
@@ -94,11 +96,27 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
     }
     packed_gravity_n_.emplace_back(gravity_n.x(), gravity_n.y(), gravity_n.z(), 0.0);
   }
+  const int refinement = metadata_.lookup_refinement;
+  if (refinement < 1 || refinement > kMaxLookupRefinement) {
+    throw Error("gravity map: MapMetadata::lookup_refinement must lie in 1.." +
+                std::to_string(kMaxLookupRefinement) + ", got " + std::to_string(refinement));
+  }
+  if (refinement == 1) return;
+  const std::vector<Eigen::Vector3d> refined = refinedVertexValues(grid_, vertices_, refinement);
+  lookup_resolution_ =
+      (grid_.resolution() - Eigen::Vector3i::Ones()) * refinement + Eigen::Vector3i::Ones();
+  inverse_spacing_per_m_ *= refinement;
+  last_cell_ = (lookup_resolution_.array() - 1).cast<double>();
+  packed_gravity_n_.clear();
+  packed_gravity_n_.reserve(refined.size());
+  for (const Eigen::Vector3d& gravity_n : refined) {
+    packed_gravity_n_.emplace_back(gravity_n.x(), gravity_n.y(), gravity_n.z(), 0.0);
+  }
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m) const noexcept {
   const Eigen::Vector3d cells = (position_m - min_corner_m_).cwiseProduct(inverse_spacing_per_m_);
-  return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
+  return detail::interpolateTrilinear(lookup_resolution_, cells, packed_gravity_n_.data());
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m, double margin_m,
@@ -107,7 +125,7 @@ Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m, double 
   const Eigen::Array3d margin_cells = margin_m * inverse_spacing_per_m_.array();
   inside = (cells.array() >= -margin_cells).all() &&
            (cells.array() <= last_cell_.array() + margin_cells).all();
-  return detail::interpolateTrilinear(grid_.resolution(), cells, packed_gravity_n_.data());
+  return detail::interpolateTrilinear(lookup_resolution_, cells, packed_gravity_n_.data());
 }
 
 int GravityMap::convergedCount() const noexcept {

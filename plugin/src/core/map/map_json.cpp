@@ -56,7 +56,7 @@ json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& ve
                            {"gravity_estimate_n", vectorToJson(record.gravity_estimate_n)},
                            {"duration_s", record.duration_s}});
   }
-  return json{{"index", index},
+  json object{{"index", index},
               {"position_m", vectorToJson(grid.vertexPosition(index))},
               {"gravity_n", vectorToJson(vertex.gravity_n)},
               {"iterations", vertex.iterations},
@@ -64,6 +64,19 @@ json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& ve
               {"outcome", toString(vertex.outcome)},
               {"provenance", toString(vertex.provenance)},
               {"history", std::move(history)}};
+  if (vertex.measuredOffVertex()) {
+    object["measured_at_m"] = vectorToJson(vertex.measured_at_m);
+    object["measured_gravity_n"] = vectorToJson(vertex.measured_gravity_n);
+  }
+  return object;
+}
+
+json workspaceToJson(const ExploredWorkspace& workspace) {
+  json directions = json::array();
+  for (const Eigen::Vector3d& u : workspace.directions()) directions.push_back(vectorToJson(u));
+  return json{{"center_m", vectorToJson(workspace.center_m())},
+              {"directions", std::move(directions)},
+              {"radii_m", workspace.radii_m()}};
 }
 
 /// Short description of a JSON value for error messages: its type and the start of its text.
@@ -260,7 +273,8 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
                        {"method", "dither_amplitude_n", "dither_frequency_hz",
                         "dither_periods_per_window", "steady_windows", "final_steady_windows"});
   constexpr int kMaxCount = 1000000;
-  EstimationParameters parameters;
+  // A file without "method" was written before the dither method existed.
+  EstimationParameters parameters = EstimationParameters::paper();
   parameters.alpha_per_s = reader.number(value, p, "alpha_per_s", Range::kPositive, "1/s");
   parameters.beta_per_s2 = reader.number(value, p, "beta_per_s2", Range::kPositive, "1/s^2");
   parameters.k0_n_per_m = reader.number(value, p, "k0_n_per_m", Range::kPositive, "N/m");
@@ -324,7 +338,12 @@ WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
         reader.integer(value, "/grid", "resolution", kMinResolution, kMaxResolution);
     return WorkspaceGrid(center, side, resolution);
   }
-  reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"});
+  if (reader.schemaVersion() >= 3) {
+    reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"},
+                         {"lookup_refinement"});
+  } else {
+    reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"});
+  }
   const Eigen::Vector3d center = reader.vector3(value, "/grid", "center_m", "m");
   const Eigen::Vector3d size = reader.vector3(value, "/grid", "size_m", "m");
   for (int axis = 0; axis < 3; ++axis) {
@@ -339,11 +358,51 @@ WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
   return WorkspaceGrid(center, size, resolution);
 }
 
+ExploredWorkspace readWorkspace(const DocumentReader& reader, const json& value) {
+  const std::string p = "/workspace";
+  reader.requireObject(value, p, {"center_m", "directions", "radii_m"});
+  const Eigen::Vector3d center = reader.vector3(value, p, "center_m", "m");
+  const json& directions = value.at("directions");
+  const json& radii = value.at("radii_m");
+  constexpr std::size_t kMaxDirections = 100000;
+  if (!directions.is_array() || directions.size() < 6 || directions.size() > kMaxDirections) {
+    reader.expected(p + "/directions", "an array of 6 to 100000 direction vectors", directions);
+  }
+  if (!radii.is_array() || radii.size() != directions.size()) {
+    reader.expected(p + "/radii_m",
+                    "an array of " + std::to_string(directions.size()) +
+                        " distances (one per direction, unit: m)",
+                    radii);
+  }
+  std::vector<Eigen::Vector3d> units;
+  std::vector<double> distances;
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    const json wrapped_direction = json{{"d", directions[i]}};
+    const json wrapped_radius = json{{"r", radii[i]}};
+    const std::string at = std::to_string(i);
+    const Eigen::Vector3d u = reader.vector3(wrapped_direction, p + "/directions", "d", "1");
+    if (!(u.norm() > 1e-6)) {
+      reader.expected(p + "/directions/" + at, "a non-zero direction", directions[i]);
+    }
+    units.push_back(u);
+    distances.push_back(reader.number(wrapped_radius, p + "/radii_m", "r", Range::kPositive, "m"));
+  }
+  return ExploredWorkspace(center, std::move(units), std::move(distances));
+}
+
 VertexEstimate readVertex(const DocumentReader& reader, const json& value,
                           const WorkspaceGrid& grid, int index) {
   const std::string p = "/vertices/" + std::to_string(index);
   const bool has_provenance = reader.schemaVersion() >= 2;
-  if (has_provenance) {
+  if (reader.schemaVersion() >= 3) {
+    reader.requireObject(value, p,
+                         {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome",
+                          "provenance", "history"},
+                         {"measured_at_m", "measured_gravity_n"});
+    if (value.contains("measured_at_m") != value.contains("measured_gravity_n")) {
+      reader.fail(p, "measured_at_m and measured_gravity_n come together or not at all");
+    }
+  } else if (has_provenance) {
     reader.requireObject(value, p,
                          {"index", "position_m", "gravity_n", "iterations", "seconds", "outcome",
                           "provenance", "history"});
@@ -388,6 +447,10 @@ VertexEstimate readVertex(const DocumentReader& reader, const json& value,
     if (!parseVertexProvenance(provenance, vertex.provenance)) {
       reader.expected(p + "/provenance", "one of measured, filled", value.at("provenance"));
     }
+  }
+  if (value.contains("measured_at_m")) {
+    vertex.measured_at_m = reader.vector3(value, p, "measured_at_m", "m");
+    vertex.measured_gravity_n = reader.vector3(value, p, "measured_gravity_n", "N");
   }
   const json& history = value.at("history");
   if (!history.is_array())
@@ -457,6 +520,10 @@ json mapToDocument(const GravityMap& map) {
       {"parameters", parametersDocument(metadata.parameters)},
       {"vertices", std::move(vertices)},
   };
+  if (!metadata.workspace.empty()) document["workspace"] = workspaceToJson(metadata.workspace);
+  if (metadata.lookup_refinement != 1) {
+    document["grid"]["lookup_refinement"] = metadata.lookup_refinement;
+  }
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.
@@ -493,9 +560,16 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     }
     reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
-  reader.requireObject(document, "",
-                       {"format", "schema_version", "units", "device", "created_utc", "grid",
-                        "parameters", "vertices", "checksum"});
+  if (reader.schemaVersion() >= 3) {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "parameters", "vertices", "checksum"},
+                         {"workspace"});
+  } else {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "parameters", "vertices", "checksum"});
+  }
 
   // Units are fixed; the block exists so that a reader never has to guess.
   const json& units = document.at("units");
@@ -522,8 +596,15 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   }
 
   const WorkspaceGrid grid = readGrid(reader, document.at("grid"));
+  if (document.at("grid").contains("lookup_refinement")) {
+    metadata.lookup_refinement =
+        reader.integer(document.at("grid"), "/grid", "lookup_refinement", 1, kMaxLookupRefinement);
+  }
 
   metadata.parameters = readParameters(reader, document.at("parameters"));
+  if (document.contains("workspace")) {
+    metadata.workspace = readWorkspace(reader, document.at("workspace"));
+  }
 
   const json& vertices_json = document.at("vertices");
   const auto vertex_count = static_cast<std::size_t>(grid.vertexCount());

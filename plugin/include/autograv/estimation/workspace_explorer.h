@@ -1,0 +1,147 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/device/device_specifications.h"
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/map/explored_workspace.h"
+
+namespace autograv {
+
+/// Finds how far the end-effector can go, from nothing but what a driver gives (positions,
+/// velocities and the forces sent), before the grid run: a gentle automatic probe. From the
+/// initialization's centre it pushes a soft impedance target outward along evenly spread
+/// directions at a walking pace; where the end-effector stops following while the probe force
+/// grows, a stop holds it (StopContact below), and the probe backs off at once, records the
+/// distance and goes on with the next direction. The probe force beyond the gravity estimate is
+/// capped far below the continuous rating, and the gravity estimate itself follows the
+/// end-effector (a slow integral of the probe effort), so that nothing but a stop ever builds up
+/// force. Stepped once per servo tick; never blocks.
+class WorkspaceExplorer {
+ public:
+  enum class Status : std::uint8_t {
+    kIdle,         ///< start() not called yet.
+    kTransfer,     ///< Moving to where the next probe starts.
+    kProbing,      ///< Pushing outward along the current direction.
+    kBackingOff,   ///< A stop was found; moving back inside.
+    kFinished,     ///< Every direction probed; holding the last point (read workspace()).
+    kAborted,      ///< abort() was called; holding position.
+    kDeviceFault,  ///< The device stopped answering; sending zero force.
+  };
+
+  struct Options {
+    /// Probe directions, spread evenly over the sphere.
+    int directions = 26;
+    /// Speed of the probe target along a direction. Unit: [m/s]
+    double probe_speed_m_per_s = 0.04;
+    /// Each probe starts this fraction of the previous direction's reach out from the centre.
+    double start_fraction = 0.6;
+    /// A direction with no stop within this distance of the centre ends there; 0 picks
+    /// kReachFactor times the workspace radius the driver specifies (a cube's corner from its
+    /// inscribed sphere). Unit: [m]
+    double max_reach_m = 0.0;
+    /// How far the probe backs off from a stop. Unit: [m]
+    double back_off_m = 0.004;
+    /// Probe effort (beyond the gravity estimate) that, with the end-effector no longer
+    /// following, means a stop; 0 picks kContactForceFraction of the maximum force (the dither's
+    /// amplitude, above the breakaway force of every device we model), at most half the
+    /// continuous rating. Unit: [N]
+    double contact_force_n = 0.0;
+    /// Lag of the end-effector behind the target at which the probe effort reaches
+    /// contact_force_n: sets the probe's stiffness. Unit: [m]
+    double contact_lag_m = 0.002;
+    /// Peak acceleration of the transfer moves. Unit: [m/s^2]
+    double max_move_acceleration_m_per_s2 = 0.5;
+  };
+
+  static constexpr double kContactForceFraction = 0.09;
+  static constexpr double kReachFactor = 1.75;
+  /// The end-effector follows no more than this fraction of the probe's speed at a stop.
+  static constexpr double kStalledSpeedFraction = 0.3;
+  /// How long the contact condition must hold: short against the 100 ms in which a stop must be
+  /// recognised, long against encoder noise. Unit: [s]
+  static constexpr double kContactConfirm_s = 0.015;
+
+  /// Allocates everything the run needs; reads the force limit, the continuous rating
+  /// (continuousForceRating_n) and the workspace radius from `specifications`.
+  /// Throws autograv::Error on bad options or specifications. Not real-time safe.
+  WorkspaceExplorer(const EstimationParameters& parameters,
+                    const DeviceSpecifications& specifications, const Options& options);
+  WorkspaceExplorer(const EstimationParameters& parameters,
+                    const DeviceSpecifications& specifications)
+      : WorkspaceExplorer(parameters, specifications, Options()) {}
+
+  /// Starts from the end-effector at rest at `center_m` (the initialization's X0), held with the
+  /// estimate `gravity_n` (G_hat_0). Real-time safe.
+  void start(const Eigen::Vector3d& center_m, const Eigen::Vector3d& gravity_n) noexcept;
+  /// One servo tick: writes the force to send. Real-time safe.
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+  /// Stops probing; keeps holding the end-effector where it is. Real-time safe.
+  void abort() noexcept;
+
+  Status state() const noexcept { return state_; }
+  int directionCount() const noexcept { return static_cast<int>(directions_.size()); }
+  /// Directions finished so far.
+  int probedCount() const noexcept { return probed_; }
+  /// Servo time since start(). Unit: [s]
+  double elapsed_s() const noexcept { return ticks_ * period_s_; }
+  /// The gravity estimate carried by the probe now (it follows the end-effector). Unit: [N]
+  const Eigen::Vector3d& gravity_n() const noexcept { return gravity_n_; }
+  /// Where the probe target is now. Unit: [m]
+  const Eigen::Vector3d& target_m() const noexcept { return target_m_; }
+  /// The probe force cap beyond the gravity estimate, and the contact threshold. Unit: [N]
+  double probeForceCap_n() const noexcept { return force_cap_n_; }
+  double contactForce_n() const noexcept { return contact_force_n_; }
+  /// Reach found so far along each direction (0 for those not probed yet). Unit: [m]
+  const std::vector<double>& reach_m() const noexcept { return reach_m_; }
+  /// Longest time from the end-effector's last forward progress to a recognised stop. Unit: [s]
+  double longestRecognition_s() const noexcept { return longest_recognition_s_; }
+  /// Directions along which no stop was met within max_reach_m.
+  int openDirections() const noexcept { return open_directions_; }
+
+  /// The explored workspace; valid once state() is kFinished. Throws autograv::Error before.
+  /// Not real-time safe.
+  ExploredWorkspace workspace() const;
+
+ private:
+  void beginTransfer(const Eigen::Vector3d& from_m) noexcept;
+  void finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept;
+  Eigen::Vector3d impedanceForce(const ServoSample& sample, const Eigen::Vector3d& target_m,
+                                 const Eigen::Vector3d& target_velocity, bool adapt) noexcept;
+
+  EstimationParameters parameters_;
+  double period_s_;
+  double max_force_n_;
+  Options options_;
+  double contact_force_n_ = 0.0;
+  double force_cap_n_ = 0.0;
+  std::vector<Eigen::Vector3d> directions_;
+  std::vector<double> reach_m_;
+  Status state_ = Status::kIdle;
+  MinimumJerkMove move_;
+  long ticks_ = 0;
+  long phase_ticks_ = 0;
+  int current_ = 0;
+  int probed_ = 0;
+  int open_directions_ = 0;
+  int invalid_samples_ = 0;
+  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d target_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d probe_start_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d filtered_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double last_progress_s_ = 0.0;  // servo time of the last tick the end-effector kept up
+  Eigen::Vector3d last_following_m_ = Eigen::Vector3d::Zero();  // and where it was then
+  double contact_since_s_ = -1.0;
+  double longest_recognition_s_ = 0.0;
+};
+
+const char* toString(WorkspaceExplorer::Status status) noexcept;
+
+}  // namespace autograv

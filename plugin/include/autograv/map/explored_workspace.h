@@ -1,0 +1,56 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace autograv {
+
+/// The part of the workspace the end-effector was seen to reach, found from the device's own data
+/// (WorkspaceExplorer): from a centre, how far it went along each probe direction before a stop
+/// held it. Between the probe directions the boundary is the plane through the three nearest
+/// boundary points, so for a convex workspace the model lies inside what was reached.
+/// Immutable once built; an empty one (maps made before exploration existed) knows nothing.
+class ExploredWorkspace {
+ public:
+  ExploredWorkspace() = default;
+  /// `directions` are normalized here; `radii_m[i]` is the distance from `center_m` to the stop
+  /// along `directions[i]`. Throws autograv::Error for fewer than 6 directions, a count mismatch,
+  /// a zero or non-finite direction, or a radius that is not finite and positive.
+  /// Not real-time safe. Units: [m]
+  ExploredWorkspace(const Eigen::Vector3d& center_m, std::vector<Eigen::Vector3d> directions,
+                    std::vector<double> radii_m);
+
+  bool empty() const noexcept { return directions_.empty(); }
+  const Eigen::Vector3d& center_m() const noexcept { return center_m_; }
+  const std::vector<Eigen::Vector3d>& directions() const noexcept { return directions_; }
+  const std::vector<double>& radii_m() const noexcept { return radii_m_; }
+
+  /// Distance from the centre to the boundary along `direction` (any length). Infinite when empty.
+  /// Real-time safe. Unit: [m]
+  double boundaryDistance_m(const Eigen::Vector3d& direction) const noexcept;
+  /// True when `position_m` lies at least `margin_m` inside the boundary (always, when empty).
+  /// Real-time safe. Unit: [m]
+  bool contains(const Eigen::Vector3d& position_m, double margin_m = 0.0) const noexcept;
+  /// How far `position_m` lies inside the boundary, measured along the ray from the centre
+  /// (negative outside). Real-time safe. Unit: [m]
+  double depth_m(const Eigen::Vector3d& position_m) const noexcept;
+  /// `position_m` itself when it lies `margin_m` inside, else the point on its ray from the
+  /// centre `margin_m` inside the boundary (the centre if the workspace is thinner than that).
+  /// Real-time safe. Unit: [m]
+  Eigen::Vector3d pullInside(const Eigen::Vector3d& position_m, double margin_m) const noexcept;
+  /// Smallest and largest boundary distance. Unit: [m]
+  double minRadius_m() const noexcept;
+  double maxRadius_m() const noexcept;
+
+  /// `count` directions spread evenly over the sphere (a Fibonacci lattice), ordered so that each
+  /// is close to the one before: the probe's path. Not real-time safe.
+  static std::vector<Eigen::Vector3d> probeDirections(int count);
+
+ private:
+  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> directions_;
+  std::vector<double> radii_m_;
+};
+
+}  // namespace autograv

@@ -1,0 +1,263 @@
+#include "autograv/estimation/workspace_explorer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "autograv/error.h"
+
+namespace autograv {
+
+namespace {
+constexpr int kMaxInvalidSamples = 20;  // 20 ms at 1 kHz, as in the vertex estimator
+/// Floor on |G_hat| for the apparent mass of the probe's damping (eq. 6). Unit: [N]
+constexpr double kMinGravityN = 0.01;
+/// Time constant of the gravity estimate following the probe effort. Unit: [s]
+constexpr double kGravityFollow_s = 0.4;
+/// Time constant of the velocity filter of the contact check. Unit: [s]
+constexpr double kVelocityFilter_s = 0.01;
+/// Damping ratio of the probe's spring on the estimated apparent mass.
+constexpr double kProbeDampingRatio = 0.75;
+/// Shortest back-off and transfer move. Unit: [s]
+constexpr double kMinMove_s = 0.15;
+/// Smallest reach recorded along a direction. Unit: [m]
+constexpr double kMinReach_m = 1e-3;
+/// Lag, in contact lags, beyond which the end-effector is taken to be held by a stop.
+constexpr double kFarBehindLags = 3.0;
+}  // namespace
+
+WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
+                                     const DeviceSpecifications& specifications,
+                                     const Options& options)
+    : parameters_(parameters),
+      period_s_(parameters.servo_period_s),
+      max_force_n_(specifications.max_linear_force_n),
+      options_(options) {
+  const auto refuse = [](const std::string& what) { throw Error("workspace explorer: " + what); };
+  validateSpecifications(specifications);
+  const double max_force_n = specifications.max_linear_force_n;
+  const double continuous_force_n = continuousForceRating_n(specifications);
+  if (options_.max_reach_m == 0.0) {
+    options_.max_reach_m = kReachFactor * specifications.workspace_radius_m;
+  }
+  if (!(max_force_n > 0.0) || !std::isfinite(max_force_n)) {
+    refuse("the maximum force must be a positive force in N");
+  }
+  if (!(continuous_force_n > 0.0) || !(continuous_force_n <= max_force_n)) {
+    refuse("the continuous force rating must be positive and at most the maximum force");
+  }
+  if (!(period_s_ > 0.0)) refuse("EstimationParameters::servo_period_s must be positive");
+  if (options.directions < 6) {
+    refuse("WorkspaceExplorer::Options::directions must be at least 6");
+  }
+  if (!(options.probe_speed_m_per_s > 0.0) || !(options_.max_reach_m > 0.0) ||
+      !(options.back_off_m > 0.0) || !(options.contact_lag_m > 0.0) ||
+      !(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.contact_force_n >= 0.0)) {
+    refuse("WorkspaceExplorer::Options speeds, distances and accelerations must be positive");
+  }
+  if (!(options.start_fraction >= 0.0 && options.start_fraction < 1.0)) {
+    refuse("WorkspaceExplorer::Options::start_fraction must lie in [0, 1)");
+  }
+  contact_force_n_ = options.contact_force_n > 0.0
+                         ? options.contact_force_n
+                         : std::min(kContactForceFraction * max_force_n, 0.5 * continuous_force_n);
+  force_cap_n_ = 1.5 * contact_force_n_;
+  directions_ = ExploredWorkspace::probeDirections(options.directions);
+  reach_m_.assign(directions_.size(), 0.0);
+}
+
+void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
+                              const Eigen::Vector3d& gravity_n) noexcept {
+  center_m_ = center_m;
+  gravity_n_ = gravity_n;
+  target_m_ = center_m;
+  ticks_ = 0;
+  current_ = 0;
+  probed_ = 0;
+  open_directions_ = 0;
+  invalid_samples_ = 0;
+  longest_recognition_s_ = 0.0;
+  filtered_velocity_.setZero();
+  std::fill(reach_m_.begin(), reach_m_.end(), 0.0);
+  beginTransfer(center_m);
+}
+
+void WorkspaceExplorer::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
+  Eigen::Vector3d to_m = center_m_;
+  if (current_ < directionCount()) {
+    const double previous_reach_m =
+        current_ > 0 ? reach_m_[static_cast<std::size_t>(current_ - 1)] : 0.0;
+    to_m = center_m_ + options_.start_fraction * previous_reach_m *
+                           directions_[static_cast<std::size_t>(current_)];
+  }
+  move_.start(from_m, to_m,
+              MinimumJerkMove::durationFor((to_m - from_m).norm(),
+                                           options_.max_move_acceleration_m_per_s2, kMinMove_s));
+  phase_ticks_ = 0;
+  state_ = Status::kTransfer;
+}
+
+void WorkspaceExplorer::finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept {
+  const Eigen::Vector3d& u = directions_[static_cast<std::size_t>(current_)];
+  // A stop right at the centre still leaves a workspace, if a thin one.
+  reach_m = std::max(reach_m, kMinReach_m);
+  reach_m_[static_cast<std::size_t>(current_)] = reach_m;
+  ++probed_;
+  const Eigen::Vector3d back_m = center_m_ + std::max(0.0, reach_m - options_.back_off_m) * u;
+  move_.start(from_m, back_m,
+              MinimumJerkMove::durationFor((back_m - from_m).norm(),
+                                           options_.max_move_acceleration_m_per_s2, kMinMove_s));
+  phase_ticks_ = 0;
+  contact_since_s_ = -1.0;
+  state_ = Status::kBackingOff;
+}
+
+Eigen::Vector3d WorkspaceExplorer::impedanceForce(const ServoSample& sample,
+                                                  const Eigen::Vector3d& target_m,
+                                                  const Eigen::Vector3d& target_velocity,
+                                                  bool adapt) noexcept {
+  const double stiffness_n_per_m = contact_force_n_ / options_.contact_lag_m;
+  const double mass_kg = std::max(gravity_n_.norm(), kMinGravityN) / kStandardGravity;
+  const double damping_n_s_per_m =
+      2.0 * kProbeDampingRatio * std::sqrt(stiffness_n_per_m * mass_kg);
+  Eigen::Vector3d effort_n = stiffness_n_per_m * (target_m - sample.position_m) +
+                             damping_n_s_per_m * (target_velocity - sample.velocity_m_per_s);
+  clampForce(effort_n, force_cap_n_);
+  // The estimate follows the end-effector, so that a field that changes along the way does not
+  // build up probe effort that a stop check would take for a stop.
+  if (adapt) gravity_n_ += effort_n * (period_s_ / kGravityFollow_s);
+  target_m_ = target_m;
+  Eigen::Vector3d force_n = gravity_n_ + effort_n;
+  clampForce(force_n, max_force_n_);
+  return force_n;
+}
+
+WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
+                                                  Eigen::Vector3d& force_n) noexcept {
+  if (state_ == Status::kIdle || state_ == Status::kDeviceFault) {
+    force_n.setZero();
+    return state_;
+  }
+  ++ticks_;
+  if (!sample.valid) {
+    force_n = last_force_n_;
+    if (++invalid_samples_ > kMaxInvalidSamples) {
+      force_n.setZero();
+      last_force_n_.setZero();
+      state_ = Status::kDeviceFault;
+    }
+    return state_;
+  }
+  invalid_samples_ = 0;
+  ++phase_ticks_;
+  const double now_s = ticks_ * period_s_;
+  const double phase_s = phase_ticks_ * period_s_;
+  filtered_velocity_ +=
+      (sample.velocity_m_per_s - filtered_velocity_) * std::min(1.0, period_s_ / kVelocityFilter_s);
+
+  switch (state_) {
+    case Status::kTransfer:
+    case Status::kBackingOff: {
+      Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
+      move_.sample(phase_s, desired_m, desired_velocity, desired_acceleration);
+      force_n = impedanceForce(sample, desired_m, desired_velocity, state_ == Status::kTransfer);
+      if (phase_s < move_.duration_s()) break;
+      if (state_ == Status::kBackingOff) {
+        ++current_;
+        beginTransfer(desired_m);
+      } else if (current_ >= directionCount()) {
+        state_ = Status::kFinished;
+      } else {
+        probe_start_m_ = desired_m;
+        phase_ticks_ = 0;
+        last_progress_s_ = now_s;
+        last_following_m_ = sample.position_m;
+        contact_since_s_ = -1.0;
+        state_ = Status::kProbing;
+      }
+      break;
+    }
+    case Status::kProbing: {
+      const Eigen::Vector3d& u = directions_[static_cast<std::size_t>(current_)];
+      const Eigen::Vector3d target_m = probe_start_m_ + options_.probe_speed_m_per_s * phase_s * u;
+      const double target_reach_m = (target_m - center_m_).dot(u);
+      if (target_reach_m >= options_.max_reach_m) {
+        ++open_directions_;
+        finishDirection((sample.position_m - center_m_).dot(u), sample.position_m);
+        force_n = impedanceForce(sample, sample.position_m, Eigen::Vector3d::Zero(), false);
+        break;
+      }
+      const double lag_m = (target_m - sample.position_m).dot(u);
+      const bool lagging = lag_m > 0.5 * options_.contact_lag_m;
+      force_n = impedanceForce(sample, target_m, options_.probe_speed_m_per_s * u, !lagging);
+      const double effort_n = (force_n - gravity_n_).dot(u);
+      const double speed_m_per_s = filtered_velocity_.dot(u);
+      const bool following = speed_m_per_s >= kStalledSpeedFraction * options_.probe_speed_m_per_s;
+      if (following) {
+        last_progress_s_ = now_s;
+        last_following_m_ = sample.position_m;
+      }
+      // A stop: the effort is up and the end-effector no longer follows, or it has fallen so
+      // far behind that only a stop can hold it (a soft stop still yields to the probe).
+      const bool far_behind = lag_m > kFarBehindLags * options_.contact_lag_m;
+      if ((effort_n >= contact_force_n_ && !following) || far_behind) {
+        if (contact_since_s_ < 0.0) contact_since_s_ = now_s;
+        if (now_s - contact_since_s_ >= kContactConfirm_s) {
+          longest_recognition_s_ = std::max(longest_recognition_s_, now_s - last_progress_s_);
+          // The stop begins where the end-effector last kept up, not where a soft stop has
+          // let it sink in meanwhile.
+          finishDirection((last_following_m_ - center_m_).dot(u), sample.position_m);
+          force_n = impedanceForce(sample, sample.position_m, Eigen::Vector3d::Zero(), false);
+        }
+      } else {
+        contact_since_s_ = -1.0;
+      }
+      break;
+    }
+    case Status::kFinished:
+    case Status::kAborted:
+      force_n = impedanceForce(sample, target_m_, Eigen::Vector3d::Zero(), false);
+      break;
+    case Status::kIdle:
+    case Status::kDeviceFault:
+      force_n.setZero();
+      break;
+  }
+  last_force_n_ = force_n;
+  return state_;
+}
+
+void WorkspaceExplorer::abort() noexcept {
+  if (state_ == Status::kIdle || state_ == Status::kDeviceFault) return;
+  state_ = Status::kAborted;
+}
+
+ExploredWorkspace WorkspaceExplorer::workspace() const {
+  if (state_ != Status::kFinished) {
+    throw Error(std::string("workspace explorer: the exploration is ") + toString(state_) +
+                ", not finished; its workspace is not known yet");
+  }
+  return ExploredWorkspace(center_m_, directions_, reach_m_);
+}
+
+const char* toString(WorkspaceExplorer::Status status) noexcept {
+  switch (status) {
+    case WorkspaceExplorer::Status::kIdle:
+      return "idle";
+    case WorkspaceExplorer::Status::kTransfer:
+      return "transfer";
+    case WorkspaceExplorer::Status::kProbing:
+      return "probing";
+    case WorkspaceExplorer::Status::kBackingOff:
+      return "backing_off";
+    case WorkspaceExplorer::Status::kFinished:
+      return "finished";
+    case WorkspaceExplorer::Status::kAborted:
+      return "aborted";
+    case WorkspaceExplorer::Status::kDeviceFault:
+      return "device_fault";
+  }
+  return "unknown";
+}
+
+}  // namespace autograv

@@ -1,0 +1,71 @@
+// The workspace exploration on the simulated devices: how close the explored boundary comes to
+// what the device really reaches (ground truth, for scoring only), and what it costs the device.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "autograv/device/device_specifications.h"
+#include "autograv/estimation/pd_design.h"
+#include "autograv/sim/procedures.h"
+#include "autograv/sim/simulated_device.h"
+
+namespace autograv {
+namespace {
+
+// Distance from `center_m` along `u` to the last reachable point, in 0.5 mm steps.
+double trueReach_m(const sim::SimulatedDevice& device, const Eigen::Vector3d& center_m,
+                   const Eigen::Vector3d& u) {
+  double reach = 0.0;
+  for (double t = 0.0; t < 0.3; t += 5e-4) {
+    if (!device.isReachable(center_m + t * u)) break;
+    reach = t;
+  }
+  return reach;
+}
+
+class WorkspaceExplorationTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
+  auto device = sim::makeSimulatedDevice(GetParam(), 1, sim::FrictionLevel::kTypical);
+  ASSERT_TRUE(device->open() && device->calibrate());
+  EstimationParameters parameters;
+  parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::InitializationResult init =
+      sim::initializeWithSimulatedHand(*device, parameters, device->workspaceCenter_m());
+  ASSERT_TRUE(init.ok) << init.message;
+  const sim::ExplorationResult result = sim::exploreWorkspace(*device, parameters, init);
+  const ExploredWorkspace& workspace = result.workspace;
+  ASSERT_FALSE(workspace.empty());
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
+    const Eigen::Vector3d& u = workspace.directions()[i];
+    errors.push_back(workspace.radii_m()[i] - trueReach_m(*device, workspace.center_m(), u));
+  }
+  std::sort(errors.begin(), errors.end());
+  const double median_m = errors[errors.size() / 2];
+  RecordProperty("reach_error_median_mm", std::to_string(median_m * 1e3));
+  RecordProperty("reach_error_max_mm", std::to_string(errors.back() * 1e3));
+  RecordProperty("exploration_s", std::to_string(result.seconds));
+  // Every direction ends at the stop: within a few millimetres of where the device really stops
+  // (a rubber stop yields to the probe a little; the soft joint limits of the arms more).
+  EXPECT_NEAR(median_m, 0.0, 2e-3);
+  EXPECT_GT(errors.front(), -3e-3);
+  EXPECT_LT(errors.back(), 8e-3);
+  // Gently: recognised within 100 ms, never at the force limit, almost never above the
+  // continuous rating, and in well under a minute.
+  EXPECT_LE(result.longest_recognition_s, 0.1);
+  EXPECT_EQ(result.saturation_count, 0u);
+  EXPECT_LT(result.peak_force_n, 0.9 * device->specifications().max_linear_force_n);
+  EXPECT_LT(result.seconds_above_continuous_force, 0.05 * result.seconds);
+  EXPECT_LT(result.seconds, 60.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(SimulatedDevices, WorkspaceExplorationTest,
+                         ::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
+                         [](const auto& info) { return info.param.substr(4); });
+
+}  // namespace
+}  // namespace autograv
