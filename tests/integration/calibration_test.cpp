@@ -76,7 +76,7 @@ TEST(CalibrationTest, ParametersThatWouldSaturateAreRefusedBeforeTheDeviceMoves)
   } catch (const Error& error) {
     const std::string message = error.what();
     EXPECT_NE(message.find("saturation check failed"), std::string::npos) << message;
-    EXPECT_NE(message.find("--beta"), std::string::npos) << message;
+    EXPECT_NE(message.find("EstimationParameters::beta_per_s2"), std::string::npos) << message;
   }
 }
 

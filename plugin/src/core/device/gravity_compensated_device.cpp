@@ -340,7 +340,8 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
     if (device_model != map_model) {
       throw Error("GravityCompensatedDevice: the map was calibrated on a '" + map_model +
                   "' but the device is a '" + device_model +
-                  "'; calibrate this device, or allow the mismatch explicitly");
+                  "'; calibrate this device, or allow the mismatch explicitly (publishMap's "
+                  "allow_model_mismatch = true)");
     }
   }
   {

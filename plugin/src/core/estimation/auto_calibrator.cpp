@@ -32,7 +32,9 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
       vertices_(static_cast<std::size_t>(grid.vertexCount())),
       order_(grid.visitOrder(grid.center_m())) {
   if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
-    throw Error("auto-calibrator: move acceleration and duration must be positive");
+    throw Error(
+        "auto-calibrator: AutoCalibrator::Options::max_move_acceleration_m_per_s2 and "
+        "AutoCalibrator::Options::min_move_duration_s must be positive");
   }
   // Reserve every history now so that finishing a vertex in the servo loop never allocates.
   for (auto& vertex : vertices_) {
