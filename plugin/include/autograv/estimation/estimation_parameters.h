@@ -29,6 +29,7 @@ EstimationMethod parseEstimationMethod(const std::string& name);
 /// paper's Section V values converted to SI units, with the paper's method; frictionRobust()
 /// gives the dither method that the tools use by default.
 struct EstimationParameters {
+  /// How each iteration reaches its steady state.
   EstimationMethod method = EstimationMethod::kPaper;
   /// Closed-loop damping of Xdd = beta (X_D - X) - alpha Xd; K_D = alpha M. Unit: [1/s]
   double alpha_per_s = 40.0;
@@ -74,6 +75,7 @@ struct EstimationParameters {
   /// large updates stay quick.
   int final_steady_windows = 4;
 
+  /// Dither amplitude as a fraction of the device's maximum force when dither_amplitude_n is 0.
   static constexpr double kAutoDitherFraction = 0.09;
 
   /// The paper's values with the friction-robust dither method, and n_G = 3: every dithered

@@ -18,6 +18,7 @@ namespace autograv::sim {
 
 /// Result of the manual initialization (paper Sec. III-A) done by the simulated hand.
 struct InitializationResult {
+  /// True when G_hat_0 was found; else `message` says why.
   bool ok = false;
   std::string message;                                  ///< Why not, when !ok.
   Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0 (eq. 7). Unit: [N]
@@ -40,6 +41,7 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
 
 /// The paper's Section V experiment on a simulated device.
 struct PaperExperimentResult {
+  /// The manual initialization before the experiment.
   InitializationResult initialization;
   VertexEstimate estimate;                                   ///< Outcome, iterations, history.
   Eigen::Vector3d target_m = Eigen::Vector3d::Zero();        ///< X_D. Unit: [m]
@@ -54,18 +56,23 @@ struct PaperExperimentResult {
 PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
                                          const EstimationParameters& parameters);
 
+/// Settings of runSimulatedCalibration.
 struct CalibrationRunOptions {
+  /// Centre of the grid's box. Unit: [m]
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
   /// Extent of the grid's box along x, y, z. Unit: [m]
   Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
   /// Vertices along x, y, z.
   Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(4);
+  /// The estimation (paper Secs. II-III).
   EstimationParameters parameters;
+  /// How the device travels between vertices.
   AutoCalibrator::Options calibrator;
   /// Finished vertices of an earlier, interrupted run (empty: start afresh).
   std::vector<VertexEstimate> resume_from;
   /// Called every `progress_period_s` of simulated time, and when a vertex finishes.
   std::function<void(const AutoCalibrator&)> on_progress;
+  /// Simulated time between two on_progress calls. Unit: [s]
   double progress_period_s = 0.5;
   /// Called after each finished vertex (checkpoint it here: it runs between servo ticks).
   std::function<void(const AutoCalibrator&, int vertex)> on_vertex_finished;
@@ -79,8 +86,11 @@ struct CalibrationRunOptions {
   int redo_passes = 1;
 };
 
+/// What runSimulatedCalibration measured.
 struct CalibrationRunResult {
+  /// How the outer loop ended.
   AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
+  /// The manual initialization (G_hat_0).
   InitializationResult initialization;
   /// Every vertex; the unreachable ones filled from the converged ones (AutoCalibrator::makeMap).
   std::vector<VertexEstimate> vertices;
@@ -112,6 +122,7 @@ double deviceWorkspaceCoverage(const SimulatedDevice& device, const WorkspaceGri
 /// Accuracy of a map against the device's ground truth.
 struct AccuracyReport {
   double max_error_rel = 0.0;  ///< Worst converged vertex |G_hat - G| / |G|.
+  /// Grid index of the worst converged vertex (-1 when none).
   int worst_vertex = -1;
   double max_error_n = 0.0;  ///< Worst converged vertex |G_hat - G| (maybe another one). Unit: [N]
   double rms_residual_n = 0.0;    ///< RMS of |G_hat(X) - G(X)| at random points. Unit: [N]
