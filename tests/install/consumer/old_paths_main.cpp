@@ -13,7 +13,9 @@ int main() {
   const autograv::WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 2);
   std::vector<autograv::VertexEstimate> vertices(8);
   for (auto& vertex : vertices) vertex.gravity_n = Eigen::Vector3d(0.0, 0.0, 1.5);
-  const autograv::GravityMap map(grid, vertices, autograv::MapMetadata{});
+  autograv::MapMetadata metadata;
+  metadata.device_model = "consumer:old-paths";  // maps are tied to a device model
+  const autograv::GravityMap map(grid, vertices, metadata);
   const std::string text = autograv::mapToJson(map);
   std::printf("old paths: %.3f N, %zu bytes of JSON\n", map.gravityAt(Eigen::Vector3d::Zero()).z(),
               text.size());
