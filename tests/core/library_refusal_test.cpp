@@ -319,6 +319,8 @@ TEST(LibraryRefusalTest, EveryRefusalNamesItsParameterAndNoCommandLineFlag) {
     ++walked;
   }
   EXPECT_GE(walked, 50);
+  std::error_code ignored;
+  std::filesystem::remove_all(folder(), ignored);
 }
 
 }  // namespace

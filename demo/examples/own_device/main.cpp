@@ -7,8 +7,9 @@
 //
 //   own_device [--unattended] [--out PATH]
 // Without --unattended it waits for you: Enter confirms, r + Enter redoes failed vertices,
-// q + Enter aborts (the example's simulated hand still carries the end-effector). With it, the
-// program answers for you and runs the servo loop 50 times faster than real time.
+// p + Enter pauses or resumes the automatic calibration, q + Enter (or Ctrl-C) aborts; the
+// example's simulated hand still carries the end-effector. With it, the program answers for you
+// and runs the servo loop 50 times faster than real time.
 
 #include <algorithm>
 #include <atomic>
@@ -100,8 +101,8 @@ class KeyboardLines {
 class Hand {
  public:
   explicit Hand(example::PointMassDevice& device) : device_(device) {}
-  /// Returns the event the user would post now, if any.
-  bool update(const autograv::WizardStatus& status, bool answer_for_user,
+  /// Acts on the wizard's latest status; with `answer_for_user`, also confirms at the centre.
+  void update(const autograv::WizardStatus& status, bool answer_for_user,
               autograv::CalibrationWizard& wizard) {
     switch (status.step) {
       case WizardStep::kCentre:
@@ -113,17 +114,17 @@ class Hand {
           wizard.post(WizardEvent::kConfirm);
           confirmed_ = true;
         }
-        return device_.handArrived() && status.within_tolerance;
+        return;
       case WizardStep::kRelease:
         confirmed_ = false;
         if (device_.handHolding() &&
             status.release_status != autograv::InitializationEstimator::Status::kRampingIn) {
           device_.release();
         }
-        return false;
+        return;
       default:
         if (device_.handHolding()) device_.release();
-        return false;
+        return;
     }
   }
 
@@ -141,7 +142,8 @@ class TextUi {
       step_ = status.step;
       prompt_ = status.prompt;
       const std::string first_line = status.message.substr(0, status.message.find('\n'));
-      std::printf("[%d/7] %s: %s\n", status.step_number, status.title.c_str(), first_line.c_str());
+      std::printf("[%d/%d] %s: %s\n", status.step_number, autograv::WizardStatus::kStepCount,
+                  status.title.c_str(), first_line.c_str());
       if (!status.prompt.empty()) std::printf("      > %s\n", status.prompt.c_str());
       std::fflush(stdout);
     }
@@ -173,16 +175,17 @@ WizardStep calibrate(const std::shared_ptr<example::PointMassDevice>& device,
                      const Options& options) {
   autograv::WizardConfig config;  // the library's defaults, but for a small, quick grid:
   config.grid_center_m = Eigen::Vector3d::Zero();
-  config.grid_size_m = Eigen::Vector3d::Constant(0.04);                  // 40 mm cube
-  config.grid_resolution = Eigen::Vector3i::Constant(3);                 // 3 x 3 x 3 vertices
-  config.parameters = autograv::EstimationParameters::frictionRobust();  // default once
-  // EstimationParameters{} is the dither method
+  config.grid_size_m = Eigen::Vector3d::Constant(0.04);   // 40 mm cube
+  config.grid_resolution = Eigen::Vector3i::Constant(3);  // 3 x 3 x 3 vertices
+  // default once EstimationParameters{} is the dither method
+  config.parameters = autograv::EstimationParameters::frictionRobust();
   config.parameters.servo_period_s = kServoPeriod_s;
   config.map_path = options.map_path;
   autograv::CalibrationWizard wizard(device, config);  // throws autograv::Error for bad settings
 
   ServoThread servo(wizard, options.unattended ? 50.0 : 1.0);
-  KeyboardLines* keyboard = options.unattended ? nullptr : new KeyboardLines;  // lives on
+  // Never freed: its thread blocks in getline until the program ends.
+  KeyboardLines* keyboard = options.unattended ? nullptr : new KeyboardLines;
   Hand hand(*device);
   TextUi ui;
   bool redo_offered = false;
@@ -205,6 +208,9 @@ WizardStep calibrate(const std::shared_ptr<example::PointMassDevice>& device,
           break;
         case 'q':
           wizard.post(WizardEvent::kAbort);
+          break;
+        case 'p':
+          wizard.post(status.paused ? WizardEvent::kResume : WizardEvent::kPause);
           break;
         default:
           break;
