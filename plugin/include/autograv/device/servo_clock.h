@@ -27,7 +27,7 @@ class SteadyServoClock final : public ServoClock {
 /// Unit: [s]
 class FixedPeriodServoClock final : public ServoClock {
  public:
-  /// Starts at 0 s; throws autograv::Error unless `period_s` is finite and positive.
+  /// Throws autograv::Error unless `period_s` is finite and positive.
   /// Not real-time safe.
   explicit FixedPeriodServoClock(double period_s);
   double now_s() noexcept override;

@@ -15,7 +15,7 @@ namespace autograv {
 struct MapCheckOptions {
   /// How each vertex is measured.
   SpotMeasurementOptions measurement;
-  /// Vertices measured, spread over the map (1 to 8).
+  /// Vertices measured: the ones nearest the centre of the map's grid.
   int vertex_count = 3;
   /// Largest |G_measured - G_map| / |G_map| at a vertex that still fits. A converged vertex of a
   /// healthy device differs by well under 1 % (eps_G over |G|, plus noise): 3 % never fires on
