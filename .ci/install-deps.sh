@@ -15,6 +15,7 @@ packages=(
   xvfb xauth                       # X server for the VTK screenshot tests
   tmux                             # drives the terminal wizard in its end-to-end test
   clang-format                     # style check
+  doxygen                          # API reference (target autograv_docs)
   clang libclang-rt-14-dev         # fuzz targets (libFuzzer, ASan and UBSan runtimes)
 )
 

@@ -17,6 +17,7 @@
 #include "autograv/sim/verification.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "error_translation.h"
 #include "friction_option.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
@@ -175,7 +176,8 @@ SweepRow runSweepCell(const BenchOptions& options, const std::string& name,
     row.residual_n =
         sim::verifyMapOnSimulatedDevice(device, std::move(map), verification).residual_force_n;
   } catch (const Error& error) {
-    row.failure = error.what();  // a level the calibration cannot handle is a result too
+    row.failure =
+        inCommandLineTerms(error.what());  // a level the calibration cannot handle is a result too
   }
   return row;
 }

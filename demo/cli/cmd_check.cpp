@@ -9,6 +9,7 @@
 #include "autograv/maintenance/map_check.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "error_translation.h"
 #include "map_maintenance_support.h"
 
 namespace autograv::cli {
@@ -25,13 +26,13 @@ void runCheckCommand(const MaintenanceOptions& options, const CLI::App& command,
   const auto ticks =
       makeTickSource(setup.device, setup.parameters.servo_period_s, /*real_time=*/false);
   const MapCheckResult result = checkMap(*setup.device.device, *ticks, setup.map, check);
-  std::printf("%s: %s\n", setup.device.name.c_str(), result.reason.c_str());
+  std::printf("%s: %s\n", setup.device.name.c_str(), inCommandLineTerms(result.reason).c_str());
   writeJsonReport(options.report_path,
                   {{"device", setup.device.name},
                    {"map", setup.map_path},
                    {"fit", toString(result.fit)},
                    {"fits", result.fit == MapFit::kFits},
-                   {"reason", result.reason},
+                   {"reason", inCommandLineTerms(result.reason)},
                    {"max_error_rel", result.max_error_rel},
                    {"payload_estimate_g", result.payload_kg * 1e3},
                    {"tilt_estimate_deg", result.tilt_rad * 180.0 / 3.14159265358979323846},

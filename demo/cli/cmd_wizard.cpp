@@ -27,6 +27,7 @@
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
 #include "commands.h"
+#include "error_translation.h"
 #include "estimation_options.h"
 #include "friction_option.h"
 #include "wizard_auto_hand.h"
@@ -376,7 +377,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   Clock::time_point last_draw = Clock::now() - kRedrawPeriod;
   WizardStep drawn_step = WizardStep::kCheck;
 
-  WizardStatus status = wizard.status();
+  WizardStatus status = inCommandLineTerms(wizard.status());
   if (!terminal) log.update(status);
   // Eq. (7) assumes the end-effector settled in the k0 field alone: watch the end stops from the
   // moment the field comes on until G_hat_0 is taken.
@@ -407,7 +408,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
       simulation->advance(period_s);
     }
     wizard.service();
-    status = wizard.status();
+    status = inCommandLineTerms(wizard.status());
     // Only a simulation can tell that the end-effector rested on an end stop.
     if (simulation != nullptr &&
         end_stop_watch.update(status.step == WizardStep::kRelease, *simulation)) {

@@ -6,6 +6,7 @@
 
 #include "autograv/error.h"
 #include "commands.h"
+#include "error_translation.h"
 
 int main(int argc, char** argv) {
   const auto app = autograv::cli::makeApp();
@@ -14,7 +15,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     return app->exit(error);
   } catch (const autograv::Error& error) {
-    std::fprintf(stderr, "autograv: error: %s\n", error.what());
+    // The library names its C++ parameters; the user typed flags.
+    std::fprintf(stderr, "autograv: error: %s\n",
+                 autograv::cli::inCommandLineTerms(error.what()).c_str());
     return 2;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "autograv: unexpected error: %s\n", error.what());

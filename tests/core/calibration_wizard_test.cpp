@@ -341,7 +341,8 @@ TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
   WizardStatus status = rig.wizard->status();
   EXPECT_NE(status.message.find("cannot work"), std::string::npos) << status.message;
   EXPECT_EQ(status.check_issue, CheckIssue::kSettings);
-  EXPECT_NE(status.message.find("--beta"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("EstimationParameters::beta_per_s2"), std::string::npos)
+      << status.message;
   EXPECT_FALSE(rig.device->endStopHit());
   // Retrying does not help; quitting ends the run with nothing saved.
   rig.wizard->post(WizardEvent::kConfirm);
@@ -359,7 +360,7 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
   Rig rig("sim:omega", smallConfig(path, 3, 0.2));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
-  EXPECT_NE(rig.wizard->status().message.find("--box-mm"), std::string::npos)
+  EXPECT_NE(rig.wizard->status().message.find("WizardConfig::grid_size_m"), std::string::npos)
       << rig.wizard->status().message;
 }
 
@@ -495,7 +496,8 @@ TEST(CalibrationWizardTest, AbortDuringCalibrationHoldsTheDeviceAndKeepsTheFinis
   rig.frame();
   EXPECT_TRUE(rig.wizard->finished());
   const WizardStatus status = rig.wizard->status();
-  EXPECT_NE(status.message.find("--resume"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("WizardConfig::resume = true"), std::string::npos)
+      << status.message;
   EXPECT_NE(status.fault.find(rig.wizard->checkpointPath()), std::string::npos) << status.fault;
   // Held where it stopped, not dropped.
   const Eigen::Vector3d held_m = rig.device->truePosition_m();
@@ -554,7 +556,8 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
     EXPECT_TRUE(rig.wizard->finished());
     const WizardStatus status = rig.wizard->status();
     EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
-    EXPECT_NE(status.message.find("--resume"), std::string::npos) << status.message;
+    EXPECT_NE(status.message.find("WizardConfig::resume = true"), std::string::npos)
+        << status.message;
     before = rig.wizard->vertices();
   }
   WizardConfig config = smallConfig(path);
@@ -674,7 +677,7 @@ TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
   Rig rig("sim:omega", smallConfig(path));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
-  EXPECT_NE(rig.wizard->status().prompt.find("--resume"), std::string::npos);
+  EXPECT_NE(rig.wizard->status().prompt.find("WizardConfig::resume = true"), std::string::npos);
   EXPECT_EQ(rig.wizard->status().check_issue, CheckIssue::kEarlierCheckpoint);
   rig.wizard->post(WizardEvent::kConfirm);
   rig.frame();

@@ -78,7 +78,7 @@ TEST_F(MapLibraryTest, NoFittingMapIsAnErrorThatNamesTheFolderAndWhatItHolds) {
     EXPECT_NE(message.find("\"omega.3\" (serial A1)"), std::string::npos) << message;
     EXPECT_NE(message.find(dir_), std::string::npos) << message;
     EXPECT_NE(message.find("falcon.json"), std::string::npos) << message;
-    EXPECT_NE(message.find("autograv wizard"), std::string::npos) << message;
+    EXPECT_NE(message.find("CalibrationWizard"), std::string::npos) << message;
   }
 }
 

@@ -65,7 +65,9 @@ TEST(PdDesignTest, SaturationCheckNamesTheCellSizeAndBetaToUse) {
   const FeasibilityCheck check = checkSaturation(700.0, 1.0, 0.04, 3.3);
   EXPECT_FALSE(check.ok);
   EXPECT_NE(check.message.find("at most 27.6"), std::string::npos) << check.message;
-  EXPECT_NE(check.message.find("lower beta to at most 483"), std::string::npos) << check.message;
+  EXPECT_NE(check.message.find("lower EstimationParameters::beta_per_s2 to at most 483"),
+            std::string::npos)
+      << check.message;
 }
 
 }  // namespace

@@ -283,7 +283,8 @@ TEST(DeviceFaultTest, ForcesTheDeviceRefusesMidGridAreAFaultThatKeepsTheFinished
   EXPECT_TRUE(run.wizard->finished());
   const WizardStatus status = run.wizard->status();
   EXPECT_NE(status.message.find("refused the forces"), std::string::npos) << status.message;
-  EXPECT_NE(status.message.find("--resume"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("WizardConfig::resume = true"), std::string::npos)
+      << status.message;
   const std::vector<VertexEstimate> finished = run.wizard->vertices();
   const std::vector<VertexEstimate> on_disk = loadMap(path + ".partial").vertices();
   EXPECT_GE(convergedCount(on_disk), 3);

@@ -3,6 +3,8 @@
 # Arguments: -DBINARY_DIR=<autograv build> -DSOURCE_DIR=<tests/install/consumer> -DWORK_DIR=<scratch>
 #            [-DCONSUMER_LINK_FLAGS=<flags the consumer links with, e.g. the sanitizers>]
 #            [-DWITH_CHAI3D=1: autograv was built with the CHAI3D bridge; build its consumer too]
+#            [-DEXAMPLE_DIR=<demo/examples/own_device>: also build that example against the
+#             install, with warnings as errors, and run it unattended to the end]
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run)
@@ -10,13 +12,35 @@ function(run)
   if(NOT result EQUAL 0)
     message(FATAL_ERROR "failed: ${ARGN}\n${out}\n${err}")
   endif()
+  set(run_output "${out}${err}" PARENT_SCOPE)
 endfunction()
 run(${CMAKE_COMMAND} --install "${BINARY_DIR}" --prefix "${WORK_DIR}/prefix" --component Unspecified)
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}" "-DCONSUMER_WITH_CHAI3D=${WITH_CHAI3D}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
+# The program on the flat header paths of 0.1 compiled, and was told where each header went.
+if(NOT run_output MATCHES "autograv/map_io.h is deprecated: include autograv/map/map_io.h")
+  message(FATAL_ERROR "no deprecation message for autograv/map_io.h in the build:\n${run_output}")
+endif()
 run("${WORK_DIR}/build/consumer")
+run("${WORK_DIR}/build/consumer_old_paths")
 if(WITH_CHAI3D)
   run("${WORK_DIR}/build/consumer_chai3d")
+endif()
+if(EXAMPLE_DIR)
+  run(${CMAKE_COMMAND} -S "${EXAMPLE_DIR}" -B "${WORK_DIR}/own_device"
+      "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_BUILD_TYPE=Release
+      "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Wpedantic -Werror"
+      "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
+  run(${CMAKE_COMMAND} --build "${WORK_DIR}/own_device")
+  run("${WORK_DIR}/own_device/own_device" --unattended --out "${WORK_DIR}/own_device_map.json")
+  message(STATUS "own_device example:\n${run_output}")
+  if(NOT run_output MATCHES "\\[7/7\\] Done" OR
+     NOT run_output MATCHES "grid: median [0-9.]+ mN, max [0-9.]+ mN")
+    message(FATAL_ERROR "the own_device example did not calibrate to the end:\n${run_output}")
+  endif()
+  if(NOT EXISTS "${WORK_DIR}/own_device_map.json")
+    message(FATAL_ERROR "the own_device example saved no map")
+  endif()
 endif()
 message(STATUS "consumer built against ${WORK_DIR}/prefix and ran")

@@ -72,7 +72,7 @@ TEST_F(MapMaintenanceTest, CheckSaysRetareWhenTheHandleGainedWeight) {
   const MapCheckResult result = check(*device);
   EXPECT_EQ(result.fit, MapFit::kRetare) << result.reason;
   EXPECT_NEAR(result.payload_kg, kPayload_kg, 0.002);
-  EXPECT_NE(result.reason.find("autograv retare"), std::string::npos) << result.reason;
+  EXPECT_NE(result.reason.find("retareMap"), std::string::npos) << result.reason;
 }
 
 TEST_F(MapMaintenanceTest, CheckSaysCalibrateAgainWhenTheDeviceWasTilted) {

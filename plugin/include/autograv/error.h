@@ -10,6 +10,7 @@ namespace autograv {
 /// message says what was wrong and what the user can do about it (file, field, expected value).
 class Error : public std::runtime_error {
  public:
+  /// `message` says what went wrong and what to change (file, line, parameter, value).
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 

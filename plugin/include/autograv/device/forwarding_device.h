@@ -60,6 +60,7 @@ class ForwardingDevice : public HapticDevice {
 
   /// The decorated device. Real-time safe.
   HapticDevice& inner() noexcept { return *inner_; }
+  /// The wrapped device, read-only. Real-time safe.
   const HapticDevice& inner() const noexcept { return *inner_; }
 
  private:

@@ -180,6 +180,7 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   // --- Compensation switch and status (any thread, real-time safe) ---------------------------
   /// Fades compensation in or out over ramp_duration_s.
   void setCompensationEnabled(bool enabled) noexcept;
+  /// Whether compensation is switched on (it may still be ramping).
   bool compensationEnabled() const noexcept;
   /// Current compensation gain in [0, 1] (the ramp).
   double compensationLevel() const noexcept;
@@ -203,7 +204,21 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   std::uint64_t outsideMapTickCount() const noexcept;
   /// The encoder resolution the frozen-driver check has learned so far. Unit: [m]
   double positionResolution_m() const noexcept;
+  /// True once a fade (a map fading in or out, compensation ramping) made no real progress:
+  /// kStalledFadeTicks ticks passed within less than kStalledFadeSpan_s of options().clock, a
+  /// loop faster than 50 kHz. That is a loop in simulated time with the default
+  /// SteadyServoClock: its fades last ramp_duration_s of wall time, so its first seconds of
+  /// simulated time get almost no compensation. Pass a FixedPeriodServoClock (or the loop's own
+  /// clock) in CompensationOptions::clock. A real loop at 1 to 10 kHz, jittery or not, never sets
+  /// it; only a loop catching up 500 ticks in one burst could. Stays set. A status only:
+  /// compensation goes on as before. Any thread; real-time safe.
+  bool fadeStalled() const noexcept;
+  /// Ticks of a fade in a row, within kStalledFadeSpan_s of the clock, that set fadeStalled().
+  static constexpr int kStalledFadeTicks = 500;
+  /// See kStalledFadeTicks. Unit: [s]
+  static constexpr double kStalledFadeSpan_s = 0.01;
 
+  /// The options given at construction. Any thread; real-time safe.
   const CompensationOptions& options() const noexcept { return options_; }
   /// The wrapped device. Not real-time safe to use from a thread other than the servo thread.
   HapticDevice& innerDevice() noexcept { return inner(); }
@@ -216,6 +231,8 @@ class GravityCompensatedDevice final : public ForwardingDevice {
 
   /// Measured duration of this tick, clamped to [0, max_tick_interval_s]. Unit: [s]
   double tickInterval() noexcept;
+  /// Watches a fade in progress for a clock that does not advance (see fadeStalled).
+  void watchFade(bool fading) noexcept;
   void takeNewMap(double dt_s) noexcept;
   /// The maps' gravity at `position_m`, blended during a fade (from or to no map as well);
   /// `inside` is false when the position is beyond the outside margin of a map in use.
@@ -259,6 +276,10 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   Eigen::Vector3d push_filtered_n_ = Eigen::Vector3d::Zero();
   std::uint8_t pushed_up_axes_ = 0;    ///< Bit a: the filtered push pointed along +axis a.
   std::uint8_t pushed_down_axes_ = 0;  ///< Bit a: the filtered push pointed along -axis a.
+  // Stalled-fade watch (see fadeStalled): the tick and clock reading a watched span began at.
+  bool stall_watching_ = false;
+  std::uint64_t stall_start_tick_ = 0;
+  double stall_start_s_ = 0.0;
   Eigen::Vector3d cached_position_m_ = Eigen::Vector3d::Zero();
   bool cached_ok_ = false;
   bool cached_fresh_ = false;
@@ -279,6 +300,7 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   std::array<std::atomic<std::uint64_t>, kServoFaultKinds> fault_counts_{};
   std::atomic<std::uint64_t> clamp_count_{0};
   std::atomic<std::uint64_t> tick_count_{0};
+  std::atomic<bool> fade_stalled_{false};
 };
 
 }  // namespace autograv

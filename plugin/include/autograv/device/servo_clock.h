@@ -27,8 +27,11 @@ class SteadyServoClock final : public ServoClock {
 /// Unit: [s]
 class FixedPeriodServoClock final : public ServoClock {
  public:
+  /// Throws autograv::Error unless `period_s` is finite and positive.
+  /// Not real-time safe.
   explicit FixedPeriodServoClock(double period_s);
   double now_s() noexcept override;
+  /// The time every reading advances. Unit: [s]
   double period_s() const noexcept { return period_s_; }
 
  private:

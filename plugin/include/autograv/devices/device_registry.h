@@ -28,7 +28,9 @@ struct DeviceHandle {
 
 /// What `autograv devices` lists.
 struct DeviceListing {
+  /// Registry name, e.g. "sim:omega" or "chai3d:0".
   std::string name;
+  /// What the device says about itself.
   DeviceSpecifications specifications;
 };
 

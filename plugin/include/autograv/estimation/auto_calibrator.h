@@ -20,6 +20,7 @@ namespace autograv {
 /// next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and skipped.
 class AutoCalibrator {
  public:
+  /// What step() did on this tick.
   enum class Status : std::uint8_t {
     kIdle,            ///< start() not called yet.
     kMoving,          ///< Travelling to the next vertex.
@@ -31,6 +32,7 @@ class AutoCalibrator {
     kDeviceFault,     ///< The device stopped answering; sending zero force.
   };
 
+  /// How the device travels between vertices and where each vertex starts.
   struct Options {
     /// Peak acceleration of the moves between vertices. Unit: [m/s^2]
     double max_move_acceleration_m_per_s2 = 0.5;
@@ -57,6 +59,7 @@ class AutoCalibrator {
   /// Not real-time safe.
   AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
                  double max_force_n, const Options& options);
+  /// The same with the default Options.
   AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
                  double max_force_n)
       : AutoCalibrator(grid, parameters, max_force_n, Options()) {}
@@ -88,22 +91,28 @@ class AutoCalibrator {
   /// Holds the end-effector where it is; resume() restarts the current move or vertex.
   /// Real-time safe.
   void pause() noexcept;
+  /// Continues after pause(). Real-time safe.
   void resume() noexcept;
   /// Stops the run; keeps holding the end-effector where it is. Real-time safe.
   void abort() noexcept;
 
   /// What the calibrator is doing now (never kVertexFinished, which step() reports once).
   Status state() const noexcept { return state_; }
+  /// Vertices of the grid. Real-time safe.
   int vertexCount() const noexcept { return grid_.vertexCount(); }
   /// Vertices this run has to visit, and how many of them are done.
   int toVisitCount() const noexcept { return static_cast<int>(order_.size()); }
+  /// Vertices visited so far (the one in progress not counted). Real-time safe.
   int visitedCount() const noexcept { return static_cast<int>(next_in_order_) - (active_ ? 1 : 0); }
   /// Grid index of the vertex being approached or estimated; -1 when none.
   int currentVertex() const noexcept { return current_vertex_; }
   /// Grid index of the vertex finished most recently; -1 before the first.
   int lastFinishedVertex() const noexcept { return last_finished_vertex_; }
+  /// The inner loop at the current vertex. Real-time safe.
   const VertexEstimator& estimator() const noexcept { return estimator_; }
+  /// Every vertex's estimate so far, by grid index. Real-time safe.
   const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
+  /// The grid being calibrated. Real-time safe.
   const WorkspaceGrid& grid() const noexcept { return grid_; }
   /// Servo time since start(). Unit: [s]
   double elapsed_s() const noexcept { return ticks_ * parameters_.servo_period_s; }

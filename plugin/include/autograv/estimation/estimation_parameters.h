@@ -31,6 +31,7 @@ EstimationMethod parseEstimationMethod(const std::string& name);
 /// periods, so three small updates in a row are as telling as the paper's five noisy ones).
 /// paper() gives eqs. 7-13 exactly as published.
 struct EstimationParameters {
+  /// How each iteration reaches its steady state.
   EstimationMethod method = EstimationMethod::kDither;
   /// Closed-loop damping of Xdd = beta (X_D - X) - alpha Xd; K_D = alpha M. Unit: [1/s]
   double alpha_per_s = 40.0;
@@ -76,6 +77,7 @@ struct EstimationParameters {
   /// large updates stay quick.
   int final_steady_windows = 4;
 
+  /// Dither amplitude as a fraction of the device's maximum force when dither_amplitude_n is 0.
   static constexpr double kAutoDitherFraction = 0.09;
 
   /// The paper's method exactly as published (Section V's values, n_G = 5, no dither): what

@@ -15,6 +15,7 @@ namespace autograv {
 /// G_hat_0 = k0 (X0 - X_inf) (eq. 7). The field is ramped in so the user feels no jolt.
 class InitializationEstimator {
  public:
+  /// Where the manual initialization stands (WizardStatus::release_status).
   enum class Status : std::uint8_t {
     kRampingIn,    ///< The field is coming on; keep holding.
     kWaiting,      ///< Field on; waiting for the released end-effector to settle.
@@ -37,6 +38,7 @@ class InitializationEstimator {
 
   /// G_hat_0 (eq. 7), valid once step() returned kDone. Unit: [N]
   const Eigen::Vector3d& gravityEstimate_n() const noexcept { return estimate_n_; }
+  /// Centre X0 of the spring field, as given to start(). Unit: [m]
   const Eigen::Vector3d& center_m() const noexcept { return center_m_; }
   /// Current sag of the end-effector below the field centre. Unit: [m]
   double sag_m() const noexcept { return sag_m_; }

@@ -15,6 +15,7 @@ class MinimumJerkMove {
   /// Real-time safe. Units: [m], [m/s], [m/s^2]
   void sample(double t_s, Eigen::Vector3d& position_m, Eigen::Vector3d& velocity_m_per_s,
               Eigen::Vector3d& acceleration_m_per_s2) const noexcept;
+  /// Length of the move. Unit: [s]
   double duration_s() const noexcept { return duration_s_; }
 
   /// The shortest duration whose peak acceleration (5.77 d / T^2) stays under

@@ -43,6 +43,7 @@ StepResponseSpec simulateStepResponse(const PdGains& gains);
 
 /// Result of a feasibility check: `ok`, and when not, what to change and to what.
 struct FeasibilityCheck {
+  /// True when the check passed; `message` then is empty.
   bool ok = true;
   std::string message;  ///< Empty when ok.
 };

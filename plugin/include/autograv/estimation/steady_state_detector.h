@@ -46,6 +46,7 @@ class SteadyStateDetector {
   /// further calls until reset). Real-time safe.
   bool update(const Eigen::Vector3d& position_m, const Eigen::Vector3d& velocity_m_per_s) noexcept;
 
+  /// True once the steady state is reached (until reset()). Real-time safe.
   bool settled() const noexcept { return settled_; }
   /// Mean position over the settled run (samples, or windows). Unit: [m]
   Eigen::Vector3d settledPosition_m() const noexcept;

@@ -22,6 +22,7 @@ namespace autograv {
 /// friction averages out of eq. 12 instead of biasing it by up to the breakaway force.
 class VertexEstimator {
  public:
+  /// What step() did on this tick.
   enum class Status : std::uint8_t {
     kSettling,       ///< Holding X_i, waiting for the steady state of iteration j.
     kUpdated,        ///< This tick ended iteration j with an update (eq. 12).
@@ -47,9 +48,11 @@ class VertexEstimator {
   /// One servo tick; writes the force to send (clamped to the force limit). Real-time safe.
   Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
 
+  /// True once the vertex ended, whatever the outcome. Real-time safe.
   bool finished() const noexcept { return finished_; }
   /// Result so far: G_hat, iterations, seconds, outcome and history. Real-time safe to read.
   const VertexEstimate& estimate() const noexcept { return estimate_; }
+  /// The vertex X_i being held. Unit: [m]
   const Eigen::Vector3d& vertex_m() const noexcept { return vertex_m_; }
   /// Iteration in progress (0-based), i.e. the number of updates so far.
   int iteration() const noexcept { return estimate_.iterations; }
@@ -68,7 +71,9 @@ class VertexEstimator {
   /// on the simulated devices) per iteration and friction leaves updates of a few mN; against an
   /// end stop the steady state stays put and every update is K_P times the same gap.
   static constexpr int kStalledUpdates = 3;
+  /// See kStalledUpdates: an update at least this fraction of the previous one does not shrink.
   static constexpr double kStallRatio = 0.6;
+  /// See kStalledUpdates: updates below this never count as stalled. Unit: [N]
   static constexpr double kStallUpdateFloor_n = 0.02;
   /// Distance from X_i beyond which a hold that never settles means the vertex is out of reach:
   /// well above the steady-state offsets friction leaves (0.1 mm on the simulated devices).

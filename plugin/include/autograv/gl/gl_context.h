@@ -18,6 +18,7 @@ class GlContext {
   virtual void makeCurrent() = 0;
   /// Size of the drawable in pixels (the framebuffer, not screen coordinates). Unit: [px]
   virtual int framebufferWidth() const = 0;
+  /// See framebufferWidth(). Unit: [px]
   virtual int framebufferHeight() const = 0;
   /// The loader for this context's GL functions. Not real-time safe.
   virtual GlProcLoader procLoader() const = 0;

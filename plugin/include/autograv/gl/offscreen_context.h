@@ -20,6 +20,7 @@ class OffscreenContext final : public GlContext {
 
   void makeCurrent() override;
   int framebufferWidth() const override;
+  /// Height of the offscreen framebuffer. Unit: [px]
   int framebufferHeight() const override;
   GlProcLoader procLoader() const override;
 

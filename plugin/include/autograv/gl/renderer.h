@@ -9,6 +9,7 @@
 
 namespace autograv::gl {
 
+/// Settings of the Renderer, fixed at construction.
 struct RendererOptions {
   /// Folder to read the GLSL files from (shaders/ of the source tree, for editing shaders without
   /// rebuilding). Empty: the environment variable AUTOGRAV_SHADER_DIR if set, else the copies

@@ -44,6 +44,7 @@ struct Scene {
   /// Draw the |G| colour bar under the readout when a map is shown.
   bool show_legend = true;
 
+  /// Where the scene is seen from.
   OrbitCamera camera;
 };
 

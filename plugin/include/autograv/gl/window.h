@@ -49,6 +49,7 @@ class Window final : public GlContext {
 
   void makeCurrent() override;
   int framebufferWidth() const override;
+  /// Height of the window's framebuffer. Unit: [px]
   int framebufferHeight() const override;
   GlProcLoader procLoader() const override;
 
@@ -60,7 +61,9 @@ class Window final : public GlContext {
   void swapBuffers();
   /// True once the user asked to close the window (or requestClose() was called).
   bool shouldClose() const;
+  /// Makes shouldClose() true, as closing the window does. Not real-time safe.
   void requestClose();
+  /// Sets the window's title bar text. Not real-time safe.
   void setTitle(const std::string& title);
   /// Reads the back buffer (call after drawing, before swapBuffers). Not real-time safe.
   Image readImage();

@@ -15,6 +15,7 @@ namespace autograv {
 /// vertices and shifting every vertex by it gives the map a full calibration with the load would
 /// give, in seconds instead of minutes.
 struct RetareOptions {
+  /// How each vertex is measured.
   SpotMeasurementOptions measurement;
   /// How many vertices near the grid centre to measure at (1 to 3); their mean shift is used.
   int vertex_count = 3;
@@ -24,6 +25,7 @@ struct RetareOptions {
   double max_disagreement_rel = 0.03;
 };
 
+/// What retareMap measured and the map it made.
 struct RetareResult {
   GravityMap map;  ///< The re-tared map (same grid and metadata, every vertex shifted).
   /// The mean change of G_hat over the measured vertices. Unit: [N]
@@ -33,6 +35,7 @@ struct RetareResult {
   double payload_kg = 0.0;
   /// Largest difference between one vertex's shift and the mean, over |G|.
   double disagreement_rel = 0.0;
+  /// The measurements behind the shift.
   SpotMeasurement measurement;
 };
 

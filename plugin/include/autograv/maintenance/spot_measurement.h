@@ -17,6 +17,7 @@ namespace autograv {
 /// from the map's own values: what the map says against what the device needs today. Shared by
 /// retare (a new handle) and the health check (does the map still fit?).
 struct SpotMeasurementOptions {
+  /// The estimation at each vertex.
   EstimationParameters parameters;
   /// Added to the map's value for the first estimate (0: trust the map). Unit: [N]
   Eigen::Vector3d initial_offset_n = Eigen::Vector3d::Zero();
@@ -24,15 +25,19 @@ struct SpotMeasurementOptions {
   double timeout_s = 60.0;
   /// Called between servo ticks, every progress_period_s of servo time. Unit: [s]
   std::function<void(const AutoCalibrator&)> on_progress;
+  /// Servo time between two calls of on_progress. Unit: [s]
   double progress_period_s = 0.25;
 };
 
+/// The estimates measured at a few vertices of a map.
 struct SpotMeasurement {
   std::vector<int> vertices;                   ///< Grid indices measured, as asked.
   std::vector<VertexEstimate> estimates;       ///< One per vertices[k].
   std::vector<Eigen::Vector3d> map_gravity_n;  ///< The map's value there. Unit: [N]
+  /// How the measurement ended.
   AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
   double seconds = 0.0;  ///< Servo time of the whole run, moves included. Unit: [s]
+  /// True when the run reached timeout_s before every vertex finished.
   bool timed_out = false;
 };
 

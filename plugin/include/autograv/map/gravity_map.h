@@ -56,9 +56,12 @@ bool parseVertexProvenance(const std::string& name, VertexProvenance& provenance
 /// The result of the inner loop at one vertex.
 struct VertexEstimate {
   Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< Final G_hat(X_i). Unit: [N]
+  /// Iterations the estimate took (0 for a vertex that was not measured).
   int iterations = 0;
   double seconds = 0.0;  ///< Servo time spent at the vertex, move excluded. Unit: [s]
+  /// How the vertex ended.
   VertexOutcome outcome = VertexOutcome::kPending;
+  /// Where the value comes from: measured, or filled from its neighbours.
   VertexProvenance provenance = VertexProvenance::kMeasured;
   std::vector<IterationRecord> history;  ///< One record per iteration, oldest first.
   /// Where the inner loop ran when not at the vertex itself: a vertex beyond the explored
@@ -77,6 +80,7 @@ struct MapMetadata {
   std::string device_model;   ///< DeviceSpecifications::model_name at calibration time.
   std::string device_serial;  ///< Empty when unknown.
   std::string created_utc;    ///< ISO 8601, e.g. "2026-11-23T13:25:00Z".
+  /// The estimation parameters of the calibration.
   EstimationParameters parameters;
   /// What the end-effector was found to reach before the grid run (empty for maps made before
   /// the exploration existed, or without it).
@@ -109,8 +113,11 @@ class GravityMap {
   /// Not real-time safe.
   GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices, MapMetadata metadata);
 
+  /// The grid of the map. Real-time safe.
   const WorkspaceGrid& grid() const noexcept { return grid_; }
+  /// One estimate per grid vertex, by grid index. Real-time safe.
   const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
+  /// Device, date and parameters of the calibration. Real-time safe.
   const MapMetadata& metadata() const noexcept { return metadata_; }
 
   /// Trilinear interpolation of the vertex estimates (on the refined lookup grid when

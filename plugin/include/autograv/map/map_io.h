@@ -14,6 +14,7 @@ inline constexpr int kMapSchemaVersion = 3;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 
+/// What loadMap checks besides the file's own consistency.
 struct MapLoadOptions {
   /// When non-empty, a map whose device_model differs is refused.
   std::string expected_device_model;

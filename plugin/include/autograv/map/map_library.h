@@ -21,9 +21,11 @@ class MapLibrary {
   /// An empty `dir` means defaultMapLibraryDir(). The folder need not exist until save().
   explicit MapLibrary(std::string dir = {});
 
+  /// The library's folder.
   const std::string& dir() const noexcept { return dir_; }
   /// Where the map of this device is (or would be) kept.
   std::string pathFor(const DeviceSpecifications& device) const;
+  /// The same for a model and a serial number (empty when unknown).
   std::string pathFor(const std::string& model, const std::string& serial) const;
   /// Saves `map` under its metadata's model and serial, creating the folder if needed; returns the
   /// path. Throws autograv::Error when it cannot.

@@ -26,11 +26,13 @@ class WorkspaceGrid {
   WorkspaceGrid(const Eigen::Vector3d& center_m, const Eigen::Vector3d& size_m,
                 const Eigen::Vector3i& resolution);
 
+  /// Centre of the box. Unit: [m]
   const Eigen::Vector3d& center_m() const noexcept { return center_m_; }
   /// Extent of the whole box along x, y and z. Unit: [m]
   const Eigen::Vector3d& size_m() const noexcept { return size_m_; }
   /// Vertices along x, y and z.
   const Eigen::Vector3i& resolution() const noexcept { return resolution_; }
+  /// Vertices in all, the product of the resolution.
   int vertexCount() const noexcept { return resolution_.prod(); }
   /// True when the three extents and the three resolutions are equal.
   bool isCube() const noexcept;
@@ -38,7 +40,9 @@ class WorkspaceGrid {
   Eigen::Vector3d spacing_m() const noexcept;
   /// Longest cell edge: the longest move between neighbouring vertices. Unit: [m]
   double maxSpacing_m() const noexcept { return spacing_m().maxCoeff(); }
+  /// Corner of the box with the smallest coordinates. Unit: [m]
   Eigen::Vector3d minCorner_m() const noexcept;
+  /// Corner of the box with the largest coordinates. Unit: [m]
   Eigen::Vector3d maxCorner_m() const noexcept;
 
   /// Real-time safe.

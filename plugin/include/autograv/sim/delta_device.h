@@ -26,13 +26,18 @@ namespace autograv::sim {
 /// three spheres whose intersection is the forward kinematics and whose one-leg solutions are the
 /// inverse kinematics, both in closed form.
 struct DeltaParameters {
+  /// The simulated driver: servo period, encoders, DAC, noise, delays.
   DriverParameters driver;
+  /// What the device reports through specifications().
   DeviceSpecifications specifications;
 
   /// Hip circle, platform joint circle, upper arm a and parallelogram length b. Unit: [m]
   double base_radius_m = 0.0372;
+  /// Radius of the platform joint circle. Unit: [m]
   double effector_radius_m = 0.0140;
+  /// Length a of each upper arm. Unit: [m]
   double upper_arm_length_m = 0.070;
+  /// Length b of each parallelogram. Unit: [m]
   double forearm_length_m = 0.125;
   /// Angles phi_i of the three legs about the axis, from +y toward +z. Unit: [rad]
   Eigen::Vector3d leg_angles_rad = Eigen::Vector3d(1.8325957145940461, -0.2617993877991494,
@@ -43,7 +48,9 @@ struct DeltaParameters {
   /// Upper arm (with its capstan drum sector): mass, centre of mass along the arm from the hip,
   /// inertia about its centre of mass across the hip axis. Units: [kg], [m], [kg m^2]
   double upper_arm_mass_kg = 0.045;
+  /// Centre of mass of an upper arm along it, from the hip. Unit: [m]
   double upper_arm_com_m = 0.025;
+  /// Inertia of an upper arm about its centre of mass. Unit: [kg m^2]
   double upper_arm_inertia_kg_m2 = 2.0e-5;
   /// One parallelogram (two rods and their end links): half is lumped at the knee and half at the
   /// platform (the standard reduced delta model; exact for gravity, which acts at the rods'
@@ -51,6 +58,7 @@ struct DeltaParameters {
   double forearm_mass_kg = 0.012;
   /// Platform (with the ball joints) and the grip on it. Unit: [kg]
   double platform_mass_kg = 0.020;
+  /// The grip on the platform. Unit: [kg]
   double grip_mass_kg = 0.060;
   /// Motor rotor inertia reflected through each capstan (J_rotor * ratio^2). Unit: [kg m^2]
   Eigen::Vector3d rotor_inertia_kg_m2 = Eigen::Vector3d::Constant(1.2e-4);
@@ -67,8 +75,11 @@ struct DeltaParameters {
   /// Arm end stops (the arms hitting the body): a stiff rubber spring and damper on each actuated
   /// joint beyond [min, max]. Units: [rad], [N m/rad], [N m s/rad]
   Eigen::Vector3d joint_min_rad = Eigen::Vector3d::Constant(-1.309);  // -75 deg
-  Eigen::Vector3d joint_max_rad = Eigen::Vector3d::Constant(1.798);   // 103 deg
+  /// Upper joint limit of each arm. Unit: [rad]
+  Eigen::Vector3d joint_max_rad = Eigen::Vector3d::Constant(1.798);  // 103 deg
+  /// Stiffness of the arm end stops. Unit: [N m/rad]
   double joint_stop_stiffness_n_m_per_rad = 10.0;
+  /// Damping of the arm end stops. Unit: [N m s/rad]
   double joint_stop_damping_n_m_s_per_rad = 0.02;
   /// Stops of the grip's travel about the workspace centre (the grip against the body and the
   /// parallelograms' ball joints at their limits, which keep a real Falcon in its box long before
@@ -122,6 +133,7 @@ class DeltaDevice final : public SimulatedDriver {
   Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const override;
   /// Real-time safe.
   Eigen::Vector3d truePosition_m() const noexcept override { return tip_m_; }
+  /// True, unquantized end-effector velocity. Unit: [m/s]
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override { return velocity_m_per_s_; }
   Eigen::Vector3d workspaceCenter_m() const noexcept override { return Eigen::Vector3d::Zero(); }
   /// Inside the published 4-inch cube, where the legs close with every arm clear of its stops.
@@ -151,7 +163,9 @@ class DeltaDevice final : public SimulatedDriver {
                          const Eigen::Vector3d& thetad_rad_per_s) const noexcept;
   /// Unit: [rad], [rad/s]
   const Eigen::Vector3d& jointAngles_rad() const noexcept { return theta_rad_; }
+  /// Arm angular velocities. Unit: [rad/s]
   const Eigen::Vector3d& jointVelocities_rad_per_s() const noexcept { return thetad_rad_per_s_; }
+  /// The parameters the device was made with.
   const DeltaParameters& parameters() const noexcept { return parameters_; }
 
  protected:

@@ -93,6 +93,7 @@ class LuGreFriction {
 
   /// z. Unit: [m] or [rad]
   const Eigen::Vector3d& deflection() const noexcept { return deflection_; }
+  /// The parameters the model was made with.
   const LuGreParameters& parameters() const noexcept { return parameters_; }
   /// g(v) for joint `joint`: the steady sliding dry friction at speed |v|. Real-time safe.
   double stribeckLevel(int joint, double velocity) const noexcept;

@@ -25,6 +25,7 @@ struct FrictionMeasurementOptions {
   /// Stiffness and damping of the tracking servo that drives the end-effector at that speed.
   /// Units: [N/m], [N s/m]
   double tracking_stiffness_n_per_m = 300.0;
+  /// Damping of the tracking servo. Unit: [N s/m]
   double tracking_damping_n_s_per_m = 2.0;
 };
 
@@ -41,6 +42,7 @@ struct FrictionMeasurement {
   double coulomb_force_n = 0.0;
   /// The probed unit directions and each one's breakaway force. Unit: [N]
   std::vector<Eigen::Vector3d> directions;
+  /// Breakaway force along directions[k]. Unit: [N]
   std::vector<double> breakaway_n;
   /// Simulated time the measurement took. Unit: [s]
   double simulated_seconds = 0.0;

@@ -15,7 +15,9 @@ LuGreParameters omegaAxisFriction(FrictionLevel level);
 
 /// Parameters of PointMassDevice. Defaults are the "sim:omega" preset (omegaParameters()).
 struct PointMassParameters {
+  /// The simulated driver: servo period, encoders, DAC, noise, delays.
   DriverParameters driver;
+  /// What the device reports through specifications().
   DeviceSpecifications specifications;
 
   /// The apparent gravity is the gradient of a smooth potential, as it is for any mechanism:
@@ -39,8 +41,11 @@ struct PointMassParameters {
   /// end-effector (unit vectors, columns of actuator_directions), growing as the arm's lever
   /// shortens over a length L. Units: [kg], [kg], [m]
   double base_mass_kg = 0.12;
+  /// m_r: each motor's rotor and arm inertia reflected along its direction. Unit: [kg]
   double rotor_mass_kg = 0.07;
+  /// u_i: the direction each motor drives the end-effector (columns, unit vectors).
   Eigen::Matrix3d actuator_directions = Eigen::Matrix3d::Identity();
+  /// L: the lever length over which m_r grows. Unit: [m]
   double inertia_length_m = 0.12;
 
   /// Friction per Cartesian axis (LuGre: pre-sliding, Stribeck, viscous). Units: [N], [m/s],
@@ -49,11 +54,14 @@ struct PointMassParameters {
   /// Cogging and torque ripple per axis, a position-periodic force A sin(2 pi x / period + phase).
   /// Units: [N], [m], [rad]
   Eigen::Vector3d cogging_amplitude_n = Eigen::Vector3d::Constant(1.5e-3);
+  /// Period of the cogging along each axis. Unit: [m]
   Eigen::Vector3d cogging_period_m = Eigen::Vector3d::Constant(0.004);
+  /// Phase of the cogging along each axis. Unit: [rad]
   Eigen::Vector3d cogging_phase_rad = Eigen::Vector3d(0.0, 2.1, 4.2);
   /// Soft mechanical end stop beyond the workspace radius: a spring along the normal and, while in
   /// contact, a drag on the whole velocity (a rubber stop). Units: [N/m], [N s/m]
   double end_stop_stiffness_n_per_m = 2000.0;
+  /// Drag on the whole velocity while in contact with the end stop. Unit: [N s/m]
   double end_stop_damping_n_s_per_m = 4.0;
   /// Position resolution of each Cartesian axis. Unit: [m]
   double encoder_resolution_m = 1e-5;
@@ -84,12 +92,14 @@ class PointMassDevice final : public SimulatedDriver {
   Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const override;
   /// Real-time safe.
   Eigen::Vector3d truePosition_m() const noexcept override { return position_m_; }
+  /// True, unquantized end-effector velocity. Unit: [m/s]
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override { return velocity_m_per_s_; }
   Eigen::Vector3d workspaceCenter_m() const noexcept override {
     return parameters_.workspace_center_m;
   }
   /// Potential energy U(X) whose gradient is G(X) (for tests). Real-time safe. Unit: [J]
   double potentialEnergy_j(const Eigen::Vector3d& position_m) const noexcept;
+  /// The parameters the device was made with.
   const PointMassParameters& parameters() const noexcept { return parameters_; }
 
  protected:

@@ -20,6 +20,7 @@ namespace autograv::sim {
 
 /// Result of the manual initialization (paper Sec. III-A) done by the simulated hand.
 struct InitializationResult {
+  /// True when G_hat_0 was found; else `message` says why.
   bool ok = false;
   std::string message;                                  ///< Why not, when !ok.
   Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0 (eq. 7). Unit: [N]
@@ -63,6 +64,7 @@ ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationPara
 
 /// The paper's Section V experiment on a simulated device.
 struct PaperExperimentResult {
+  /// The manual initialization before the experiment.
   InitializationResult initialization;
   VertexEstimate estimate;                                   ///< Outcome, iterations, history.
   Eigen::Vector3d target_m = Eigen::Vector3d::Zero();        ///< X_D. Unit: [m]
@@ -77,6 +79,7 @@ struct PaperExperimentResult {
 PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
                                          const EstimationParameters& parameters);
 
+/// Settings of runSimulatedCalibration.
 struct CalibrationRunOptions {
   /// Explore the workspace from the device's own data before the grid run (WorkspaceExplorer),
   /// and measure only inside what it reached (planMeasurements). False: every vertex is visited
@@ -91,17 +94,21 @@ struct CalibrationRunOptions {
   WorkspaceExplorer::Options explorer;
   /// A workspace explored before (a resumed run's checkpoint): used instead of exploring again.
   ExploredWorkspace workspace;
+  /// Centre of the grid's box. Unit: [m]
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
   /// Extent of the grid's box along x, y, z. Unit: [m]
   Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
   /// Vertices along x, y, z.
   Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(4);
+  /// The estimation (paper Secs. II-III).
   EstimationParameters parameters;
+  /// How the device travels between vertices.
   AutoCalibrator::Options calibrator;
   /// Finished vertices of an earlier, interrupted run (empty: start afresh).
   std::vector<VertexEstimate> resume_from;
   /// Called every `progress_period_s` of simulated time, and when a vertex finishes.
   std::function<void(const AutoCalibrator&)> on_progress;
+  /// Simulated time between two on_progress calls. Unit: [s]
   double progress_period_s = 0.5;
   /// Called once the workspace is explored and the grid known, before the grid run.
   std::function<void(const ExploredWorkspace&, const WorkspaceGrid&)> on_explored;
@@ -117,8 +124,11 @@ struct CalibrationRunOptions {
   int redo_passes = 1;
 };
 
+/// What runSimulatedCalibration measured.
 struct CalibrationRunResult {
+  /// How the outer loop ended.
   AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
+  /// The manual initialization (G_hat_0).
   InitializationResult initialization;
   /// The grid calibrated (the options' box, or the one fitted to the explored workspace).
   WorkspaceGrid grid{Eigen::Vector3d::Zero(), 0.06, 2};
@@ -163,6 +173,7 @@ struct AccuracyReport {
   /// Worst measured point |G_hat - G| / |G| (a converged vertex, or its point inside the
   /// workspace when it was measured off the vertex).
   double max_error_rel = 0.0;
+  /// Grid index of the worst measured vertex (-1 when none).
   int worst_vertex = -1;
   double max_error_n = 0.0;  ///< Worst converged vertex |G_hat - G| (maybe another one). Unit: [N]
   double rms_residual_n = 0.0;    ///< RMS of |G_hat(X) - G(X)| at random points. Unit: [N]

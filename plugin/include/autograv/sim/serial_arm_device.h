@@ -26,22 +26,31 @@ LuGreParameters omniJointFriction(FrictionLevel level);
 /// h = l1 sin q2 - l2 cos q3 (height), p = [r cos q1, r sin q1, h]; the reported position is
 /// that minus the tip position at `home_joint_angles_rad`, so the home pose is the origin.
 struct SerialArmParameters {
+  /// The simulated driver: servo period, encoders, DAC, noise, delays.
   DriverParameters driver;
+  /// What the device reports through specifications().
   DeviceSpecifications specifications;
 
   /// Link lengths l1 (shoulder to elbow) and l2 (elbow to gimbal centre). Unit: [m]
   double upper_arm_length_m = 0.13335;
+  /// Length l2, elbow to gimbal centre. Unit: [m]
   double forearm_length_m = 0.13335;
   /// Upper arm: mass, centre of mass along the link from the shoulder, inertia about its centre
   /// of mass across and along the link. Units: [kg], [m], [kg m^2]
   double upper_arm_mass_kg = 0.030;
+  /// Upper arm centre of mass along the link, from the shoulder. Unit: [m]
   double upper_arm_com_m = 0.050;
+  /// Upper arm inertia about its centre of mass, across the link. Unit: [kg m^2]
   double upper_arm_inertia_kg_m2 = 5.0e-5;
+  /// Upper arm inertia along the link. Unit: [kg m^2]
   double upper_arm_axial_inertia_kg_m2 = 4.0e-6;
   /// Forearm, same meaning, centre of mass measured from the elbow.
   double forearm_mass_kg = 0.022;
+  /// Forearm centre of mass along the link, from the elbow. Unit: [m]
   double forearm_com_m = 0.060;
+  /// Forearm inertia about its centre of mass, across the link. Unit: [kg m^2]
   double forearm_inertia_kg_m2 = 3.5e-5;
+  /// Forearm inertia along the link. Unit: [kg m^2]
   double forearm_axial_inertia_kg_m2 = 2.0e-6;
   /// Gimbal and stylus, lumped at the tip. Unit: [kg]
   double tip_mass_kg = 0.020;
@@ -58,7 +67,9 @@ struct SerialArmParameters {
   /// Cogging and torque ripple of each motor, seen at its joint as a position-periodic torque
   /// A sin(N q + phase): amplitude A, N cycles per joint revolution, phase. Units: [N m], [rad]
   Eigen::Vector3d cogging_amplitude_n_m = Eigen::Vector3d::Constant(2.5e-4);
+  /// Cogging cycles per joint revolution (N).
   Eigen::Vector3d cogging_cycles_per_rev = Eigen::Vector3d(186.0, 186.0, 186.0);
+  /// Cogging phase of each joint. Unit: [rad]
   Eigen::Vector3d cogging_phase_rad = Eigen::Vector3d(0.0, 2.1, 4.2);
 
   /// Encoder counts per joint revolution (motor encoder counts times the capstan ratio).
@@ -70,10 +81,12 @@ struct SerialArmParameters {
   /// spring along the normal and, while in contact, a drag on the whole tip velocity.
   /// Units: [N/m], [N s/m]
   double end_stop_stiffness_n_per_m = 1500.0;
+  /// Drag on the whole tip velocity while in contact with the end stop. Unit: [N s/m]
   double end_stop_damping_n_s_per_m = 1.5;
   /// The forearm cannot fold onto or stretch in line with the upper arm: |q3 - q2| is limited by
   /// a joint stop (the kinematics are singular at +-pi/2). Units: [rad], [N m/rad]
   double max_elbow_offset_rad = 1.35;
+  /// Stiffness of the elbow stop. Unit: [N m/rad]
   double elbow_stop_stiffness_n_m_per_rad = 5.0;
 };
 
@@ -110,6 +123,7 @@ class SerialArmDevice final : public SimulatedDriver {
   Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const override;
   /// Real-time safe.
   Eigen::Vector3d truePosition_m() const noexcept override { return tip_m_; }
+  /// True, unquantized end-effector velocity. Unit: [m/s]
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override;
   Eigen::Vector3d workspaceCenter_m() const noexcept override { return Eigen::Vector3d::Zero(); }
   /// Inside the workspace sphere, on the arm's inverse-kinematics branch, and with the elbow
@@ -138,7 +152,9 @@ class SerialArmDevice final : public SimulatedDriver {
                          const Eigen::Vector3d& qd_rad_per_s) const noexcept;
   /// Unit: [rad], [rad/s]
   const Eigen::Vector3d& jointAngles_rad() const noexcept { return q_rad_; }
+  /// Joint angular velocities. Unit: [rad/s]
   const Eigen::Vector3d& jointVelocities_rad_per_s() const noexcept { return qd_rad_per_s_; }
+  /// The parameters the device was made with.
   const SerialArmParameters& parameters() const noexcept { return parameters_; }
 
  protected:

@@ -41,6 +41,7 @@ class SimulatedDevice : public HapticDevice {
   virtual Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const = 0;
   /// True, unquantized end-effector position and velocity. Unit: [m], [m/s]
   virtual Eigen::Vector3d truePosition_m() const noexcept = 0;
+  /// See truePosition_m(). Unit: [m/s]
   virtual Eigen::Vector3d trueVelocity_m_per_s() const noexcept = 0;
   /// Puts the end-effector at rest at `position_m` (tests and scripted demos). The actuators keep
   /// their command: a force sent now reaches them one transport delay later, so send the force
@@ -79,6 +80,7 @@ class SimulatedDevice : public HapticDevice {
   /// setCalibrated(false) makes the device behave as one fresh from power-up that was never
   /// homed: calibrate() returns false and positions carry an offset until calibrate(true).
   virtual void setCalibrated(bool calibrated) noexcept = 0;
+  /// False until calibrate() homed a device made uncalibrated by setCalibrated(false).
   virtual bool isCalibrated() const noexcept = 0;
 
   /// Puts a point load of `payload_kg` on the end-effector (a heavier handle, a tool): a point
@@ -106,7 +108,10 @@ std::unique_ptr<SimulatedDevice> makeSimulatedDevice(
 /// either as fast as the CPU allows (tests) or locked to the wall clock (demos).
 class SimulatedTickSource final : public TickSource {
  public:
+  /// How the ticks are paced: as fast as the CPU allows, or locked to the wall clock.
   enum class Mode { kAsFastAsPossible, kRealTime };
+  /// Ticks `device` every `period_s` (unit: [s]) of simulated time, paced by `mode`. Not real-time
+  /// safe.
   SimulatedTickSource(SimulatedDevice& device, double period_s, Mode mode);
   bool waitForNextTick() override;
   double period_s() const override { return period_s_; }

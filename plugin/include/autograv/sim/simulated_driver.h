@@ -17,7 +17,9 @@ namespace autograv::sim {
 /// distributions, whose output is implementation-defined). Real-time safe.
 class Random {
  public:
+  /// Seeds the generator (splitmix64 of `seed`).
   explicit Random(std::uint64_t seed) noexcept;
+  /// 64 uniformly random bits.
   std::uint64_t nextBits() noexcept;
   /// Uniform in [0, 1).
   double uniform() noexcept;
@@ -43,6 +45,7 @@ class VelocityEstimator {
   void reset() noexcept;
   /// Adds a sample taken at `time_s` and returns the new estimate. Units: [s], [m], [m/s]
   const Eigen::Vector3d& update(double time_s, const Eigen::Vector3d& position_m) noexcept;
+  /// The latest estimate. Unit: [m/s]
   const Eigen::Vector3d& estimate_m_per_s() const noexcept { return filtered_; }
 
  private:
@@ -157,6 +160,7 @@ class SimulatedDriver : public SimulatedDevice {
   /// Not real-time safe. Unit: [rad]
   void setTilt_rad(double tilt_rad) override;
 
+  /// User switches (stylus buttons) the driver reports.
   static constexpr int kSwitchCount = 4;
 
  protected:
@@ -190,6 +194,7 @@ class SimulatedDriver : public SimulatedDevice {
   /// Unit: [N]
   Eigen::Vector3d loadedGravity_n(const Eigen::Vector3d& mechanism_gravity_n) const noexcept;
 
+  /// Set when the end-effector touched an end stop (endStopHit()).
   bool end_stop_hit_ = false;
 
  private:

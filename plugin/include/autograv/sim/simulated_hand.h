@@ -22,6 +22,7 @@ class SimulatedHand {
   }
   /// Lets go: no hand force from now on.
   void release() noexcept { holding_ = false; }
+  /// True while the hand holds the end-effector.
   bool holding() const noexcept { return holding_; }
 
   /// Moves the target at once. Unit: [m]
@@ -34,7 +35,9 @@ class SimulatedHand {
     goal_m_ = goal_m;
     speed_m_per_s_ = speed_m_per_s;
   }
+  /// True once the target reached the goal of moveTo().
   bool atGoal() const noexcept { return (goal_m_ - target_m_).squaredNorm() < 1e-18; }
+  /// Where the hand pulls the end-effector now. Unit: [m]
   const Eigen::Vector3d& target_m() const noexcept { return target_m_; }
 
   /// Advances the target by `dt_s` and returns the hand's force on an end-effector at

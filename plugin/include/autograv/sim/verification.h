@@ -47,6 +47,7 @@ struct ResidualProbeOptions {
   /// was held by friction, not by the hold: it is redone with the stiffness doubled, at most
   /// max_stiffness_doublings times.
   double min_slide_fraction = 0.25;
+  /// How often a held approach is redone with the stiffness doubled.
   int max_stiffness_doublings = 2;
   /// Approaches from each side along each axis, averaged, toward targets spread evenly over
   /// target_spread_m along the axis around the point. The residual is smooth over millimetres;
@@ -57,6 +58,7 @@ struct ResidualProbeOptions {
   double target_spread_m = 0.004;
   /// The far-side targets stay within this box (shorter approaches near its faces). Unit: [m]
   Eigen::Vector3d keep_within_min_m = Eigen::Vector3d::Constant(-HUGE_VAL);
+  /// Upper corner of that box. Unit: [m]
   Eigen::Vector3d keep_within_max_m = Eigen::Vector3d::Constant(HUGE_VAL);
 };
 
@@ -105,12 +107,16 @@ ReleaseMeasurement measureRelease(HapticDevice& device, TickSource& ticks, doubl
 
 /// Median, 90th percentile and maximum of a set of values (zeros when empty).
 struct Percentiles {
+  /// The median.
   double median = 0.0;
+  /// The 90th percentile.
   double p90 = 0.0;
+  /// The largest value.
   double max = 0.0;
 };
 Percentiles percentiles(std::vector<double> values);
 
+/// Settings of verifyMap.
 struct VerificationOptions {
   int points = 100;        ///< Seeded points drawn uniformly inside the map's grid.
   std::uint64_t seed = 1;  ///< Seed of the points.
@@ -118,6 +124,7 @@ struct VerificationOptions {
   double release_s = 1.0;
   /// "Stuck": no measured motion beyond this after a release (a few encoder counts). Unit: [m]
   double stuck_threshold_m = 1.5e-4;
+  /// How the residual force is probed at each point.
   ResidualProbeOptions probe;
   /// Ramp and margins of the compensation under test; the servo period is the map's.
   CompensationOptions compensation;
@@ -129,38 +136,58 @@ struct VerificationOptions {
 
 /// Everything verify measured at one point.
 struct PointVerification {
+  /// The point, drawn inside the map's grid. Unit: [m]
   Eigen::Vector3d point_m = Eigen::Vector3d::Zero();
   /// False when the end-effector could not be held at the point with full compensation (the
   /// decorator kept faulting there); nothing else was measured.
   bool ready = false;
+  /// The residual force the compensation leaves at the point.
   ResidualMeasurement residual;
+  /// The release test with compensation on.
   ReleaseMeasurement release;
+  /// The release test with compensation off (when compare_uncompensated).
   ReleaseMeasurement release_uncompensated;
   /// Simulation only: the map's value, the truth and |G_hat - G| at the point. Unit: [N]
   Eigen::Vector3d map_gravity_n = Eigen::Vector3d::Zero();
+  /// The simulator's true gravity at the point. Unit: [N]
   Eigen::Vector3d true_gravity_n = Eigen::Vector3d::Zero();
+  /// |G_hat - G| at the point. Unit: [N]
   double truth_error_n = 0.0;
   double truth_error_rel = 0.0;  ///< truth_error_n / |G|
 };
 
+/// Everything verifyMap measured, point by point and in summary.
 struct VerificationReport {
+  /// One entry per point.
   std::vector<PointVerification> points;
+  /// Servo period of the run (the map's). Unit: [s]
   double servo_period_s = 0.0;
+  /// Simulated time of the whole run. Unit: [s]
   double simulated_seconds = 0.0;
   /// Largest force the decorator sent to the device. Unit: [N]
   double max_force_sent_n = 0.0;
+  /// Ticks whose force the decorator clamped.
   std::uint64_t clamp_count = 0;
+  /// Ticks that ended in each ServoFault, by its value.
   std::array<std::uint64_t, kServoFaultKinds> fault_counts{};
 
   // Summaries over the points that were ready (residual: over the valid probes).
+  /// Residual force over the valid probes. Unit: [N]
   Percentiles residual_force_n;
+  /// Drift after each release, compensated. Unit: [m]
   Percentiles drift_m;
+  /// Drift after each release, uncompensated. Unit: [m]
   Percentiles drift_uncompensated_m;
+  /// |G_hat - G| at the points. Unit: [N]
   Percentiles truth_error_n;
+  /// |G_hat - G| / |G| at the points.
   Percentiles truth_error_rel;
+  /// Fraction of compensated releases that did not move beyond stuck_threshold_m.
   double stuck_fraction = 0.0;
   double median_gravity_n = 0.0;  ///< Median |G_hat| at the points. Unit: [N]
+  /// Points where the end-effector could be held (PointVerification::ready).
   int ready_points = 0;
+  /// Points whose residual probe was valid.
   int valid_residuals = 0;
 };
 

@@ -8,7 +8,9 @@ namespace autograv::viz {
 
 /// An 8-bit RGB image, rows from top to bottom as in a PNG file.
 struct RgbImage {
+  /// Width. Unit: [px]
   int width_px = 0;
+  /// Height. Unit: [px]
   int height_px = 0;
   /// width_px * height_px * 3 bytes: R, G, B of each pixel, row by row from the top.
   std::vector<std::uint8_t> rgb;
@@ -18,6 +20,7 @@ struct RgbImage {
   const std::uint8_t* pixel(int x, int y) const noexcept {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * width_px + x);
   }
+  /// Pointer to the 3 bytes of pixel (x, y), writable. No bounds check. Real-time safe.
   std::uint8_t* pixel(int x, int y) noexcept {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * width_px + x);
   }

@@ -21,12 +21,15 @@ struct ImageComparisonOptions {
 
 /// The outcome of a comparison of two images.
 struct ImageComparison {
+  /// True when the two images have the same size (nothing else is compared otherwise).
   bool same_size = false;
   /// Size of the expected image. Unit: [px]
   int width_px = 0;
+  /// Height of the expected image. Unit: [px]
   int height_px = 0;
   /// Size of the actual image. Unit: [px]
   int actual_width_px = 0;
+  /// Height of the actual image. Unit: [px]
   int actual_height_px = 0;
   /// Pixels that differ in either direction after forgiving one-pixel shifts.
   long differing_pixels = 0;

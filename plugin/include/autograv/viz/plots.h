@@ -14,7 +14,9 @@ namespace autograv::viz {
 struct PlotOptions {
   /// Unit: [px]
   int width_px = 1280;
+  /// Height of the picture. Unit: [px]
   int height_px = 960;
+  /// White (print) or dark (screen) background.
   Background background = Background::kWhite;
   /// When set, the convergence plot draws the true mass |G_true(X_i)| / g as a dashed line, and
   /// the summary adds the histogram of the final relative error.
@@ -25,8 +27,11 @@ struct PlotOptions {
 
 /// Counts in equal bins: bin k covers [first_lower + k * width, first_lower + (k + 1) * width).
 struct Histogram {
+  /// Lower edge of the first bin.
   double first_lower = 0.0;
+  /// Width of every bin.
   double width = 1.0;
+  /// Count of bin k.
   std::vector<int> counts;
 
   /// Sum of the counts. Real-time safe.
@@ -36,7 +41,9 @@ struct Histogram {
 /// Iterations per visited vertex, one bin per iteration count, split by outcome. Both histograms
 /// share their bins. Not real-time safe.
 struct IterationHistogram {
+  /// Vertices that converged.
   Histogram converged;
+  /// Vertices that did not.
   Histogram not_converged;
 };
 
@@ -65,17 +72,22 @@ RgbImage renderSummaryPlot(const GravityMap& map, const PlotOptions& options = {
 
 /// One line of a sweep plot: a named series of values, one per x label (NaN leaves a gap).
 struct SweepSeries {
+  /// Legend text.
   std::string name;
+  /// One value per x label.
   std::vector<double> values;
   /// Index into the plot's eight colours; -1 takes the series' position in its panel. Series
   /// that belong together (one device, several methods) share a colour and differ in dashes.
   int colour = -1;
+  /// Draws the line dashed.
   bool dashed = false;
 };
 
 /// One panel of a sweep plot.
 struct SweepPanel {
+  /// Title of the y axis.
   std::string y_title;
+  /// The lines of the panel.
   std::vector<SweepSeries> series;
 };
 

@@ -28,12 +28,15 @@ bool parseCameraView(const std::string& name, CameraView& view) noexcept;
 struct SceneOptions {
   /// Size of the picture. Unit: [px]. Text is sized for legibility at 1280x960.
   int width_px = 1280;
+  /// Height of the picture. Unit: [px]
   int height_px = 960;
+  /// Preset camera direction.
   CameraView view = CameraView::kIso;
   /// Turns the preset camera about the vertical axis through the scene centre. Unit: [deg]
   double camera_azimuth_deg = 0.0;
   /// Raises the preset camera (clamped to straight above or below). Unit: [deg]
   double camera_elevation_deg = 0.0;
+  /// White (print) or dark (screen) background.
   Background background = Background::kWhite;
   /// Colour map of the gravity magnitude on the arrows.
   ColorMap color_map = ColorMap::kViridis;
@@ -56,7 +59,9 @@ struct SceneOptions {
 
 /// Numbers the scene shows, for captions, reports and tests.
 struct SceneSummary {
+  /// Vertices of the grid.
   int vertices = 0;
+  /// Vertices that converged.
   int converged = 0;
   int failed = 0;  ///< Visited, not converged and not filled (iteration cap, no steady state...).
   int not_visited = 0;         ///< Outcome kPending.

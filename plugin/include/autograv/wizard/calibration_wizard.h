@@ -56,7 +56,8 @@ enum class CheckIssue : std::uint8_t {
   kNone,               ///< Not stopped (or not checked yet).
   kOpenFailed,         ///< open() failed; Enter retries.
   kUncalibrated,       ///< calibrate() failed; Enter runs the device's homing.
-  kEarlierCheckpoint,  ///< A checkpoint exists and --resume was not given; Enter replaces it.
+  kEarlierCheckpoint,  ///< A checkpoint exists and WizardConfig::resume is false; Enter replaces
+                       ///< it.
   kSettings,           ///< Specifications, grid or parameters refused; change them and restart.
 };
 
@@ -66,7 +67,9 @@ struct WizardConfig {
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);   ///< Box extents x, y, z.
   Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(5);  ///< Vertices along x, y, z.
+  /// The estimation (paper Secs. II-III); the wizard checks them against the device at Check.
   EstimationParameters parameters;
+  /// How the device travels between vertices.
   AutoCalibrator::Options calibrator;
   /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
   /// `autograv calibrate`, so either command resumes the other's run.
@@ -104,6 +107,7 @@ inline constexpr int kMaxVerifyPoints = 8;
 
 /// One release test of Verify.
 struct VerifyResult {
+  /// Grid index of the vertex tested.
   int vertex = -1;
   /// End-effector displacement while only the compensation acted. Unit: [m]
   double drift_m = 0.0;
@@ -112,14 +116,18 @@ struct VerifyResult {
   /// Constant force that would cause that drift on the apparent mass |G_hat|/g from rest:
   /// 2 M d / t^2 (friction hides part of it). Unit: [N]
   double residual_force_n = 0.0;
+  /// True once the test ended (drift limit or verify_release_s).
   bool finished = false;
 };
 
 /// One vertex of the review table.
 struct ReviewRow {
+  /// Grid index.
   int vertex = -1;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< Unit: [m]
+  /// How the vertex ended.
   VertexOutcome outcome = VertexOutcome::kPending;
+  /// Iterations it took.
   int iterations = 0;
   double seconds = 0.0;                                 ///< Unit: [s]
   Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();  ///< Unit: [N]
@@ -127,15 +135,21 @@ struct ReviewRow {
 
 /// What Review shows: the whole grid in numbers, and the vertices to redo.
 struct WizardReview {
+  /// Vertices of the grid.
   int vertex_count = 0;
+  /// Vertices that converged (restored ones included).
   int converged = 0;
+  /// Fewest iterations of a converged vertex.
   int iterations_min = 0;
+  /// Median iterations of the converged vertices.
   double iterations_median = 0.0;
+  /// Most iterations of a converged vertex.
   int iterations_max = 0;
   /// Servo time spent estimating, moves excluded. Unit: [s]
   double estimation_seconds = 0.0;
   /// Smallest and largest |G_hat| over converged vertices. Unit: [N]
   double gravity_min_n = 0.0;
+  /// Largest |G_hat| over the converged vertices. Unit: [N]
   double gravity_max_n = 0.0;
   /// Paper's Lipschitz constant c measured on the converged neighbours. Unit: [N/m]
   double lipschitz_n_per_m = 0.0;
@@ -155,9 +169,11 @@ struct WizardReview {
 
 /// Everything a front end shows, rebuilt by CalibrationWizard::status().
 struct WizardStatus {
+  /// The current step.
   WizardStep step = WizardStep::kCheck;
   /// 1-based number of the step among the seven of a normal run (0 for Aborted and Fault).
   int step_number = 1;
+  /// Steps of a normal run (Check to Done).
   static constexpr int kStepCount = 7;
   std::string title;    ///< e.g. "Centre the end-effector".
   std::string message;  ///< What is happening, with the live numbers; may span lines.
@@ -171,7 +187,9 @@ struct WizardStatus {
 
   /// Latest end-effector position and speed. Units: [m], [m/s]
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  /// Speed of the end-effector. Unit: [m/s]
   double speed_m_per_s = 0.0;
+  /// False when the latest reading failed.
   bool position_valid = false;
   /// Servo time since the wizard started ticking. Unit: [s]
   double time_s = 0.0;
@@ -181,19 +199,24 @@ struct WizardStatus {
   Eigen::Vector3d to_centre_m = Eigen::Vector3d::Zero();  ///< centre - position. Unit: [m]
   double centre_distance_m = 0.0;                         ///< Unit: [m]
   double centre_tolerance_m = 0.0;                        ///< Unit: [m]
+  /// True when the end-effector is within centre_tolerance_m of the centre.
   bool within_tolerance = false;
 
   // Release.
+  /// Where the manual initialization (eq. 7) stands.
   InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
   double sag_m = 0.0;              ///< Unit: [m]
   bool still_held = false;         ///< The estimator saw the hand carry the weight recently.
   bool not_settling = false;       ///< Field on for release_patience_s and still no steady state.
   double release_elapsed_s = 0.0;  ///< Unit: [s]
   Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
+  /// True once G_hat_0 is known.
   bool initial_gravity_valid = false;
 
   // AutoCalibration.
+  /// What the auto-calibration does now.
   AutoCalibrator::Status calibrator_state = AutoCalibrator::Status::kIdle;
+  /// True while the user paused the auto-calibration.
   bool paused = false;
   int vertex = -1;            ///< Grid index being approached or estimated.
   int vertex_ordinal = 0;     ///< i of "vertex i of N" (1-based).
@@ -206,14 +229,20 @@ struct WizardStatus {
   double calibration_elapsed_s = 0.0;  ///< Unit: [s]
 
   // Review (filled from the first Review on).
+  /// Results of the calibration, valid when review_valid.
   WizardReview review;
+  /// True once `review` is filled.
   bool review_valid = false;
 
   // Files.
+  /// Where the map is saved (WizardConfig::map_path).
   std::string map_path;
+  /// Where finished vertices are checkpointed (map_path + ".partial").
   std::string checkpoint_path;
   int checkpointed_converged = 0;  ///< Converged vertices in the last checkpoint written.
+  /// True once a checkpoint was written.
   bool checkpoint_written = false;
+  /// True once the map was saved.
   bool map_saved = false;
   std::string save_error;  ///< Why the last save failed (Save retries on kConfirm).
 
@@ -221,6 +250,7 @@ struct WizardStatus {
   std::vector<VerifyResult> verify;  ///< One per test, finished ones first.
   int verify_index = 0;              ///< Test in progress (0-based).
   double max_drift_m = 0.0;          ///< Over finished tests. Unit: [m]
+  /// True when the user stopped Verify before its end.
   bool verify_cancelled = false;
 
   /// Aborted / Fault: what happened and what to do.
@@ -282,6 +312,7 @@ class CalibrationWizard {
 
   /// The configuration and grid of this run. Real-time safe.
   const WizardConfig& config() const noexcept { return config_; }
+  /// The grid of this run. Real-time safe.
   const WorkspaceGrid& grid() const noexcept { return grid_; }
   /// The device as the wizard drives it (compensation decorator around the one passed in), e.g.
   /// for its fault counters. Real-time safe.

@@ -150,6 +150,7 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
     level = ramp_s > 0.0 ? std::max(0.0, level - dt_s / ramp_s) : 0.0;
   }
   level_.store(level, std::memory_order_relaxed);
+  watchFade(blend_ < 1.0 || (enabled && level < 1.0 && current_ != nullptr));
 
   // The map is looked up even while compensation is off: the frozen-driver check weighs the push
   // against the full gravity, and outsideMap() reports the position either way.
@@ -197,6 +198,26 @@ double GravityCompensatedDevice::tickInterval() noexcept {
   has_last_time_ = true;
   if (!(dt_s >= 0.0)) dt_s = 0.0;
   return std::min(dt_s, options_.max_tick_interval_s);
+}
+
+void GravityCompensatedDevice::watchFade(bool fading) noexcept {
+  if (!fading || fade_stalled_.load(std::memory_order_relaxed)) {
+    stall_watching_ = false;
+    return;
+  }
+  const std::uint64_t tick = tick_count_.load(std::memory_order_relaxed);
+  // last_time_s_ is this tick's clock reading (tickInterval ran first): no second read.
+  if (!stall_watching_ || !(last_time_s_ - stall_start_s_ < kStalledFadeSpan_s)) {
+    // A new span begins whenever the clock has moved on by the span: a real loop never gathers
+    // kStalledFadeTicks in one.
+    stall_watching_ = true;
+    stall_start_tick_ = tick;
+    stall_start_s_ = last_time_s_;
+    return;
+  }
+  if (tick - stall_start_tick_ >= static_cast<std::uint64_t>(kStalledFadeTicks)) {
+    fade_stalled_.store(true, std::memory_order_relaxed);
+  }
 }
 
 void GravityCompensatedDevice::takeNewMap(double dt_s) noexcept {
@@ -320,6 +341,7 @@ void GravityCompensatedDevice::resetServoState() noexcept {
   level_.store(0.0, std::memory_order_relaxed);
   frozen_tracking_ = false;
   has_last_time_ = false;
+  stall_watching_ = false;
   has_last_position_ = false;
   outside_map_.store(false, std::memory_order_relaxed);
   cached_fresh_ = false;
@@ -340,7 +362,8 @@ void GravityCompensatedDevice::publishMap(std::shared_ptr<const GravityMap> map,
     if (device_model != map_model) {
       throw Error("GravityCompensatedDevice: the map was calibrated on a '" + map_model +
                   "' but the device is a '" + device_model +
-                  "'; calibrate this device, or allow the mismatch explicitly");
+                  "'; calibrate this device, or allow the mismatch explicitly (publishMap's "
+                  "allow_model_mismatch = true)");
     }
   }
   {
@@ -440,6 +463,10 @@ bool GravityCompensatedDevice::outsideMap() const noexcept {
 
 std::uint64_t GravityCompensatedDevice::outsideMapTickCount() const noexcept {
   return outside_map_ticks_.load(std::memory_order_relaxed);
+}
+
+bool GravityCompensatedDevice::fadeStalled() const noexcept {
+  return fade_stalled_.load(std::memory_order_relaxed);
 }
 
 double GravityCompensatedDevice::positionResolution_m() const noexcept {

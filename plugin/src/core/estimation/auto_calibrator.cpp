@@ -32,7 +32,9 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
       vertices_(static_cast<std::size_t>(grid.vertexCount())),
       order_(grid.visitOrder(grid.center_m())) {
   if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
-    throw Error("auto-calibrator: move acceleration and duration must be positive");
+    throw Error(
+        "auto-calibrator: AutoCalibrator::Options::max_move_acceleration_m_per_s2 and "
+        "AutoCalibrator::Options::min_move_duration_s must be positive");
   }
   targets_.reserve(vertices_.size());
   for (int i = 0; i < grid.vertexCount(); ++i) targets_.push_back(grid.vertexPosition(i));

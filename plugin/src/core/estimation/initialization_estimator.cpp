@@ -21,7 +21,9 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
       damping_n_s_per_m_(damping_n_s_per_m),
       ramp_ticks_(std::max(1L, std::lround(ramp_s / parameters.servo_period_s))),
       detector_(SteadyStateDetector::forParameters(parameters)) {
-  if (!(parameters.k0_n_per_m > 0.0)) throw Error("initialization: k0 must be positive (N/m)");
+  if (!(parameters.k0_n_per_m > 0.0))
+    throw Error(
+        "initialization: EstimationParameters::k0_n_per_m must be positive (N/m), e.g. 300");
   if (!(max_force_n > 0.0)) throw Error("initialization: the device's max force must be positive");
   if (!(damping_n_s_per_m >= 0.0)) throw Error("initialization: damping must be >= 0 (N s/m)");
   // Eq. 7 turns the settled position into a force through k0 (see VertexEstimator::setGains).

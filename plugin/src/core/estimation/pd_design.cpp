@@ -88,7 +88,7 @@ FeasibilityCheck checkConvergence(double beta_per_s2, double gravity_norm_n,
           << " is below 2*c*g = " << needed << " for c = " << lipschitz_n_per_m
           << " N/m; raise beta to at least "
           << (gravity_norm_n > 0.0 ? std::ceil(needed / gravity_norm_n) : INFINITY)
-          << " 1/s^2 (--beta), or use a shorter settling time";
+          << " 1/s^2 (EstimationParameters::beta_per_s2), or use a shorter settling time";
   check.message = message.str();
   return check;
 }
@@ -109,9 +109,11 @@ FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, doub
     const double max_cell_m = (limit_n - gravity_norm_n) / stiffness_n_per_m;
     const double max_beta =
         (limit_n - gravity_norm_n) * kStandardGravity / (gravity_norm_n * cell_m);
-    message << "; use grid cells of at most " << max_cell_m * 1e3
-            << " mm (smaller --side-mm or larger --grid), or lower beta to at most "
-            << std::floor(max_beta) << " 1/s^2 (--beta)";
+    message
+        << "; use grid cells of at most " << max_cell_m * 1e3
+        << " mm (a smaller WizardConfig::grid_size_m or a larger WizardConfig::grid_resolution), "
+           "or lower EstimationParameters::beta_per_s2 to at most "
+        << std::floor(max_beta) << " 1/s^2";
   } else {
     message << "; the device cannot even hold its own weight at this margin";
   }

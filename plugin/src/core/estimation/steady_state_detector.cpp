@@ -13,12 +13,17 @@ SteadyStateDetector::SteadyStateDetector(int required_samples, double speed_thre
       speed_threshold_m_per_s_(speed_threshold_m_per_s),
       min_ticks_(std::lround(min_duration_s / period_s)),
       period_s_(period_s) {
-  if (required_samples < 1) throw Error("steady-state detector: n_S must be at least 1");
+  if (required_samples < 1)
+    throw Error("steady-state detector: n_S (EstimationParameters::n_s) must be at least 1");
   if (!(speed_threshold_m_per_s > 0.0)) {
-    throw Error("steady-state detector: eps_S must be a positive speed in m/s");
+    throw Error(
+        "steady-state detector: eps_S (EstimationParameters::eps_s_m_per_s) must be a "
+        "positive speed in m/s");
   }
   if (!(period_s > 0.0) || !(min_duration_s >= 0.0)) {
-    throw Error("steady-state detector: servo period must be positive, minimum duration >= 0");
+    throw Error(
+        "steady-state detector: EstimationParameters::servo_period_s must be positive, "
+        "EstimationParameters::min_step_duration_s >= 0");
   }
 }
 
@@ -40,13 +45,20 @@ SteadyStateDetector SteadyStateDetector::forParameters(const EstimationParameter
   if (!(p.dither_frequency_hz > 0.0) || !(p.servo_period_s > 0.0) ||
       p.dither_periods_per_window < 1) {
     throw Error(
-        "steady-state detector: the dither needs a positive frequency, a positive servo period "
-        "and at least one period per window");
+        "steady-state detector: the dither needs a positive "
+        "EstimationParameters::dither_frequency_hz, a positive "
+        "EstimationParameters::servo_period_s and EstimationParameters::dither_periods_per_window "
+        ">= 1");
+  }
+  if (p.steady_windows < 1) {  // the window rule's n_S: say so in its own name
+    throw Error("steady-state detector: EstimationParameters::steady_windows must be at least 1");
   }
   const double ticks_per_period = 1.0 / (p.dither_frequency_hz * p.servo_period_s);
   if (ticks_per_period < 4.0) {
     throw Error("steady-state detector: dither frequency " + std::to_string(p.dither_frequency_hz) +
-                " Hz is too high for the servo period (at least 4 samples per period needed)");
+                " Hz (EstimationParameters::dither_frequency_hz) is too high for the servo period: "
+                "at most " +
+                std::to_string(0.25 / p.servo_period_s) + " Hz (4 samples per period)");
   }
   const int window_ticks =
       static_cast<int>(std::lround(ticks_per_period * p.dither_periods_per_window));

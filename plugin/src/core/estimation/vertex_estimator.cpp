@@ -18,22 +18,31 @@ constexpr int kMaxSaturatedTicks = 50;
 
 void validate(const EstimationParameters& p, double max_force_n) {
   std::ostringstream problem;
-  if (!(p.alpha_per_s > 0.0)) problem << "alpha must be positive (1/s); ";
-  if (!(p.beta_per_s2 > 0.0)) problem << "beta must be positive (1/s^2); ";
-  if (p.n_g < 1) problem << "n_G must be at least 1; ";
-  if (!(p.eps_g_n > 0.0)) problem << "eps_G must be a positive force (N); ";
-  if (p.max_iterations < p.n_g) problem << "max_iterations must be at least n_G; ";
+  if (!(p.alpha_per_s > 0.0))
+    problem << "EstimationParameters::alpha_per_s must be positive (1/s), e.g. 60; ";
+  if (!(p.beta_per_s2 > 0.0))
+    problem << "EstimationParameters::beta_per_s2 must be positive (1/s^2), e.g. 900; ";
+  if (p.n_g < 1) problem << "EstimationParameters::n_g must be at least 1; ";
+  if (!(p.eps_g_n > 0.0)) problem << "EstimationParameters::eps_g_n must be a positive force (N); ";
+  if (p.max_iterations < p.n_g)
+    problem << "EstimationParameters::max_iterations must be at least EstimationParameters::n_g; ";
   if (!(p.max_step_duration_s > p.min_step_duration_s)) {
-    problem << "max step duration must exceed the minimum step duration; ";
+    problem << "EstimationParameters::max_step_duration_s must exceed "
+               "EstimationParameters::min_step_duration_s; ";
   }
   if (!(max_force_n > 0.0)) problem << "the device's max force must be positive (N); ";
   if (p.method == EstimationMethod::kDither) {
-    if (!(p.dither_amplitude_n >= 0.0)) problem << "dither amplitude must be >= 0 (N); ";
+    if (!(p.dither_amplitude_n >= 0.0))
+      problem << "EstimationParameters::dither_amplitude_n must be >= 0 (N); ";
     if (!(p.dither_amplitude_n < 0.5 * max_force_n)) {
-      problem << "dither amplitude must stay below half the device's max force; ";
+      problem << "EstimationParameters::dither_amplitude_n must stay below half the device's max "
+                 "force, "
+              << 0.5 * max_force_n << " N; ";
     }
-    if (p.steady_windows < 1) problem << "steady windows must be at least 1; ";
-    if (p.final_steady_windows < 1) problem << "final steady windows must be at least 1; ";
+    if (p.steady_windows < 1)
+      problem << "EstimationParameters::steady_windows must be at least 1; ";
+    if (p.final_steady_windows < 1)
+      problem << "EstimationParameters::final_steady_windows must be at least 1; ";
   }
   if (!problem.str().empty()) throw Error("vertex estimator: " + problem.str());
 }

@@ -76,13 +76,13 @@ MapCheckResult checkMap(HapticDevice& device, TickSource& ticks, const GravityMa
     result.fit = MapFit::kRetare;
     result.reason = format(
         "the map does not fit: the end-effector's weight changed by %+.1f g since it was "
-        "calibrated (%.1f %% of |G|), as after a handle change; run autograv retare",
+        "calibrated (%.1f %% of |G|), as after a handle change; re-tare it (retareMap)",
         result.payload_kg * 1e3, 100.0 * result.max_error_rel);
   } else {
     result.fit = MapFit::kRecalibrate;
     result.reason = format(
         "the map does not fit: gravity is turned by %.1f degrees against the map (%.1f %% of |G|), "
-        "as when the device is tilted or moved; calibrate it again (autograv wizard)",
+        "as when the device is tilted or moved; calibrate it again (CalibrationWizard)",
         result.tilt_rad * 180.0 / 3.14159265358979323846, 100.0 * result.max_error_rel);
   }
   return result;

@@ -269,7 +269,7 @@ GravityMap loadMap(const std::string& path, const MapLoadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw Error("map file '" + path + "': cannot open: " + systemError(errno) +
-                " (run `autograv calibrate --out " + path + "` to make one)");
+                " (a calibration with WizardConfig::map_path set to this path makes one)");
   }
   std::ostringstream content;
   content << in.rdbuf();

@@ -644,8 +644,7 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
                                      "\" but the device is a \"" + options.expected_device_model +
                                      "\"; calibrate this device, or allow the mismatch "
                                      "explicitly if the two are the same hardware "
-                                     "(MapLoadOptions::allow_model_mismatch in code, "
-                                     "--allow-model-mismatch on the command line)");
+                                     "(MapLoadOptions::allow_model_mismatch = true)");
   }
 
   try {

@@ -43,14 +43,16 @@ std::string defaultMapLibraryDir() {
   }
   throw Error(
       "no folder for the map library: neither XDG_DATA_HOME nor HOME is set; name one with "
-      "--maps DIR");
+      "MapLibrary(dir)");
 }
 
 MapLibrary::MapLibrary(std::string dir)
     : dir_(dir.empty() ? defaultMapLibraryDir() : std::move(dir)) {}
 
 std::string MapLibrary::pathFor(const std::string& model, const std::string& serial) const {
-  if (model.empty()) throw Error("map library: a map needs a device model to be filed under");
+  if (model.empty())
+    throw Error(
+        "map library: a map needs a device model to be filed under (MapMetadata::device_model)");
   const std::string name = fileSafe(model) + (serial.empty() ? "" : "@" + fileSafe(serial));
   return (fs::path(dir_) / (name + ".json")).string();
 }
@@ -100,8 +102,8 @@ GravityMap loadMapForDevice(const DeviceSpecifications& device, const std::strin
     }
     throw Error("no map for the device " + describe(device) + " in the map library '" +
                 library.dir() + "' (" + (held.empty() ? "it holds none" : "it holds " + held) +
-                "); calibrate this device first (autograv wizard --device ...), or name a map "
-                "file");
+                "); calibrate this device first (CalibrationWizard, then MapLibrary::save), or "
+                "name a map file");
   }
   MapLoadOptions options;
   options.expected_device_model = device.model_name;

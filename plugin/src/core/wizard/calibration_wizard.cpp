@@ -34,9 +34,28 @@ double apparentMass_kg(const Eigen::Vector3d& gravity_n) noexcept {
 void requirePositive(double value, const char* field, const char* unit) {
   if (std::isfinite(value) && value > 0.0) return;
   std::ostringstream message;
-  message << "calibration wizard: " << field << " must be a positive number in " << unit << ", got "
-          << value;
+  message << "calibration wizard: WizardConfig::" << field << " must be a positive number in "
+          << unit << ", got " << value;
   throw Error(message.str());
+}
+
+/// The run's grid, refused in the terms of WizardConfig (WorkspaceGrid speaks of its own).
+WorkspaceGrid wizardGrid(const WizardConfig& config) {
+  if (!config.grid_center_m.allFinite()) {
+    throw Error("calibration wizard: WizardConfig::grid_center_m must be finite (metres)");
+  }
+  if (!(config.grid_size_m.allFinite() && config.grid_size_m.minCoeff() > 0.0)) {
+    std::ostringstream message;
+    message << "calibration wizard: WizardConfig::grid_size_m must have three positive extents in "
+               "metres (e.g. 0.06 each), got "
+            << config.grid_size_m.transpose();
+    throw Error(message.str());
+  }
+  try {
+    return WorkspaceGrid(config.grid_center_m, config.grid_size_m, config.grid_resolution);
+  } catch (const Error& error) {
+    throw Error(std::string("calibration wizard: WizardConfig::grid_resolution: ") + error.what());
+  }
 }
 
 }  // namespace
@@ -69,25 +88,30 @@ const char* toString(WizardStep step) noexcept {
 
 CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
     : config_(std::move(config)),
-      grid_(config_.grid_center_m, config_.grid_size_m, config_.grid_resolution),
+      grid_(wizardGrid(config_)),
       checkpoint_path_(config_.map_path + ".partial"),
       live_shared_(std::make_unique<wizard::Live>()),
       live_(std::make_unique<wizard::Live>()) {
   if (!device) throw Error("calibration wizard: the device is null");
   if (config_.map_path.empty()) {
-    throw Error("calibration wizard: no map path; say where the map should be saved (--out)");
+    throw Error(
+        "calibration wizard: no map path; say where the map should be saved "
+        "(WizardConfig::map_path)");
   }
   requirePositive(config_.centre_tolerance_m, "centre_tolerance_m", "m");
   requirePositive(config_.release_patience_s, "release_patience_s", "s");
   requirePositive(config_.verify_settle_s, "verify_settle_s", "s");
   requirePositive(config_.verify_release_s, "verify_release_s", "s");
   requirePositive(config_.verify_drift_limit_m, "verify_drift_limit_m", "m");
-  requirePositive(config_.parameters.servo_period_s, "parameters.servo_period_s", "s");
+  requirePositive(config_.parameters.servo_period_s,
+                  "parameters.servo_period_s (EstimationParameters::servo_period_s)", "s");
   if (!(config_.field_ramp_s >= 0.0) || !(config_.compensation_ramp_s >= 0.0)) {
-    throw Error("calibration wizard: field_ramp_s and compensation_ramp_s must be >= 0 s");
+    throw Error(
+        "calibration wizard: WizardConfig::field_ramp_s and WizardConfig::compensation_ramp_s "
+        "must be >= 0 s");
   }
   if (config_.verify_points < 0 || config_.verify_points > kMaxVerifyPoints) {
-    throw Error("calibration wizard: verify_points must be between 0 and " +
+    throw Error("calibration wizard: WizardConfig::verify_points must be between 0 and " +
                 std::to_string(kMaxVerifyPoints));
   }
   CompensationOptions compensation;

@@ -63,7 +63,7 @@ std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const Worksp
   if (!std::filesystem::exists(path, error)) {
     throw Error("no checkpoint " + path +
                 " to resume: it is written while a calibration runs and removed once the map is "
-                "saved; start without --resume");
+                "saved; start afresh (WizardConfig::resume = false)");
   }
   MapLoadOptions options;
   options.expected_device_model = device_model;
@@ -72,7 +72,8 @@ std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const Worksp
     std::ostringstream message;
     message << "checkpoint " << path << " was made for another grid (" << partial.grid().describe()
             << "; this run " << grid.describe()
-            << "); use the same --grid and --box-mm (or --side-mm) as that run";
+            << "); use the WizardConfig::grid_size_m, WizardConfig::grid_resolution and "
+               "WizardConfig::grid_center_m of that run";
     throw Error(message.str());
   }
   return partial.vertices();
@@ -123,16 +124,18 @@ void CalibrationWizard::runCheck(bool retry) {
       message << "The grid does not fit in the workspace: it reaches " << millimetres(half_extent_m)
               << " from the centre along an axis, the workspace radius is "
               << millimetres(specifications.workspace_radius_m)
-              << ". Use --box-mm with no extent over "
-              << std::floor(2.0 * specifications.workspace_radius_m * 1e3)
-              << ", or leave it out for the fitted default.";
+              << ". Use a WizardConfig::grid_size_m with no extent over "
+              << std::floor(2.0 * specifications.workspace_radius_m * 1e3) * 1e-3 << " m ("
+              << std::floor(2.0 * specifications.workspace_radius_m * 1e3) << " mm).";
       throw Error(message.str());
     }
     if (parameters.k0_n_per_m > specifications.max_linear_stiffness_n_per_m) {
       std::ostringstream message;
       message << "k0 = " << parameters.k0_n_per_m * 1e-3
               << " N/mm is stiffer than the device can render ("
-              << specifications.max_linear_stiffness_n_per_m * 1e-3 << " N/mm): lower --k0.";
+              << specifications.max_linear_stiffness_n_per_m * 1e-3
+              << " N/mm): lower EstimationParameters::k0_n_per_m to at most "
+              << specifications.max_linear_stiffness_n_per_m << " N/m.";
       throw Error(message.str());
     }
     const std::vector<std::string> refusal =
@@ -158,7 +161,7 @@ void CalibrationWizard::runCheck(bool retry) {
     std::error_code error;
     if (!folder.empty() && !std::filesystem::is_directory(folder, error)) {
       throw Error("The folder of the map file, " + folder.string() +
-                  ", does not exist: create it or choose another --out.");
+                  ", does not exist: create it or choose another WizardConfig::map_path.");
     }
 
     if (config_.resume) {
@@ -175,8 +178,8 @@ void CalibrationWizard::runCheck(bool retry) {
       check_message_ = "A checkpoint of an earlier, unfinished run exists: " + checkpoint_path_ +
                        ". Starting afresh replaces it at the first finished vertex.";
       check_prompt_ =
-          "Quit with q and run again with --resume to continue it, or press Enter to "
-          "start afresh.";
+          "Quit with q and run again with WizardConfig::resume = true to continue it, or press "
+          "Enter to start afresh.";
       check_issue_ = CheckIssue::kEarlierCheckpoint;
       return;
     }

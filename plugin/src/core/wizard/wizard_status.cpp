@@ -196,7 +196,8 @@ WizardStatus CalibrationWizard::status() const {
                 << ", sag " << mm(live.sag_m) << ". It must stay under "
                 << format("%.2f mm/s", parameters.eps_s_m_per_s * 1e3) << " for " << parameters.n_s
                 << " samples in a row. If the end-effector is not moving, this device's velocity "
-                   "noise is above eps_S: start again with a larger --eps-s.";
+                   "noise is above eps_S: start again with a larger "
+                   "EstimationParameters::eps_s_m_per_s.";
         s.prompt = "Let go of it, and keep the device and the table still.";
         s.waiting_for_user = true;
       } else {
@@ -334,10 +335,10 @@ WizardStatus CalibrationWizard::status() const {
       if (checkpoint_written_) {
         message << "Stopped by you. " << checkpointed_converged_
                 << " converged vertices are saved in " << checkpoint_path_
-                << ".\nRun the same command with --resume to continue.";
+                << ".\nRun again with WizardConfig::resume = true to continue.";
       } else if (config_.resume && check_passed_) {
         message << "Stopped by you. The checkpoint " << checkpoint_path_
-                << " is unchanged; run again with --resume to continue.";
+                << " is unchanged; run again with WizardConfig::resume = true to continue.";
       } else {
         message << "Stopped by you before any vertex was finished; nothing was saved.";
       }
@@ -374,7 +375,8 @@ WizardStatus CalibrationWizard::status() const {
           message << "\n"
                   << checkpointed_converged_ << " converged vertices are saved in "
                   << checkpoint_path_
-                  << ". Check the cable and the power, then run the same command with --resume.";
+                  << ". Check the cable and the power, then run again with WizardConfig::resume = "
+                     "true.";
         } else {
           message << "\nCheck the cable and the power, then start again.";
         }

@@ -54,6 +54,7 @@ class Chai3dDeviceAdapter final : public HapticDevice {
 
   /// Why the last open() failed (empty when it did not). Not real-time safe.
   const std::string& lastError() const { return last_error_; }
+  /// The wrapped CHAI3D device.
   const ::chai3d::cGenericHapticDevicePtr& device() const { return device_; }
   /// The simulation behind the CHAI3D device when it is a SimulatedChai3dDevice (the stand-in's
   /// are), null for hardware. Not real-time safe.

@@ -54,29 +54,48 @@ class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
 
   // --- cGenericHapticDevice: all forwarded; open/close/calibrate are not real-time safe, the
   // rest are real-time safe when the wrapped driver's are.
+  /// Opens the wrapped device and the decorator (compensation ramps in from zero). Not real-time
+  /// safe.
   bool open() override;
+  /// Closes the wrapped device (zero force first). Not real-time safe.
   bool close() override;
+  /// Homes the wrapped device (its calibrate). Not real-time safe.
   bool calibrate(bool a_forceCalibration = false) override;
+  /// Forwards to the wrapped CHAI3D device's getPosition. Unit: [m]
   bool getPosition(::chai3d::cVector3d& a_position) override;
+  /// Forwards to the wrapped CHAI3D device's getLinearVelocity. Unit: [m/s]
   bool getLinearVelocity(::chai3d::cVector3d& a_linearVelocity) override;
+  /// Forwards to the wrapped CHAI3D device's getRotation.
   bool getRotation(::chai3d::cMatrix3d& a_rotation) override;
+  /// Forwards to the wrapped CHAI3D device's getJointAnglesRad. Unit: [rad]
   bool getJointAnglesRad(double a_jointAnglesRad[::chai3d::C_MAX_DOF]) override;
+  /// Forwards to the wrapped CHAI3D device's getAngularVelocity. Unit: [rad/s]
   bool getAngularVelocity(::chai3d::cVector3d& a_angularVelocity) override;
+  /// Forwards to the wrapped CHAI3D device's getTransform.
   bool getTransform(::chai3d::cTransform& a_transform) override;
+  /// Forwards to the wrapped CHAI3D device's getGripperAngleRad. Unit: [rad]
   bool getGripperAngleRad(double& a_angle) override;
+  /// Forwards to the wrapped CHAI3D device's getGripperAngularVelocity. Unit: [rad/s]
   bool getGripperAngularVelocity(double& a_gripperAngularVelocity) override;
   /// The force last sent to the wrapped device, compensation included.
   bool getForce(::chai3d::cVector3d& a_force) override;
+  /// The torque last sent to the wrapped device. Unit: [N m]
   bool getTorque(::chai3d::cVector3d& a_torque) override;
+  /// The gripper force last sent to the wrapped device. Unit: [N]
   bool getGripperForce(double& a_gripperForce) override;
+  /// Forwards to the wrapped CHAI3D device's getUserSwitch.
   bool getUserSwitch(int a_switchIndex, bool& a_status) override;
+  /// Forwards to the wrapped CHAI3D device's getUserSwitches.
   bool getUserSwitches(unsigned int& a_userSwitches) override;
+  /// Forwards to the wrapped CHAI3D device's setEnableGripperUserSwitch.
   void setEnableGripperUserSwitch(const bool a_status) override;
+  /// Forwards to the wrapped CHAI3D device's getEnableGripperUserSwitch.
   bool getEnableGripperUserSwitch() const override;
   /// Sends a_force + G_hat(X) (see the class comment). Real-time safe when the driver's is.
   bool setForceAndTorqueAndGripperForce(const ::chai3d::cVector3d& a_force,
                                         const ::chai3d::cVector3d& a_torque,
                                         double a_gripperForce) override;
+  /// Forwards to the wrapped CHAI3D device's enableForces.
   bool enableForces(bool a_value) override;
 
   // --- autograv side --------------------------------------------------------------------------
@@ -104,6 +123,7 @@ class cGravityCompensatedDevice final : public ::chai3d::cGenericHapticDevice {
                                    TickSource* ticks = nullptr);
   /// Why the last open() failed (empty when it did not). Not real-time safe.
   const std::string& lastError() const { return adapter_->lastError(); }
+  /// The wrapped CHAI3D device.
   const ::chai3d::cGenericHapticDevicePtr& wrappedDevice() const { return device_; }
 
  private:

@@ -1,0 +1,71 @@
+// The library's refusals name its C++ parameters; the `autograv` command prints the same
+// refusals in its own flags (demo/cli/error_translation.cpp), for the same mistakes.
+
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "../../demo/cli/error_translation.h"
+#include "run_command.h"
+
+namespace autograv {
+namespace {
+
+using testing::runCommand;
+
+const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+
+std::string scratch(const std::string& name) {
+  const auto folder = std::filesystem::temp_directory_path() /
+                      ("autograv_cli_error_flags_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  return (folder / name).string();
+}
+
+/// The run failed, printed `flag`, and no library parameter name leaked through.
+void expectRefusalInFlags(const testing::CommandResult& run, const std::string& flag) {
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find(flag), std::string::npos) << run.output;
+  EXPECT_FALSE(std::regex_search(run.output, std::regex("(WizardConfig|EstimationParameters|"
+                                                        "MapLoadOptions)::")))
+      << run.output;
+}
+
+TEST(CliErrorFlagsTest, ASaturatingGridIsRefusedWithTheFlagsThatChangeIt) {
+  const auto run = runCommand(kBinary +
+                              " calibrate --device sim:omega --grid 2 --side-mm 50 --beta 2500 "
+                              "--out " +
+                              scratch("saturating.json"));
+  expectRefusalInFlags(run, "--beta");
+  EXPECT_NE(run.output.find("--grid"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("--side-mm"), std::string::npos) << run.output;
+}
+
+TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsRefusedWithBoxMm) {
+  const auto run = runCommand(kBinary +
+                              " wizard --device sim:omega --auto-hand --grid 2 --box-mm "
+                              "200x180x190 --out " +
+                              scratch("big.json"));
+  expectRefusalInFlags(run, "--box-mm");
+}
+
+TEST(CliErrorFlagsTest, ResumingWithNoCheckpointSaysToStartWithoutResume) {
+  const auto run = runCommand(kBinary +
+                              " wizard --device sim:omega --auto-hand --grid 2 --side-mm 40 "
+                              "--resume --out " +
+                              scratch("none.json"));
+  expectRefusalInFlags(run, "--resume");
+}
+
+TEST(CliErrorFlagsTest, TheTableTranslatesEveryParameterPhraseItHolds) {
+  for (const cli::FlagTranslation& row : cli::flagTranslations()) {
+    const std::string translated = cli::inCommandLineTerms(std::string("x ") + row.library_phrase);
+    EXPECT_EQ(translated, std::string("x ") + row.command_line_phrase) << row.library_phrase;
+  }
+}
+
+}  // namespace
+}  // namespace autograv
