@@ -22,23 +22,27 @@ constexpr double kHandSpeed_m_per_s = 0.05;
 constexpr double kHandHold_s = 0.5;
 constexpr double kFieldRamp_s = 0.3;
 
-/// One servo tick on simulated time: read, control, command, advance.
+/// One servo tick on simulated time: read (with the servo time since the previous read),
+/// control, command, then advance the device to the next tick the timing model draws.
 template <typename Control>
-void servoTick(SimulatedDevice& device, double period_s, Control&& control) {
-  const ServoSample sample = readServoSample(device);
+void servoTick(SimulatedDevice& device, ServoTimingModel& timing, ServoLoopStats* stats,
+               Control&& control) {
+  const ServoSample sample = readServoSample(device, timing.lastInterval_s());
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
   control(sample, force_n);
   device.setForce(force_n);
-  device.advance(period_s);
+  device.advance(timing.nextInterval_s());
+  if (stats != nullptr) stats->record(timing.lastInterval_s(), timing.lastLateness_s());
 }
 
 }  // namespace
 
 InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
                                                  const EstimationParameters& parameters,
-                                                 const Eigen::Vector3d& center_m,
-                                                 double timeout_s) {
-  const double period_s = parameters.servo_period_s;
+                                                 const Eigen::Vector3d& center_m, double timeout_s,
+                                                 ServoTimingModel* timing, ServoLoopStats* stats) {
+  ServoTimingModel exact(ServoTiming::kExact, 1, parameters.servo_period_s);
+  ServoTimingModel& clock = timing != nullptr ? *timing : exact;
   const double start_s = device.time_s();
   const auto zero_force = [](const ServoSample&, Eigen::Vector3d& force_n) { force_n.setZero(); };
   InitializationResult result;
@@ -46,9 +50,11 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
   if (!hand.holding()) hand.grab(device.truePosition_m());
   hand.moveTo(center_m, kHandSpeed_m_per_s);
   while (!hand.atGoal() && device.time_s() - start_s < timeout_s) {
-    servoTick(device, period_s, zero_force);
+    servoTick(device, clock, stats, zero_force);
   }
-  for (double t = 0.0; t < kHandHold_s; t += period_s) servoTick(device, period_s, zero_force);
+  for (double t = 0.0; t < kHandHold_s; t += clock.lastInterval_s()) {
+    servoTick(device, clock, stats, zero_force);
+  }
 
   InitializationEstimator estimator(parameters, device.specifications().max_linear_force_n,
                                     kFieldRamp_s);
@@ -65,7 +71,7 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
          status != InitializationEstimator::Status::kDeviceFault &&
          device.time_s() - start_s < timeout_s) {
     if (hand.holding() && device.time_s() - field_on_s > kFieldRamp_s + 0.1) hand.release();
-    servoTick(device, period_s, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+    servoTick(device, clock, stats, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
       status = estimator.step(sample, force_n);
     });
   }
@@ -120,11 +126,11 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
   estimator.start(result.target_m, result.initialization.gravity_n);
   const double timeout_s = parameters.max_iterations * parameters.max_step_duration_s;
   const double loop_start_s = device.time_s();
+  ServoTimingModel exact(ServoTiming::kExact, 1, parameters.servo_period_s);
   while (!estimator.finished() && device.time_s() - loop_start_s < timeout_s) {
-    servoTick(device, parameters.servo_period_s,
-              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
-                estimator.step(sample, force_n);
-              });
+    servoTick(device, exact, nullptr, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      estimator.step(sample, force_n);
+    });
   }
   result.estimate = estimator.estimate();
   result.simulated_seconds = device.time_s() - start_s;
@@ -138,8 +144,12 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   const double max_force_n = device.specifications().max_linear_force_n;
   const double start_s = device.time_s();
   CalibrationRunResult result;
+  ServoTimingModel timing(options.servo_timing, options.servo_timing_seed,
+                          parameters.servo_period_s);
+  ServoLoopStats stats;
 
-  result.initialization = initializeWithSimulatedHand(device, parameters, grid.center_m());
+  result.initialization =
+      initializeWithSimulatedHand(device, parameters, grid.center_m(), 30.0, &timing, &stats);
   if (!result.initialization.ok) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
@@ -165,10 +175,9 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       result.stopped = true;
       break;
     }
-    servoTick(device, parameters.servo_period_s,
-              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
-                status = calibrator.step(sample, force_n);
-              });
+    servoTick(device, timing, &stats, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      status = calibrator.step(sample, force_n);
+    });
     if (status == AutoCalibrator::Status::kVertexFinished) {
       if (options.on_vertex_finished) {
         options.on_vertex_finished(calibrator, calibrator.lastFinishedVertex());
@@ -219,6 +228,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
   result.peak_force_n = calibrator.peakForce_n();
   result.saturation_count = device.saturationCount() - saturations_before;
+  result.servo_loop = stats.summary();
   return result;
 }
 
