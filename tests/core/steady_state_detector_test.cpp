@@ -101,7 +101,8 @@ TEST(SteadyStateDetectorTest, ExactIntervalsAreTheTickCountBitForBit) {
   SteadyStateDetector timed = windowDetector();
   for (int tick = 0; tick < 2000; ++tick) {
     const double t = tick * 1e-3;
-    const Eigen::Vector3d position(std::sin(2.0 * M_PI * 10.0 * t) * 1e-3, 1e-3 * t, 0.0);
+    const Eigen::Vector3d position(std::sin(2.0 * M_PI * 10.0 * t) * 1e-3,
+                                   1e-3 * std::exp(-t / 0.1), 0.0);  // settling onto a fixed point
     const bool a = counted.update(position, kFast);
     const bool b = timed.update(position, kFast, 1e-3);
     ASSERT_EQ(a, b) << tick;

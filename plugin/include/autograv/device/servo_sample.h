@@ -10,12 +10,13 @@ namespace autograv {
 struct ServoSample {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();        ///< Unit: [m]
   Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();  ///< Unit: [m/s]
-  /// Servo time since the previous sample, from the loop's ServoClock: what the estimators
-  /// integrate over, so that a late, jittery or free-running loop measures the same seconds as an
-  /// exact one. Zero, negative or NaN: unknown, taken as one nominal servo period. Unit: [s]
-  double interval_s = 0.0;
   /// False when a read failed or returned a non-finite value; the other fields are then unusable.
   bool valid = false;
+  /// Servo time since the previous sample, from the loop's ServoClock: what the estimators
+  /// integrate over, so that a late, jittery or free-running loop measures the same seconds as an
+  /// exact one. Zero, negative or NaN: unknown, taken as one nominal servo period. Last, so that
+  /// {position, velocity, valid} still reads as before. Unit: [s]
+  double interval_s = 0.0;
 };
 
 /// The sample's interval in nominal servo periods: interval_s / nominal_period_s, or exactly 1

@@ -112,6 +112,7 @@ class VertexEstimator {
   bool dither_started_ = false;
   Eigen::Vector3d last_dither_n_ = Eigen::Vector3d::Zero();   // dither part of the last command
   Eigen::Vector3d dither_debt_ns_ = Eigen::Vector3d::Zero();  // impulse sent minus the waveform's
+  Eigen::Vector3d dither_displacement_debt_ = Eigen::Vector3d::Zero();
   double mean_interval_periods_ = 1.0;  // recent servo interval, in nominal periods
   bool hold_started_ = false;
   Eigen::Vector3d last_feedback_n_ = Eigen::Vector3d::Zero();

@@ -15,7 +15,8 @@ std::size_t binOf(double value_s) noexcept {
   return bin >= static_cast<double>(kBins - 1) ? kBins - 1 : static_cast<std::size_t>(bin);
 }
 
-/// Upper edge of the bin holding the `fraction` quantile, in ms (capped at the exact maximum).
+/// Upper edge of the bin holding the `fraction` quantile, in ms (capped at the exact maximum; 0
+/// for the first bin, so that a loop on time reads 0).
 double quantile_ms(const std::vector<std::uint32_t>& histogram, std::int64_t count, double fraction,
                    double max_s) noexcept {
   if (count == 0) return 0.0;
@@ -24,6 +25,7 @@ double quantile_ms(const std::vector<std::uint32_t>& histogram, std::int64_t cou
   for (std::size_t bin = 0; bin < histogram.size(); ++bin) {
     seen += histogram[bin];
     if (seen >= std::max<std::int64_t>(rank, 1)) {
+      if (bin == 0) return 0.0;  // under one bin: on time
       return 1e3 * std::min(static_cast<double>(bin + 1) * ServoLoopStats::kBin_s, max_s);
     }
   }

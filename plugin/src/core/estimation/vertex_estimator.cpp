@@ -20,6 +20,9 @@ constexpr double kMaxSaturated_s = 0.05;
 constexpr double kSlackPeriods = 1e-6;
 // Smoothing of the mean servo interval the dither's payback is spread over.
 constexpr double kIntervalSmoothing = 0.05;
+// The dither's payback: rate per nominal period (about 3 ms to pay a debt back) and damping.
+constexpr double kPaybackRate = 0.3;
+constexpr double kPaybackDamping = 0.7;
 // Longer intervals (stalls) are not paid back: nominal periods.
 constexpr double kMaxDebtIntervalPeriods = 12.0;
 
@@ -99,6 +102,7 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   dither_periods_ = 0.0;
   dither_started_ = false;
   dither_debt_ns_.setZero();
+  dither_displacement_debt_.setZero();
   last_dither_n_.setZero();
   hold_started_ = false;
   hold_debt_ns_.setZero();
@@ -134,21 +138,28 @@ Eigen::Vector3d VertexEstimator::ditherCommand_n(double periods) noexcept {
   // period the tick falls in. A late, early or stalled tick holds its command longer or shorter
   // than one period, which a loop that ticks irregularly turns into a random impulse on the
   // end-effector (and a dither that no longer averages to zero over a window): each command pays
-  // back half of the impulse its predecessors delivered too much or too little, so the impulse
-  // sent follows the waveform's. On an exact loop the debt is exactly zero, always.
+  // back what its predecessors delivered too much or too little, so the impulse sent follows the
+  // waveform's. On an exact loop the debt is exactly zero, always.
   if (dither_started_) {
     const double from = dither_periods_;
     dither_periods_ += periods;
     mean_interval_periods_ += kIntervalSmoothing * (periods - mean_interval_periods_);
     if (periods <= kMaxDebtIntervalPeriods) {
+      const Eigen::Vector3d before = dither_debt_ns_;
       dither_debt_ns_ += last_dither_n_ * periods - ditherImpulse_ns(from, dither_periods_);
+      dither_displacement_debt_ += 0.5 * (before + dither_debt_ns_) * periods;
     } else {
       dither_debt_ns_.setZero();  // a stall: the detector does not trust its windows anyway
+      dither_displacement_debt_.setZero();
     }
   }
   dither_started_ = true;
   const Eigen::Vector3d waveform_n = ditherForce_n(std::floor(dither_periods_ + kSlackPeriods));
-  Eigen::Vector3d payback_n = (0.5 / mean_interval_periods_) * dither_debt_ns_;
+  // Both the impulse debt and its integral (what it did to the position, times the mass) are
+  // paid back, critically damped at kPaybackRate per nominal period: the end-effector ends up
+  // where the exact waveform would have put it, not merely at its velocity.
+  Eigen::Vector3d payback_n = 2.0 * kPaybackDamping * kPaybackRate * dither_debt_ns_ +
+                              kPaybackRate * kPaybackRate * dither_displacement_debt_;
   payback_n = payback_n.cwiseMax(-dither_amplitude_n_).cwiseMin(dither_amplitude_n_);
   last_dither_n_ = waveform_n - payback_n;
   return last_dither_n_;
