@@ -19,6 +19,7 @@
 #include "commands.h"
 #include "error_translation.h"
 #include "friction_option.h"
+#include "servo_timing_option.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
 #include "autograv/viz/image.h"
@@ -43,6 +44,7 @@ struct BenchOptions {
   int sweep_grid = 4;
   int sweep_points = 12;
   std::string plot_path;
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
 
 double secondsSince(Clock::time_point start) {
@@ -105,11 +107,13 @@ struct CalibrationFigures {
   int converged = 0;
   int vertices = 0;
   sim::AccuracyReport accuracy;
+  ServoLoopStats::Summary servo_loop;
 };
 
 CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resolution,
                                       bool extrapolate, EstimationMethod method,
-                                      GravityMap* map_out) {
+                                      GravityMap* map_out, sim::ServoTiming timing,
+                                      std::uint64_t timing_seed) {
   // The classic cube (80 % of the cube inscribed in the workspace sphere), every vertex
   // reachable: the figures compare estimators, not the fitted box's unreachable corners.
   const double side_m = defaultGridSide_m(device.specifications().workspace_radius_m);
@@ -122,11 +126,14 @@ CalibrationFigures calibrationFigures(sim::SimulatedDevice& device, int resoluti
   options.parameters =
       method == EstimationMethod::kDither ? EstimationParameters{} : EstimationParameters::paper();
   options.parameters.k0_n_per_m = defaultInitializationStiffness(device.specifications());
+  options.servo_timing = timing;
+  options.servo_timing_seed = timing_seed;
   const auto start = Clock::now();
   const sim::CalibrationRunResult result = sim::runSimulatedCalibration(device, options);
   CalibrationFigures figures;
   figures.wall_s = secondsSince(start);
   figures.simulated_s = result.simulated_seconds;
+  figures.servo_loop = result.servo_loop;
   std::vector<double> iterations;
   for (const auto& vertex : result.vertices) {
     iterations.push_back(vertex.iterations);
@@ -169,9 +176,12 @@ SweepRow runSweepCell(const BenchOptions& options, const std::string& name,
   auto map = std::make_shared<GravityMap>(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2),
                                           std::vector<VertexEstimate>(8), MapMetadata{});
   try {
-    row.calibration = calibrationFigures(*device, options.sweep_grid, true, method, map.get());
+    row.calibration = calibrationFigures(*device, options.sweep_grid, true, method, map.get(),
+                                         options.servo_timing, static_cast<std::uint64_t>(seed));
     sim::VerificationOptions verification;
     verification.points = options.sweep_points;
+    verification.servo_timing = options.servo_timing;
+    verification.servo_timing_seed = static_cast<std::uint64_t>(seed);
     verification.compare_uncompensated = false;
     row.residual_n =
         sim::verifyMapOnSimulatedDevice(device, std::move(map), verification).residual_force_n;
@@ -310,7 +320,12 @@ void printFrictionSweep(const std::vector<SweepRow>& rows, const BenchOptions& o
                     {"residual_force_median_n", row.residual_n.median},
                     {"residual_force_max_n", row.residual_n.max}});
   }
+  if (options.servo_timing != sim::ServoTiming::kExact && !rows.empty() &&
+      rows.front().failure.empty()) {
+    printServoLoop(options.servo_timing, rows.front().calibration.servo_loop);
+  }
   report[key] = {{"grid", options.sweep_grid},
+                 {"servo_timing", sim::toString(options.servo_timing)},
                  {"verify_points", options.sweep_points},
                  {"seeds", seeds},
                  {"rows", list}};
@@ -401,6 +416,7 @@ void runBenchCommand(const BenchOptions& options) {
       options.grid, sim::toString(options.friction), toString(options.method));
   report["friction"] = sim::toString(options.friction);
   report["method"] = toString(options.method);
+  report["servo_timing"] = sim::toString(options.servo_timing);
   std::printf("  %-10s %-12s %6s %6s %10s %10s %9s %8s\n", "device", "start", "median", "max",
               "s/vertex", "sim [s]", "wall [s]", "worst");
   std::unique_ptr<GravityMap> omni_map;
@@ -409,8 +425,8 @@ void runBenchCommand(const BenchOptions& options) {
       GravityMap map(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2), std::vector<VertexEstimate>(8),
                      MapMetadata{});
       auto device = openSimulatedDevice(name, 1, options.friction);
-      const CalibrationFigures f =
-          calibrationFigures(*device, options.grid, extrapolate, options.method, &map);
+      const CalibrationFigures f = calibrationFigures(
+          *device, options.grid, extrapolate, options.method, &map, options.servo_timing, 1);
       const char* start = extrapolate ? "extrapolate" : "eq. (9)";
       std::printf("  %-10s %-12s %6.1f %6d %10.2f %10.1f %9.2f %7.2f%%\n", name.c_str(), start,
                   f.iterations_median, f.iterations_max, f.seconds_per_vertex, f.simulated_s,
@@ -424,7 +440,12 @@ void runBenchCommand(const BenchOptions& options) {
           {"converged", f.converged},
           {"vertices", f.vertices},
           {"max_error_rel", f.accuracy.max_error_rel},
-          {"max_error_n", f.accuracy.max_error_n}};
+          {"max_error_n", f.accuracy.max_error_n},
+          {"servo_loop", servoLoopJson(options.servo_timing, f.servo_loop)}};
+      if (extrapolate) {
+        std::printf("  %-10s ", "");
+        printServoLoop(options.servo_timing, f.servo_loop);
+      }
       if (extrapolate && name == "sim:omni") omni_map = std::make_unique<GravityMap>(map);
     }
   }
@@ -464,6 +485,7 @@ void addBenchCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--quick", options->quick, "Shorter runs (noisier figures)");
   addFrictionOption(*command, options->friction);
+  addServoTimingOption(*command, options->servo_timing);
   command->add_flag("--friction-sweep", options->friction_sweep,
                     "Instead: calibrate and verify every simulated device at every friction level");
   command->add_option("--sweep-grid", options->sweep_grid, "Vertices per axis in the sweep")

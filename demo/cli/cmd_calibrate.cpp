@@ -22,6 +22,7 @@
 #include "commands.h"
 #include "estimation_options.h"
 #include "friction_option.h"
+#include "servo_timing_option.h"
 
 namespace autograv::cli {
 
@@ -42,6 +43,7 @@ struct CalibrateOptions {
   int redo_failed = 1;
   SimulatedLoad load;
   EstimationParameters parameters;
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
 
 double median(std::vector<int> values) {
@@ -74,6 +76,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
   run.redo_passes = options.redo_failed;
+  run.servo_timing = options.servo_timing;
+  run.servo_timing_seed = options.seed;
 
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
@@ -239,6 +243,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       parameters.beta_per_s2 * result.initialization.gravity_n.norm() / (2.0 * kStandardGravity));
   std::printf("%-34s %.2f N of %.2f N, %llu clamps\n", "peak force", result.peak_force_n,
               specs.max_linear_force_n, static_cast<unsigned long long>(result.saturation_count));
+  printServoLoop(options.servo_timing, result.servo_loop);
   if (result.redo_passes > 0) {
     std::printf("%-34s %d pass(es), %d vertex visit(s)\n", "failed vertices visited again",
                 result.redo_passes, result.redone_vertices);
@@ -314,7 +319,10 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
        {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
         result.initialization.gravity_n.z()}},
       {"parameters", parametersJson(parameters)}};
-  writeJsonReport(options.report_path, report);
+  nlohmann::json full_report = report;
+  full_report["servo_timing"] = sim::toString(options.servo_timing);
+  full_report["servo_loop"] = servoLoopJson(options.servo_timing, result.servo_loop);
+  writeJsonReport(options.report_path, full_report);
 }
 
 void addCalibrateCommand(CLI::App& app) {
@@ -326,6 +334,7 @@ void addCalibrateCommand(CLI::App& app) {
   addGridOptions(*command, options->grid);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addServoTimingOption(*command, options->servo_timing);
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->add_flag("--resume", options->resume,

@@ -16,6 +16,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "friction_option.h"
+#include "servo_timing_option.h"
 
 namespace autograv::cli {
 
@@ -33,6 +34,7 @@ struct VerifyOptions {
   double stuck_threshold_mm = 0.15;
   std::string report_path;
   bool allow_model_mismatch = false;
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
 
 nlohmann::json vectorJson(const Eigen::Vector3d& value) {
@@ -59,6 +61,8 @@ void runVerifyCommand(const VerifyOptions& options) {
   verification.seed = options.seed;
   verification.release_s = options.duration_s;
   verification.stuck_threshold_m = options.stuck_threshold_mm * 1e-3;
+  verification.servo_timing = options.servo_timing;
+  verification.servo_timing_seed = options.seed;
   const sim::ResidualProbeOptions& probe = verification.probe;
   std::printf("verify %s on %s (friction %s): %d points inside the grid, seed %llu\n",
               options.map_path.c_str(), specs.model_name.c_str(), sim::toString(options.friction),
@@ -131,6 +135,7 @@ void runVerifyCommand(const VerifyOptions& options) {
               report.max_force_sent_n, force_ok ? "ok, never exceeded" : "EXCEEDED");
   std::printf("%-34s %.4f (limit %.3g)  %s\n", "drift median on / off", ratio,
               options.max_drift_ratio, drift_ok ? "ok" : "TOO HIGH");
+  printServoLoop(options.servo_timing, report.servo_loop);
   std::string fault_kinds;
   std::uint64_t faults = 0;
   nlohmann::json fault_counts = nlohmann::json::object();
@@ -211,7 +216,10 @@ void runVerifyCommand(const VerifyOptions& options) {
                                {"residual_ok", residual_ok},
                                {"pass", pass},
                                {"releases", point_list}};
-  writeJsonReport(options.report_path, json);
+  nlohmann::json full_report = json;
+  full_report["servo_timing"] = sim::toString(options.servo_timing);
+  full_report["servo_loop"] = servoLoopJson(options.servo_timing, report.servo_loop);
+  writeJsonReport(options.report_path, full_report);
   if (!pass) {
     std::printf("\nFAIL\n");
     throw CLI::RuntimeError(1);
@@ -230,6 +238,7 @@ void addVerifyCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addServoTimingOption(*command, options->servo_timing);
   command->add_option("--points", options->points, "Release points")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

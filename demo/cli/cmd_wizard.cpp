@@ -30,6 +30,7 @@
 #include "error_translation.h"
 #include "estimation_options.h"
 #include "friction_option.h"
+#include "servo_timing_option.h"
 #include "wizard_auto_hand.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
@@ -57,6 +58,7 @@ struct WizardOptions {
   double tolerance_mm = 10.0;
   int verify_points = 3;
   EstimationParameters parameters;
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
 
 // One arrow key moves the simulated hand's target this far, at this speed.
@@ -249,6 +251,9 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
       {"verify", verify},
       {"max_drift_m", status.max_drift_m},
       {"simulated_seconds", status.time_s},
+      {"servo_timing", sim::toString(options.servo_timing)},
+      {"servo_loop", servoLoopJson(options.servo_timing, status.servo_loop)},
+      {"servo_warning", status.servo_warning},
       {"parameters", parametersJson(wizard.config().parameters)}};
 }
 
@@ -297,6 +302,11 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
                 " your own hand does the manual step");
   }
   if (options.uncalibrated) simulation->setCalibrated(false);
+  if (simulation == nullptr && options.servo_timing != sim::ServoTiming::kExact) {
+    throw Error("--servo-timing " + std::string(sim::toString(options.servo_timing)) +
+                " shapes a simulated loop; on " + options.device +
+                " the servo thread keeps the wall clock's time (drop the option)");
+  }
   // A CHAI3D device's specifications are valid only once it has been opened: read them now; the
   // wizard's Check step opens it again.
   if (!device->open()) {
@@ -342,9 +352,17 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   config.resume = options.resume;
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
+  const double period_s = options.parameters.servo_period_s;
+  // The simulated loop's ticks, as --servo-timing draws them; an exact loop needs no clock (the
+  // wizard then counts exact periods). Hardware runs on the wall clock's time.
+  sim::ServoTimingModel timing(options.servo_timing, options.seed, period_s);
+  if (simulation == nullptr) {
+    config.clock = std::make_shared<SteadyServoClock>();
+  } else if (options.servo_timing != sim::ServoTiming::kExact) {
+    config.clock = std::make_shared<sim::ServoTimingClock>(timing);
+  }
   CalibrationWizard wizard(device, config);
 
-  const double period_s = options.parameters.servo_period_s;
   const int ticks_per_frame =
       std::max(1, static_cast<int>(std::lround(options.frame_ms * 1e-3 / period_s)));
   const double frame_s = ticks_per_frame * period_s;
@@ -403,9 +421,17 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     }
     front_end.beforeTicks(status);
     if (!front_end.give_up.empty()) break;
-    for (int i = 0; simulation != nullptr && i < ticks_per_frame; ++i) {
-      wizard.servoTick();
-      simulation->advance(period_s);
+    if (simulation != nullptr && options.servo_timing == sim::ServoTiming::kExact) {
+      for (int i = 0; i < ticks_per_frame; ++i) {
+        wizard.servoTick();
+        simulation->advance(timing.nextInterval_s());
+      }
+    } else if (simulation != nullptr) {
+      const double frame_end_s = timing.now_s() + frame_s;
+      while (timing.now_s() < frame_end_s) {
+        wizard.servoTick();
+        simulation->advance(timing.nextInterval_s());
+      }
     }
     wizard.service();
     status = inCommandLineTerms(wizard.status());
@@ -477,6 +503,7 @@ void addWizardCommand(CLI::App& app) {
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addServoTimingOption(*command, options->servo_timing);
   addGridOptions(*command, options->grid);
   command
       ->add_option("--speed", options->speed,

@@ -768,3 +768,29 @@ TEST(CalibrationWizardTest, RejectsAConfigurationWithoutAMapPath) {
 
 }  // namespace
 }  // namespace autograv
+
+namespace autograv {
+namespace {
+
+TEST(ServoLoopWarningTest, ARegularOrDesktopLoopIsNotWarnedAboutAStallingOneIs) {
+  ServoLoopStats regular;
+  for (int k = 0; k < 60000; ++k) regular.record(1e-3, 0.0);
+  EXPECT_EQ(servoLoopWarning(regular.summary(), 1e-3), "");
+  // A desktop loop: late by up to 1 ms, 1 % by 3-5 ms, one 20 ms stall a minute.
+  ServoLoopStats desktop;
+  for (int k = 0; k < 60000; ++k) {
+    desktop.record(k % 100 == 0 ? 4e-3 : 1e-3 + 0.8e-3 * ((k % 7) / 6.0 - 0.5), 0.5e-3);
+  }
+  desktop.record(0.021, 0.020);
+  EXPECT_EQ(servoLoopWarning(desktop.summary(), 1e-3), "");
+  // Stalling every few seconds: the windows it spoils cost time and the figures are less sure.
+  ServoLoopStats stalling;
+  for (int k = 0; k < 60000; ++k) stalling.record(k % 3000 == 0 ? 0.03 : 1e-3, 0.0);
+  const std::string warning = servoLoopWarning(stalling.summary(), 1e-3);
+  EXPECT_NE(warning.find("20 stalls over 10 ms"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("real-time priority"), std::string::npos) << warning;
+  EXPECT_EQ(servoLoopWarning(ServoLoopStats().summary(), 1e-3), "");  // too early to judge
+}
+
+}  // namespace
+}  // namespace autograv

@@ -1,5 +1,6 @@
 // Ramps, map fades and the frozen-driver window last the same number of seconds whatever the
-// servo loop's rate: steady at 1, 4 and 10 kHz, and jittery (periods drawn from 0.1 to 2 ms).
+// servo loop's rate: steady at 1, 4 and 10 kHz, jittery (periods drawn from 0.1 to 2 ms), and
+// the simulated loops of --servo-timing desktop (late ticks, catch-up bursts) and free (2-8 kHz).
 // A scripted clock stands for the loop's time, so the runs are exact and deterministic.
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "autograv/device/gravity_compensated_device.h"
+#include "autograv/sim/servo_timing_model.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -25,23 +27,42 @@ class ScriptedClock final : public ServoClock {
   double time_s = 100.0;  // any origin: only differences matter
 };
 
-/// The periods of a servo loop: fixed, or uniform in [0.1, 2] ms from a seeded generator.
+/// The periods of a servo loop: fixed, uniform in [0.1, 2] ms from a seeded generator, or those
+/// of a simulated loop's timing model.
 class LoopRate {
  public:
   LoopRate(double rate_hz, bool jittery) : rate_hz_(rate_hz), jittery_(jittery) {}
+  explicit LoopRate(sim::ServoTiming timing)
+      : rate_hz_(1000.0), jittery_(false), timing_(timing), model_(timing, 7) {}
   double nextPeriod_s() {
+    if (timing_ != sim::ServoTiming::kExact) return model_.nextInterval_s();
     if (!jittery_) return 1.0 / rate_hz_;
     const double unit = static_cast<double>(random_() >> 11) * 0x1.0p-53;  // [0, 1)
     return 1e-4 + unit * (2e-3 - 1e-4);
   }
   /// The longest period this loop can have: the tolerance of "one tick". Unit: [s]
-  double longestPeriod_s() const { return jittery_ ? 2e-3 : 1.0 / rate_hz_; }
-  std::string name() const { return jittery_ ? "jittery" : std::to_string(rate_hz_) + " Hz"; }
+  double longestPeriod_s() const {
+    switch (timing_) {
+      case sim::ServoTiming::kDesktop:  // a stall, after a tick that was late already
+        return sim::ServoTimingModel::kStall_s + 1e-3;
+      case sim::ServoTiming::kFree:
+        return 1.2 / sim::ServoTimingModel::kFreeMinRate_hz;
+      case sim::ServoTiming::kExact:
+        break;
+    }
+    return jittery_ ? 2e-3 : 1.0 / rate_hz_;
+  }
+  std::string name() const {
+    if (timing_ != sim::ServoTiming::kExact) return sim::toString(timing_);
+    return jittery_ ? "jittery" : std::to_string(rate_hz_) + " Hz";
+  }
 
  private:
   double rate_hz_;
   bool jittery_;
   std::mt19937_64 random_{12345};
+  sim::ServoTiming timing_ = sim::ServoTiming::kExact;
+  sim::ServoTimingModel model_;
 };
 
 std::shared_ptr<const GravityMap> uniformMap(const Eigen::Vector3d& gravity_n) {
@@ -73,8 +94,12 @@ struct Loop {
 };
 
 std::vector<LoopRate> rates() {
-  return {LoopRate(1000.0, false), LoopRate(4000.0, false), LoopRate(10000.0, false),
-          LoopRate(0.0, true)};
+  return {LoopRate(1000.0, false),
+          LoopRate(4000.0, false),
+          LoopRate(10000.0, false),
+          LoopRate(0.0, true),
+          LoopRate(sim::ServoTiming::kDesktop),
+          LoopRate(sim::ServoTiming::kFree)};
 }
 
 TEST(GravityCompensatedDeviceTimingTest, TheFirstMapFadesInOverTheRampAtAnyRate) {

@@ -93,5 +93,97 @@ TEST(SteadyStateDetectorTest, RejectsBadParameters) {
   EXPECT_THROW(SteadyStateDetector::windowMeans(1, 2, 1e-4, 0.0, 1e-3), Error);
 }
 
+// --- Servo time, not ticks -----------------------------------------------------------------------
+
+TEST(SteadyStateDetectorTest, ExactIntervalsAreTheTickCountBitForBit) {
+  // An exact loop passes its period as the interval: the same arithmetic as counting ticks.
+  SteadyStateDetector counted = windowDetector();
+  SteadyStateDetector timed = windowDetector();
+  for (int tick = 0; tick < 2000; ++tick) {
+    const double t = tick * 1e-3;
+    const Eigen::Vector3d position(std::sin(2.0 * M_PI * 10.0 * t) * 1e-3,
+                                   1e-3 * std::exp(-t / 0.1), 0.0);  // settling onto a fixed point
+    const bool a = counted.update(position, kFast);
+    const bool b = timed.update(position, kFast, 1e-3);
+    ASSERT_EQ(a, b) << tick;
+    ASSERT_EQ(counted.elapsed_s(), timed.elapsed_s());
+    if (a) break;
+  }
+  ASSERT_TRUE(timed.settled());
+  EXPECT_EQ(counted.settledPosition_m(), timed.settledPosition_m());
+}
+
+TEST(SteadyStateDetectorTest, WindowMeansAreTimeWeightedOverWholeWindowsInTime) {
+  // A 10 Hz oscillation about 1 mm sampled by a loop that is slow (1.8 ms) on the upper half-wave
+  // and fast (0.2 ms) on the lower one: nine samples in ten fall on the lower half, so a mean of
+  // samples sits far below the centre; the mean over time does not.
+  SteadyStateDetector detector = windowDetector();  // 100 ms windows: one period each
+  const double centre_m = 1e-3, amplitude_m = 1e-3;
+  double t = 0.0, interval_s = 1e-3, sample_sum = 0.0;
+  int samples = 0;
+  while (!detector.update(Eigen::Vector3d(centre_m + amplitude_m * std::sin(20.0 * M_PI * t), 0, 0),
+                          kFast, interval_s)) {
+    sample_sum += centre_m + amplitude_m * std::sin(20.0 * M_PI * t);
+    ++samples;
+    interval_s = std::sin(20.0 * M_PI * t) > 0.0 ? 1.8e-3 : 0.2e-3;
+    t += interval_s;
+    ASSERT_LT(t, 2.0);
+  }
+  EXPECT_LT(sample_sum / samples, centre_m - 0.4 * amplitude_m);  // what counting ticks reads
+  EXPECT_NEAR(detector.settledPosition_m().x(), centre_m, 0.02 * amplitude_m);
+  // Three windows of 100 ms of servo time, however many samples they took.
+  EXPECT_NEAR(detector.elapsed_s(), 0.3, 2e-3);
+}
+
+TEST(SteadyStateDetectorTest, AWindowEndsInsideAnIntervalThatStraddlesIt) {
+  // Intervals of 3 ms against 100 ms windows: each window ends a third of the way into a sample's
+  // interval, which is split between the two windows.
+  SteadyStateDetector detector = windowDetector();
+  int samples = 0;
+  while (!detector.update(Eigen::Vector3d(2e-3, 0.0, 0.0), kFast, 3e-3)) ASSERT_LT(++samples, 500);
+  EXPECT_NEAR(detector.settledPosition_m().x(), 2e-3, 1e-15);
+  EXPECT_NEAR(detector.elapsed_s(), 0.3, 3e-3);  // settled on the sample that crossed 300 ms
+  EXPECT_GE(detector.elapsed_s(), 0.3 - 1e-9);
+}
+
+TEST(SteadyStateDetectorTest, AStallSpoilsItsWindowInsteadOfPassingForASteadyState) {
+  // The loop stalls for 30 ms (over a fifth of a 100 ms window) in the second window: that window
+  // is not trusted, nor paired with the next one; the steady state comes two windows later.
+  SteadyStateDetector detector = windowDetector();
+  double t = 0.0;
+  bool stalled = false;
+  while (true) {
+    double interval_s = 1e-3;
+    if (!stalled && t > 0.15) {
+      interval_s = 0.03;
+      stalled = true;
+    }
+    t += interval_s;
+    if (detector.update(Eigen::Vector3d::Zero(), kFast, interval_s)) break;
+    ASSERT_LT(t, 1.0);
+  }
+  EXPECT_EQ(detector.spoiltWindows(), 1);
+  EXPECT_NEAR(detector.elapsed_s(), 0.5, 1.5e-3);  // without the stall: 0.3 s
+}
+
+TEST(SteadyStateDetectorTest, LateTicksOfAFewMillisecondsDoNotSpoilAWindow) {
+  SteadyStateDetector detector = windowDetector();
+  for (int k = 0; !detector.update(Eigen::Vector3d::Zero(), kFast, k % 10 == 0 ? 5e-3 : 1e-3);
+       ++k) {
+    ASSERT_LT(k, 1000);
+  }
+  EXPECT_EQ(detector.spoiltWindows(), 0);
+  EXPECT_NEAR(detector.elapsed_s(), 0.3, 5e-3);
+}
+
+TEST(SteadyStateDetectorTest, SlowSamplesMustLastNPeriodsOfServoTime) {
+  // n_S = 20 at a nominal 1 ms: a 4 kHz loop needs 80 slow samples, 20 ms of them.
+  SteadyStateDetector detector(20, 1e-4, 0.0, 1e-3);
+  int samples = 1;
+  while (!detector.update(Eigen::Vector3d::Zero(), kStill, 0.25e-3)) ++samples;
+  EXPECT_EQ(samples, 80);
+  EXPECT_NEAR(detector.elapsed_s(), 0.02, 1e-12);
+}
+
 }  // namespace
 }  // namespace autograv

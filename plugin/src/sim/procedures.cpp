@@ -23,23 +23,27 @@ constexpr double kHandSpeed_m_per_s = 0.05;
 constexpr double kHandHold_s = 0.5;
 constexpr double kFieldRamp_s = 0.3;
 
-/// One servo tick on simulated time: read, control, command, advance.
+/// One servo tick on simulated time: read (with the servo time since the previous read),
+/// control, command, then advance the device to the next tick the timing model draws.
 template <typename Control>
-void servoTick(SimulatedDevice& device, double period_s, Control&& control) {
-  const ServoSample sample = readServoSample(device);
+void servoTick(SimulatedDevice& device, ServoTimingModel& timing, ServoLoopStats* stats,
+               Control&& control) {
+  const ServoSample sample = readServoSample(device, timing.lastInterval_s());
   Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
   control(sample, force_n);
   device.setForce(force_n);
-  device.advance(period_s);
+  device.advance(timing.nextInterval_s());
+  if (stats != nullptr) stats->record(timing.lastInterval_s(), timing.lastLateness_s());
 }
 
 }  // namespace
 
 InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
                                                  const EstimationParameters& parameters,
-                                                 const Eigen::Vector3d& center_m,
-                                                 double timeout_s) {
-  const double period_s = parameters.servo_period_s;
+                                                 const Eigen::Vector3d& center_m, double timeout_s,
+                                                 ServoTimingModel* timing, ServoLoopStats* stats) {
+  ServoTimingModel exact(ServoTiming::kExact, 1, parameters.servo_period_s);
+  ServoTimingModel& clock = timing != nullptr ? *timing : exact;
   const double start_s = device.time_s();
   const auto zero_force = [](const ServoSample&, Eigen::Vector3d& force_n) { force_n.setZero(); };
   InitializationResult result;
@@ -47,9 +51,11 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
   if (!hand.holding()) hand.grab(device.truePosition_m());
   hand.moveTo(center_m, kHandSpeed_m_per_s);
   while (!hand.atGoal() && device.time_s() - start_s < timeout_s) {
-    servoTick(device, period_s, zero_force);
+    servoTick(device, clock, stats, zero_force);
   }
-  for (double t = 0.0; t < kHandHold_s; t += period_s) servoTick(device, period_s, zero_force);
+  for (double t = 0.0; t < kHandHold_s; t += clock.lastInterval_s()) {
+    servoTick(device, clock, stats, zero_force);
+  }
 
   InitializationEstimator estimator(parameters, device.specifications().max_linear_force_n,
                                     kFieldRamp_s);
@@ -66,7 +72,7 @@ InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
          status != InitializationEstimator::Status::kDeviceFault &&
          device.time_s() - start_s < timeout_s) {
     if (hand.holding() && device.time_s() - field_on_s > kFieldRamp_s + 0.1) hand.release();
-    servoTick(device, period_s, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+    servoTick(device, clock, stats, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
       status = estimator.step(sample, force_n);
     });
   }
@@ -121,11 +127,11 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
   estimator.start(result.target_m, result.initialization.gravity_n);
   const double timeout_s = parameters.max_iterations * parameters.max_step_duration_s;
   const double loop_start_s = device.time_s();
+  ServoTimingModel exact(ServoTiming::kExact, 1, parameters.servo_period_s);
   while (!estimator.finished() && device.time_s() - loop_start_s < timeout_s) {
-    servoTick(device, parameters.servo_period_s,
-              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
-                estimator.step(sample, force_n);
-              });
+    servoTick(device, exact, nullptr, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      estimator.step(sample, force_n);
+    });
   }
   result.estimate = estimator.estimate();
   result.simulated_seconds = device.time_s() - start_s;
@@ -135,7 +141,10 @@ PaperExperimentResult runPaperExperiment(SimulatedDevice& device,
 ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationParameters& parameters,
                                    const InitializationResult& initialization,
                                    const WorkspaceExplorer::Options& options,
-                                   const std::atomic<bool>* stop_requested, double timeout_s) {
+                                   const std::atomic<bool>* stop_requested, double timeout_s,
+                                   ServoTimingModel* timing, ServoLoopStats* stats) {
+  ServoTimingModel exact(ServoTiming::kExact, 1, parameters.servo_period_s);
+  ServoTimingModel& clock = timing != nullptr ? *timing : exact;
   const DeviceSpecifications& specs = device.specifications();
   const double continuous_n = continuousForceRating_n(specs);
   WorkspaceExplorer explorer(parameters, specs, options);
@@ -151,15 +160,15 @@ ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationPara
       result.stopped = true;
       break;
     }
-    servoTick(device, parameters.servo_period_s,
-              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
-                state = explorer.step(sample, force_n);
-                const double norm_n = force_n.norm();
-                result.peak_force_n = std::max(result.peak_force_n, norm_n);
-                if (norm_n > continuous_n) {
-                  result.seconds_above_continuous_force += parameters.servo_period_s;
-                }
-              });
+    servoTick(device, clock, stats, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      state = explorer.step(sample, force_n);
+      const double norm_n = force_n.norm();
+      result.peak_force_n = std::max(result.peak_force_n, norm_n);
+      if (norm_n > continuous_n) {
+        result.seconds_above_continuous_force +=
+            sample.interval_s > 0.0 ? sample.interval_s : parameters.servo_period_s;
+      }
+    });
   }
   result.seconds = device.time_s() - start_s;
   result.longest_recognition_s = explorer.longestRecognition_s();
@@ -186,15 +195,22 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   CalibrationRunResult result;
   result.grid = WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution);
   const std::uint64_t saturations_before = device.saturationCount();
-  // What a real device would feel: the force sent each tick, against its ratings.
-  const auto account = [&](const Eigen::Vector3d& force_n) {
-    if (force_n.norm() > continuous_n)
-      result.seconds_above_continuous_force += parameters.servo_period_s;
+  ServoTimingModel timing(options.servo_timing, options.servo_timing_seed,
+                          parameters.servo_period_s);
+  ServoLoopStats stats;
+  // What a real device would feel: the force sent each tick, held until the next, against its
+  // ratings.
+  const auto account = [&](const Eigen::Vector3d& force_n, const ServoSample& sample) {
+    if (force_n.norm() > continuous_n) {
+      result.seconds_above_continuous_force +=
+          sample.interval_s > 0.0 ? sample.interval_s : parameters.servo_period_s;
+    }
   };
 
   const Eigen::Vector3d x0_m =
       options.grid_from_workspace ? options.initialization_center_m : result.grid.center_m();
-  result.initialization = initializeWithSimulatedHand(device, parameters, x0_m);
+  result.initialization =
+      initializeWithSimulatedHand(device, parameters, x0_m, 30.0, &timing, &stats);
   if (!result.initialization.ok) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
@@ -204,7 +220,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   } else if (options.explore) {
     const ExplorationResult exploration =
         exploreWorkspace(device, parameters, result.initialization, options.explorer,
-                         options.stop_requested, options.timeout_s);
+                         options.stop_requested, options.timeout_s, &timing, &stats);
     result.exploration_seconds = exploration.seconds;
     result.longest_stop_recognition_s = exploration.longest_recognition_s;
     result.seconds_above_continuous_force += exploration.seconds_above_continuous_force;
@@ -246,11 +262,10 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       result.stopped = true;
       break;
     }
-    servoTick(device, parameters.servo_period_s,
-              [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
-                status = calibrator.step(sample, force_n);
-                account(force_n);
-              });
+    servoTick(device, timing, &stats, [&](const ServoSample& sample, Eigen::Vector3d& force_n) {
+      status = calibrator.step(sample, force_n);
+      account(force_n, sample);
+    });
     if (status == AutoCalibrator::Status::kVertexFinished) {
       if (options.on_vertex_finished) {
         options.on_vertex_finished(calibrator, calibrator.lastFinishedVertex());
@@ -302,6 +317,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   result.peak_force_n = calibrator.peakForce_n();
   result.saturation_count = device.saturationCount() - saturations_before;
   result.force_limit_ticks = result.saturation_count;
+  result.servo_loop = stats.summary();
   return result;
 }
 

@@ -27,6 +27,8 @@ constexpr double kSettleTolerance_m = 1e-4;
 constexpr double kProbeFrozenForceFloor_n = 2.0;
 // How far outside the map's grid the residual probe may take the end-effector. Unit: [m]
 constexpr double kProbeOutsideGrid_m = 0.003;
+// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
+constexpr double kSlackPeriods = 1e-6;
 
 /// Remembers the largest force that went to the device: the check "never above the device's
 /// maximum" is made on what was sent, not on what the decorator meant to send.
@@ -63,13 +65,18 @@ ProbeOutcome holdToward(HapticDevice& device, TickSource& ticks, const Eigen::Ve
                         double stiffness_n_per_m, double damping_n_s_per_m, double duration_s,
                         double average_s) noexcept {
   ProbeOutcome outcome;
+  // Durations in servo time, counted in nominal periods (whole numbers on an exact loop); each
+  // effort is weighted by the time it was held, up to the next tick.
   const double period_s = ticks.period_s();
   const long total_ticks = std::max(1L, std::lround(duration_s / period_s));
   const long average_ticks = std::clamp(std::lround(average_s / period_s), 1L, total_ticks);
+  const double window_from = static_cast<double>(total_ticks - average_ticks) - kSlackPeriods;
   Eigen::Vector3d window_start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d effort_sum_n = Eigen::Vector3d::Zero();
-  for (long k = 0; k < total_ticks; ++k) {
-    const ServoSample sample = readServoSample(device);
+  double weight_sum = 0.0;
+  bool window_started = false;
+  for (double elapsed = 0.0; elapsed < static_cast<double>(total_ticks) - kSlackPeriods;) {
+    const ServoSample sample = readServoSample(device, ticks.lastInterval_s());
     Eigen::Vector3d effort_n = Eigen::Vector3d::Zero();
     if (sample.valid) {
       effort_n = holdEffort_n(sample, target_m, stiffness_n_per_m, damping_n_s_per_m);
@@ -77,19 +84,27 @@ ProbeOutcome holdToward(HapticDevice& device, TickSource& ticks, const Eigen::Ve
       outcome.read_ok = false;
     }
     device.setForce(effort_n);
-    if (k == total_ticks - average_ticks) window_start_m = sample.position_m;
-    if (k >= total_ticks - average_ticks) {
-      effort_sum_n += effort_n;
-      if ((sample.position_m - window_start_m).norm() > kSettleTolerance_m) {
-        outcome.settled = false;
-      }
+    const bool in_window = elapsed >= window_from;
+    if (in_window && !window_started) {
+      window_start_m = sample.position_m;
+      window_started = true;
+    }
+    if (in_window && (sample.position_m - window_start_m).norm() > kSettleTolerance_m) {
+      outcome.settled = false;
     }
     if (!ticks.waitForNextTick()) {
       outcome.read_ok = false;
       break;
     }
+    const double periods = ticks.lastInterval_s() / period_s;
+    elapsed += periods;
+    if (in_window) {
+      effort_sum_n += periods * effort_n;
+      weight_sum += periods;
+    }
   }
-  outcome.mean_effort_n = effort_sum_n / static_cast<double>(average_ticks);
+  outcome.mean_effort_n =
+      weight_sum > 0.0 ? Eigen::Vector3d(effort_sum_n / weight_sum) : Eigen::Vector3d::Zero();
   return outcome;
 }
 
@@ -190,7 +205,8 @@ ReleaseMeasurement measureRelease(HapticDevice& device, TickSource& ticks, doubl
   const long total_ticks = std::max(1L, std::lround(duration_s / ticks.period_s()));
   Eigen::Vector3d released_at_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
-  for (long k = 0; k < total_ticks; ++k) {
+  double elapsed = 0.0;  // servo time in nominal periods
+  for (long k = 0; elapsed < static_cast<double>(total_ticks) - kSlackPeriods; ++k) {
     const bool read = device.getPosition(position_m) && position_m.allFinite();
     device.setForce(Eigen::Vector3d::Zero());
     if (!read) {
@@ -202,6 +218,7 @@ ReleaseMeasurement measureRelease(HapticDevice& device, TickSource& ticks, doubl
       result.max_excursion_m = std::max(result.max_excursion_m, result.drift_m);
     }
     if (!ticks.waitForNextTick()) break;
+    elapsed += ticks.lastInterval_s() / ticks.period_s();
   }
   result.stuck = result.valid && result.max_excursion_m <= stuck_threshold_m;
   return result;
@@ -236,8 +253,8 @@ bool carryAndHold(SimulatedDevice& simulated, HapticDevice& device, TickSource& 
     ticks.waitForNextTick();
   };
   while (!hand.atGoal()) tick();
-  for (double t = 0.0; t < kHandHold_s; t += ticks.period_s()) tick();
-  for (double t = 0.0; !ready(); t += ticks.period_s()) {
+  for (double t = 0.0; t < kHandHold_s; t += ticks.lastInterval_s()) tick();
+  for (double t = 0.0; !ready(); t += ticks.lastInterval_s()) {
     if (t > kReadyTimeout_s) return false;
     tick();
   }
@@ -260,15 +277,21 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
 
   auto meter = std::make_shared<ForceMeter>(simulated);
   CompensationOptions compensation = options.compensation;
-  compensation.clock = std::make_shared<FixedPeriodServoClock>(report.servo_period_s);
+  SimulatedTickSource ticks(device, report.servo_period_s,
+                            SimulatedTickSource::Mode::kAsFastAsPossible, options.servo_timing,
+                            options.servo_timing_seed);
+  // The decorator reads the loop's own clock; an exact loop is exactly its fixed period.
+  if (options.servo_timing == ServoTiming::kExact) {
+    compensation.clock = std::make_shared<FixedPeriodServoClock>(report.servo_period_s);
+  } else {
+    compensation.clock = std::make_shared<ServoTimingClock>(ticks.timingModel());
+  }
   // The probe pushes both ways on purpose while friction may hold the end-effector still: the
   // frozen-driver check must not take that for a frozen driver (its own tests cover it).
   compensation.frozen_force_floor_n =
       std::max(compensation.frozen_force_floor_n, kProbeFrozenForceFloor_n);
   GravityCompensatedDevice decorated(meter, compensation);
   decorated.publishMap(map, allow_model_mismatch);
-  SimulatedTickSource ticks(device, report.servo_period_s,
-                            SimulatedTickSource::Mode::kAsFastAsPossible);
 
   // Seeded points inside the grid that the device can reach: a fitted box pokes out of the
   // workspace (sim::Random: the same points on every platform).
@@ -361,6 +384,7 @@ VerificationReport verifyMapOnSimulatedDevice(const std::shared_ptr<SimulatedDev
   report.stuck_fraction =
       report.ready_points > 0 ? static_cast<double>(stuck) / report.ready_points : 0.0;
   report.simulated_seconds = device.time_s() - start_s;
+  report.servo_loop = ticks.loopSummary();
   return report;
 }
 

@@ -14,6 +14,9 @@ class TickSource {
   virtual double period_s() const = 0;
   /// Time since the source started. Unit: [s]
   virtual double now_s() const = 0;
+  /// Servo time between the two latest ticks, what ServoSample::interval_s carries; the nominal
+  /// period where the source does not measure it. Unit: [s]
+  virtual double lastInterval_s() const { return period_s(); }
 };
 
 }  // namespace autograv

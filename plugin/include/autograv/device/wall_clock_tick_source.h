@@ -16,11 +16,15 @@ class WallClockTickSource final : public TickSource {
   bool waitForNextTick() override;
   double period_s() const override { return period_s_; }
   double now_s() const override;
+  /// Measured on the steady clock between the two latest wake-ups. Unit: [s]
+  double lastInterval_s() const override { return last_interval_s_; }
 
  private:
   double period_s_;
   std::chrono::steady_clock::time_point start_;
   long long ticks_ = 0;
+  double last_interval_s_;
+  std::chrono::steady_clock::time_point last_wake_;
 };
 
 }  // namespace autograv

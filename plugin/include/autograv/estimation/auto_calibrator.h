@@ -115,7 +115,7 @@ class AutoCalibrator {
   /// The grid being calibrated. Real-time safe.
   const WorkspaceGrid& grid() const noexcept { return grid_; }
   /// Servo time since start(). Unit: [s]
-  double elapsed_s() const noexcept { return ticks_ * parameters_.servo_period_s; }
+  double elapsed_s() const noexcept { return elapsed_periods_ * parameters_.servo_period_s; }
   /// Largest |G_hat(X_a) - G_hat(X_b)| / |X_a - X_b| over converged neighbours so far: the
   /// paper's constant c measured on the data. Unit: [N/m]
   double lipschitzEstimate_n_per_m() const noexcept { return lipschitz_n_per_m_; }
@@ -149,12 +149,12 @@ class AutoCalibrator {
   int current_vertex_ = -1;
   int previous_vertex_ = -1;
   int last_finished_vertex_ = -1;
-  long ticks_ = 0;
-  long move_ticks_ = 0;
+  double elapsed_periods_ = 0.0;  // servo time since start(), in nominal periods
+  double move_periods_ = 0.0;     // servo time since the current move began
   Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // feedforward carried between vertices
   Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
-  int invalid_samples_ = 0;
+  double invalid_periods_ = 0.0;  // servo time of consecutive bad samples
   double lipschitz_n_per_m_ = 0.0;
   double peak_force_n_ = 0.0;
 };

@@ -49,14 +49,15 @@ class InitializationEstimator {
   EstimationParameters parameters_;
   double max_force_n_;
   double damping_n_s_per_m_;
-  long ramp_ticks_;
-  long tick_ = 0;
+  double ramp_periods_;           // fade-in time, in nominal servo periods
+  double max_invalid_periods_;    // bad samples tolerated, in nominal servo periods
+  double elapsed_periods_ = 0.0;  // servo time since start(), valid samples only
   SteadyStateDetector detector_;
   Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d estimate_n_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
   double sag_m_ = 0.0;
-  int invalid_samples_ = 0;
+  double invalid_periods_ = 0.0;
   bool done_ = false;
 };
 

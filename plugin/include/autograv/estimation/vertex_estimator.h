@@ -11,7 +11,9 @@
 
 namespace autograv {
 
-/// The inner loop of the paper (Section III-B) at one vertex X_i, stepped once per servo tick:
+/// The inner loop of the paper (Section III-B) at one vertex X_i, stepped once per servo tick
+/// (every duration in servo time from ServoSample::interval_s, so a late or free-running loop
+/// behaves as an exact one):
 ///   F_j = K_P(i,j) (X_i - X) - K_D(i,j) Xd + G_hat_j                       (eq. 10)
 ///   K_P(i,j) = beta M_hat_{j-1},  K_D(i,j) = alpha M_hat_{j-1},  M_hat = |G_hat|/g  (eq. 11)
 ///   at steady state: G_hat_{j+1} = K_P(i,j) (X_i - X_inf) + G_hat_j        (eq. 12)
@@ -83,7 +85,10 @@ class VertexEstimator {
  private:
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
   void finish(VertexOutcome outcome) noexcept;
-  Eigen::Vector3d ditherForce_n() const noexcept;
+  Eigen::Vector3d ditherForce_n(double cell) const noexcept;
+  Eigen::Vector3d ditherImpulse_ns(double from, double to) const noexcept;
+  Eigen::Vector3d ditherCommand_n(double periods) noexcept;
+  Eigen::Vector3d holdPayback_n(const Eigen::Vector3d& feedback_n, double periods) noexcept;
   // Samples (paper) or windows (dither) that make the next steady state.
   int requiredSteadyCount(bool last_update_small) const noexcept;
 
@@ -97,16 +102,28 @@ class VertexEstimator {
   double stiffness_n_per_m_ = 0.0;
   double damping_n_s_per_m_ = 0.0;
   double last_error_m_ = 0.0;
-  long ticks_ = 0;
+  double elapsed_periods_ = 0.0;  // servo time at this vertex, in nominal periods
   int small_updates_ = 0;
   int stalled_updates_ = 0;
-  double last_update_n_ = 0.0;  // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
-  int saturated_ticks_ = 0;
-  int invalid_samples_ = 0;
+  double last_update_n_ = 0.0;      // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
+  double saturated_periods_ = 0.0;  // servo time at the force limit, in nominal periods
+  double invalid_periods_ = 0.0;    // servo time of consecutive bad samples
+  double max_saturated_periods_ = 0.0;
+  double max_invalid_periods_ = 0.0;
   bool finished_ = true;
   double dither_amplitude_n_ = 0.0;  // 0: no dither (paper's method)
-  double dither_step_rad_ = 0.0;     // dither phase advance per servo tick
-  long dither_ticks_ = 0;
+  double dither_step_rad_ = 0.0;     // dither phase advance per nominal servo period
+  double dither_periods_ = 0.0;      // servo time since the iteration's first sample
+  bool dither_started_ = false;
+  Eigen::Vector3d last_dither_n_ = Eigen::Vector3d::Zero();   // dither part of the last command
+  Eigen::Vector3d dither_debt_ns_ = Eigen::Vector3d::Zero();  // impulse sent minus the waveform's
+  Eigen::Vector3d dither_displacement_debt_ = Eigen::Vector3d::Zero();
+  double mean_interval_periods_ = 1.0;  // recent servo interval, in nominal periods
+  bool hold_started_ = false;
+  Eigen::Vector3d last_feedback_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hold_debt_ns_ =
+      Eigen::Vector3d::Zero();  // feedback impulse beyond an exact loop's
+  Eigen::Vector3d last_hold_payback_n_ = Eigen::Vector3d::Zero();
 };
 
 const char* toString(VertexEstimator::Status status) noexcept;

@@ -89,7 +89,7 @@ class WorkspaceExplorer {
   /// Directions finished so far.
   int probedCount() const noexcept { return probed_; }
   /// Servo time since start(). Unit: [s]
-  double elapsed_s() const noexcept { return ticks_ * period_s_; }
+  double elapsed_s() const noexcept { return elapsed_s_; }
   /// The gravity estimate carried by the probe now (it follows the end-effector). Unit: [N]
   const Eigen::Vector3d& gravity_n() const noexcept { return gravity_n_; }
   /// Where the probe target is now. Unit: [m]
@@ -124,12 +124,13 @@ class WorkspaceExplorer {
   std::vector<double> reach_m_;
   Status state_ = Status::kIdle;
   MinimumJerkMove move_;
-  long ticks_ = 0;
-  long phase_ticks_ = 0;
+  double elapsed_s_ = 0.0;  // servo time since start(), from the samples' intervals
+  double phase_s_ = 0.0;    // servo time since the current move or probe began
+  double dt_s_ = 0.0;       // this tick's interval
   int current_ = 0;
   int probed_ = 0;
   int open_directions_ = 0;
-  int invalid_samples_ = 0;
+  double invalid_s_ = 0.0;  // servo time the readings have been invalid
   Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d target_m_ = Eigen::Vector3d::Zero();

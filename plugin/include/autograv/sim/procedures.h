@@ -35,11 +35,14 @@ struct InitializationResult {
 /// The manual step as a person would do it: the simulated hand grabs the end-effector, carries it
 /// to `center_m`, the k0 field fades in, the hand lets go, and eq. (7) gives G_hat_0 once the
 /// end-effector settles. Fails (ok false, with a message) when the end-effector rested on an end
-/// stop meanwhile. Runs the servo loop on simulated time. Not real-time safe.
+/// stop meanwhile. Runs the servo loop on simulated time, ticking as `timing` draws (null: exactly
+/// every servo period) and recording the ticks into `stats` (null: nowhere). Not real-time safe.
 InitializationResult initializeWithSimulatedHand(SimulatedDevice& device,
                                                  const EstimationParameters& parameters,
                                                  const Eigen::Vector3d& center_m,
-                                                 double timeout_s = 30.0);
+                                                 double timeout_s = 30.0,
+                                                 ServoTimingModel* timing = nullptr,
+                                                 ServoLoopStats* stats = nullptr);
 
 /// What the workspace exploration did on a simulated device.
 struct ExplorationResult {
@@ -54,13 +57,14 @@ struct ExplorationResult {
 };
 
 /// Runs WorkspaceExplorer on `device` from the end-effector at rest where `initialization` left
-/// it, on simulated time. Throws autograv::Error when the device stops answering.
-/// Not real-time safe.
+/// it, on simulated time ticked by `timing` (exact when null; `stats` records the loop when
+/// given). Throws autograv::Error when the device stops answering. Not real-time safe.
 ExplorationResult exploreWorkspace(SimulatedDevice& device, const EstimationParameters& parameters,
                                    const InitializationResult& initialization,
                                    const WorkspaceExplorer::Options& options = {},
                                    const std::atomic<bool>* stop_requested = nullptr,
-                                   double timeout_s = 600.0);
+                                   double timeout_s = 600.0, ServoTimingModel* timing = nullptr,
+                                   ServoLoopStats* stats = nullptr);
 
 /// The paper's Section V experiment on a simulated device.
 struct PaperExperimentResult {
@@ -118,6 +122,10 @@ struct CalibrationRunOptions {
   const std::atomic<bool>* stop_requested = nullptr;
   /// Gives up when the whole run exceeds this much simulated time. Unit: [s]
   double timeout_s = 3600.0;
+  /// How the servo ticks arrive (README, "Servo timing"), drawn from servo_timing_seed; the
+  /// nominal period is parameters.servo_period_s.
+  ServoTiming servo_timing = ServoTiming::kExact;
+  std::uint64_t servo_timing_seed = 1;
   /// After the grid, visit again the vertices that did not converge, up to this many times (what
   /// the wizard's Review offers a user): a vertex that missed its steady state once, because of
   /// an encoder's one-count dither, usually settles on a second visit.
@@ -150,6 +158,7 @@ struct CalibrationRunResult {
   bool stopped = false;                ///< stop_requested was honoured.
   int redo_passes = 0;                 ///< Passes over failed vertices actually run.
   int redone_vertices = 0;             ///< Vertex visits made by those passes.
+  ServoLoopStats::Summary servo_loop;  ///< What the servo loop did, initialization included.
 };
 
 /// Whole off-line autocalibration on a simulated device: feasibility checks (refused with a

@@ -8,8 +8,10 @@
 #include <Eigen/Core>
 
 #include "autograv/device/haptic_device.h"
+#include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/tick_source.h"
 #include "autograv/sim/friction.h"
+#include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_hand.h"
 
 namespace autograv::sim {
@@ -104,26 +106,38 @@ std::unique_ptr<SimulatedDevice> makeSimulatedDevice(
     const std::string& name, std::uint64_t seed = 1,
     FrictionLevel friction = FrictionLevel::kTypical);
 
-/// Paces a servo loop on a simulated device: each tick advances the physics by one period,
-/// either as fast as the CPU allows (tests) or locked to the wall clock (demos).
+/// Paces a servo loop on a simulated device: each tick advances the physics by the interval the
+/// ServoTimingModel draws (exactly one period with ServoTiming::kExact), either as fast as the CPU
+/// allows (tests) or locked to the wall clock (demos). Records what the loop did.
 class SimulatedTickSource final : public TickSource {
  public:
   /// How the ticks are paced: as fast as the CPU allows, or locked to the wall clock.
   enum class Mode { kAsFastAsPossible, kRealTime };
-  /// Ticks `device` every `period_s` (unit: [s]) of simulated time, paced by `mode`. Not real-time
-  /// safe.
-  SimulatedTickSource(SimulatedDevice& device, double period_s, Mode mode);
+  /// Ticks `device` at intervals drawn by the timing model (`period_s` nominal, unit: [s]),
+  /// paced by `mode`. Throws autograv::Error for a period outside (0, 0.1] s.
+  /// Not real-time safe.
+  SimulatedTickSource(SimulatedDevice& device, double period_s, Mode mode,
+                      ServoTiming timing = ServoTiming::kExact, std::uint64_t timing_seed = 1);
+  /// Real-time safe (kAsFastAsPossible).
   bool waitForNextTick() override;
   double period_s() const override { return period_s_; }
+  /// Simulated time since construction (the device's own clock, which the ticks advance).
+  /// Unit: [s]
   double now_s() const override;
+  double lastInterval_s() const override { return model_.lastInterval_s(); }
+  /// The loop's clock, to share with a GravityCompensatedDevice driven by this loop.
+  const ServoTimingModel& timingModel() const noexcept { return model_; }
+  /// Rate, lateness and gaps of the ticks so far. Not real-time safe.
+  ServoLoopStats::Summary loopSummary() const noexcept { return stats_.summary(); }
 
  private:
   SimulatedDevice& device_;
   double period_s_;
   Mode mode_;
+  ServoTimingModel model_;
+  ServoLoopStats stats_;
   double start_time_s_;
   long long wall_start_ns_ = 0;
-  long long ticks_ = 0;
 };
 
 }  // namespace autograv::sim

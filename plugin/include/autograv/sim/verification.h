@@ -128,6 +128,9 @@ struct VerificationOptions {
   ResidualProbeOptions probe;
   /// Ramp and margins of the compensation under test; the servo period is the map's.
   CompensationOptions compensation;
+  /// How the servo ticks arrive, drawn from servo_timing_seed (README, "Servo timing").
+  ServoTiming servo_timing = ServoTiming::kExact;
+  std::uint64_t servo_timing_seed = 1;
   /// Also release every point with compensation off (the baseline the drift is compared with).
   bool compare_uncompensated = true;
   /// Called after each point of each pass with (points done, points in all passes).
@@ -189,6 +192,7 @@ struct VerificationReport {
   int ready_points = 0;
   /// Points whose residual probe was valid.
   int valid_residuals = 0;
+  ServoLoopStats::Summary servo_loop;  ///< What the servo loop did.
 };
 
 /// autograv verify on a simulated device: at seeded points inside the map's grid, the simulated

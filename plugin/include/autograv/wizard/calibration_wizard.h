@@ -10,6 +10,8 @@
 
 #include "autograv/device/gravity_compensated_device.h"
 #include "autograv/device/haptic_device.h"
+#include "autograv/device/servo_clock.h"
+#include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/estimation_parameters.h"
@@ -100,6 +102,11 @@ struct WizardConfig {
   double compensation_ramp_s = 0.5;
   /// Serial number written into the map; empty takes the device's.
   std::string device_serial;
+  /// The servo loop's time base, read once per servoTick() by the wizard and by its compensation:
+  /// every duration of the calibration is servo time from it, and the review says how regular
+  /// the loop was. For a wall-clock loop give a SteadyServoClock; for a simulated loop the clock
+  /// that loop keeps. Null: a loop that ticks exactly every parameters.servo_period_s.
+  std::shared_ptr<ServoClock> clock;
 };
 
 /// Largest number of release tests in Verify.
@@ -255,7 +262,18 @@ struct WizardStatus {
 
   /// Aborted / Fault: what happened and what to do.
   std::string fault;
+
+  /// What the servo loop did so far (rate, lateness beyond the nominal period, longest gap).
+  ServoLoopStats::Summary servo_loop;
+  /// Not empty when the loop was too irregular for the figures shown: what happened and what to
+  /// do (servoLoopWarning).
+  std::string servo_warning;
 };
+
+/// The warning WizardStatus::servo_warning carries for a loop that did `loop` with nominal period
+/// `period_s`: empty when the loop was regular enough for the estimator's windows (late ticks a
+/// few milliseconds at most, stalls rare), else what was seen and what to do. Not real-time safe.
+std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_s);
 
 /// The guided calibration (paper Sec. III-A then III-B) as a state machine with no UI code:
 /// Check -> Centre -> Release -> AutoCalibration -> Review -> Save -> Verify -> Done.
@@ -386,15 +404,20 @@ class CalibrationWizard {
 
   // Servo side only.
   std::unique_ptr<wizard::Live> live_;
-  long ticks_ = 0;
+  double servo_periods_ = 0.0;  // servo time since the first tick, in nominal periods
   long phase_ticks_ = 0;
-  int invalid_samples_ = 0;
+  double phase_periods_ = 0.0;  // servo time in the current step
+  double invalid_periods_ = 0.0;
+  double last_clock_s_ = 0.0;
+  bool clock_read_ = false;
+  ServoLoopStats loop_stats_;
+  int loop_summary_countdown_ = 0;
   int failed_writes_ = 0;
   bool last_switch_ = false;
   bool awaiting_plan_ = false;
   bool awaiting_redo_ = false;
   bool awaiting_save_ = false;
-  long waiting_since_tick_ = 0;
+  double waiting_since_periods_ = 0.0;
   HoldMode hold_mode_ = HoldMode::kNone;
   Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
@@ -404,7 +427,7 @@ class CalibrationWizard {
   const GravityMap* verify_map_ = nullptr;
   VerifyStage verify_stage_ = VerifyStage::kMove;
   MinimumJerkMove verify_move_;
-  long verify_ticks_ = 0;
+  double verify_periods_ = 0.0;
   Eigen::Vector3d release_start_m_ = Eigen::Vector3d::Zero();
 
   // Service side only.

@@ -10,7 +10,9 @@
 namespace autograv {
 
 namespace {
-constexpr int kMaxInvalidSamples = 20;  // 20 ms at 1 kHz, as in the vertex estimator
+// Servo time of consecutive bad samples tolerated, as in the vertex estimator. Unit: [s]
+constexpr double kMaxInvalid_s = 0.02;
+constexpr double kSlackPeriods = 1e-6;  // rounding slack of servo time summed in periods
 
 bool isDone(const VertexEstimate& vertex) noexcept {
   return vertex.outcome == VertexOutcome::kConverged;
@@ -110,8 +112,8 @@ void AutoCalibrator::setPlan(const MeasurementPlan& plan) {
 void AutoCalibrator::start(const Eigen::Vector3d& position_m,
                            const Eigen::Vector3d& initial_gravity_n) noexcept {
   gravity_n_ = initial_gravity_n;
-  ticks_ = 0;
-  invalid_samples_ = 0;
+  elapsed_periods_ = 0.0;
+  invalid_periods_ = 0.0;
   previous_vertex_ = -1;
   last_finished_vertex_ = -1;
   next_in_order_ = 0;
@@ -138,7 +140,7 @@ void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
               MinimumJerkMove::durationFor((target_m - from_m).norm(),
                                            options_.max_move_acceleration_m_per_s2,
                                            options_.min_move_duration_s));
-  move_ticks_ = 0;
+  move_periods_ = 0.0;
   state_ = Status::kMoving;
 }
 
@@ -215,14 +217,16 @@ void AutoCalibrator::recordFinished() noexcept {
 
 AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
                                             Eigen::Vector3d& force_n) noexcept {
-  ++ticks_;
+  const double periods = servoPeriodsOf(sample, parameters_.servo_period_s);
+  elapsed_periods_ += periods;
   if (state_ == Status::kIdle || state_ == Status::kDeviceFault) {
     force_n.setZero();
     return state_;
   }
   if (!sample.valid) {
     force_n = last_force_n_;
-    if (++invalid_samples_ > kMaxInvalidSamples) {
+    invalid_periods_ += periods;
+    if (invalid_periods_ > kMaxInvalid_s / parameters_.servo_period_s + kSlackPeriods) {
       force_n.setZero();
       last_force_n_.setZero();
       if (active_ && state_ == Status::kEstimating) {
@@ -232,7 +236,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
     }
     return state_;
   }
-  invalid_samples_ = 0;
+  invalid_periods_ = 0.0;
 
   switch (state_) {
     case Status::kPaused:
@@ -241,9 +245,9 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
       force_n = holdForce(sample);
       break;
     case Status::kMoving: {
-      ++move_ticks_;
+      move_periods_ += periods;
       Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
-      move_.sample(move_ticks_ * parameters_.servo_period_s, desired_m, desired_velocity,
+      move_.sample(move_periods_ * parameters_.servo_period_s, desired_m, desired_velocity,
                    desired_acceleration);
       const double mass_kg =
           std::max(gravity_n_.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
@@ -253,7 +257,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
                 mass_kg * desired_acceleration + gravity_n_;
       clampForce(force_n, max_force_n_);
       hold_m_ = desired_m;
-      if (move_ticks_ * parameters_.servo_period_s >= move_.duration_s()) {
+      if (move_periods_ * parameters_.servo_period_s >= move_.duration_s()) {
         estimator_.start(targets_[static_cast<std::size_t>(current_vertex_)],
                          initialEstimateFor(current_vertex_));
         state_ = Status::kEstimating;

@@ -8,9 +8,11 @@
 namespace autograv {
 
 namespace {
-// Consecutive bad samples tolerated (holding the last force) before declaring a fault: 20 ms at
-// 1 kHz rides over a dropped USB frame but not over a dead device.
-constexpr int kMaxInvalidSamples = 20;
+// Servo time of consecutive bad samples tolerated (holding the last force) before declaring a
+// fault: rides over a dropped USB frame but not over a dead device. Unit: [s]
+constexpr double kMaxInvalid_s = 0.02;
+// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
+constexpr double kSlackPeriods = 1e-6;
 }  // namespace
 
 InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
@@ -19,7 +21,9 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
     : parameters_(parameters),
       max_force_n_(max_force_n),
       damping_n_s_per_m_(damping_n_s_per_m),
-      ramp_ticks_(std::max(1L, std::lround(ramp_s / parameters.servo_period_s))),
+      ramp_periods_(
+          static_cast<double>(std::max(1L, std::lround(ramp_s / parameters.servo_period_s)))),
+      max_invalid_periods_(kMaxInvalid_s / parameters.servo_period_s + kSlackPeriods),
       detector_(SteadyStateDetector::forParameters(parameters)) {
   if (!(parameters.k0_n_per_m > 0.0))
     throw Error(
@@ -32,9 +36,9 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
 
 void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
   center_m_ = center_m;
-  tick_ = 0;
+  elapsed_periods_ = 0.0;
   done_ = false;
-  invalid_samples_ = 0;
+  invalid_periods_ = 0.0;
   sag_m_ = 0.0;
   estimate_n_.setZero();
   last_force_n_.setZero();
@@ -43,17 +47,19 @@ void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
 
 InitializationEstimator::Status InitializationEstimator::step(const ServoSample& sample,
                                                               Eigen::Vector3d& force_n) noexcept {
+  const double periods = servoPeriodsOf(sample, parameters_.servo_period_s);
   if (!sample.valid) {
     force_n = last_force_n_;
-    if (++invalid_samples_ > kMaxInvalidSamples) {
+    invalid_periods_ += periods;
+    if (invalid_periods_ > max_invalid_periods_) {
       force_n.setZero();
       return Status::kDeviceFault;
     }
     return done_ ? Status::kDone : Status::kWaiting;
   }
-  invalid_samples_ = 0;
-  ++tick_;
-  const double ramp = std::min(1.0, static_cast<double>(tick_) / ramp_ticks_);
+  invalid_periods_ = 0.0;
+  elapsed_periods_ += periods;
+  const double ramp = std::min(1.0, elapsed_periods_ / ramp_periods_);
   const Eigen::Vector3d offset_m = center_m_ - sample.position_m;
   sag_m_ = offset_m.norm();
   force_n =
@@ -62,7 +68,9 @@ InitializationEstimator::Status InitializationEstimator::step(const ServoSample&
   last_force_n_ = force_n;
   if (done_) return Status::kDone;
   if (ramp < 1.0) return Status::kRampingIn;
-  if (!detector_.update(sample.position_m, sample.velocity_m_per_s)) return Status::kWaiting;
+  if (!detector_.update(sample.position_m, sample.velocity_m_per_s, sample.interval_s)) {
+    return Status::kWaiting;
+  }
   const Eigen::Vector3d estimate_n =
       parameters_.k0_n_per_m * (center_m_ - detector_.settledPosition_m());  // eq. (7)
   if (estimate_n.norm() < kMinGravityN) {

@@ -7,11 +7,21 @@
 
 namespace autograv {
 
+namespace {
+// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
+constexpr double kSlackPeriods = 1e-6;
+
+double periodsOf(double interval_s, double period_s) noexcept {
+  if (!(interval_s > 0.0) || !(interval_s < 1e300)) return 1.0;
+  return interval_s / period_s;
+}
+}  // namespace
+
 SteadyStateDetector::SteadyStateDetector(int required_samples, double speed_threshold_m_per_s,
                                          double min_duration_s, double period_s)
     : required_(required_samples),
       speed_threshold_m_per_s_(speed_threshold_m_per_s),
-      min_ticks_(std::lround(min_duration_s / period_s)),
+      min_periods_(static_cast<double>(std::lround(min_duration_s / period_s))),
       period_s_(period_s) {
   if (required_samples < 1)
     throw Error("steady-state detector: n_S (EstimationParameters::n_s) must be at least 1");
@@ -34,7 +44,7 @@ SteadyStateDetector SteadyStateDetector::windowMeans(int window_ticks, int requi
     throw Error("steady-state detector: an averaging window needs at least 2 servo periods");
   }
   SteadyStateDetector detector(required_windows, speed_threshold_m_per_s, min_duration_s, period_s);
-  detector.window_ticks_ = window_ticks;
+  detector.window_periods_ = static_cast<double>(window_ticks);
   return detector;
 }
 
@@ -60,70 +70,142 @@ SteadyStateDetector SteadyStateDetector::forParameters(const EstimationParameter
                 "at most " +
                 std::to_string(0.25 / p.servo_period_s) + " Hz (4 samples per period)");
   }
-  const int window_ticks =
-      static_cast<int>(std::lround(ticks_per_period * p.dither_periods_per_window));
-  return windowMeans(window_ticks, p.steady_windows, p.eps_s_m_per_s, p.min_step_duration_s,
-                     p.servo_period_s);
+  // Whole dither periods in time; a length that is a whole number of servo periods but for
+  // rounding is exactly that, so that an exact loop closes its windows on ticks.
+  double window_periods = ticks_per_period * p.dither_periods_per_window;
+  const double nearest = std::round(window_periods);
+  if (std::abs(window_periods - nearest) < 1e-9 * nearest) window_periods = nearest;
+  SteadyStateDetector detector =
+      windowMeans(static_cast<int>(std::lround(window_periods)), p.steady_windows, p.eps_s_m_per_s,
+                  p.min_step_duration_s, p.servo_period_s);
+  detector.window_periods_ = window_periods;
+  return detector;
+}
+
+int SteadyStateDetector::windowTicks() const noexcept {
+  return static_cast<int>(std::lround(window_periods_));
 }
 
 void SteadyStateDetector::reset() noexcept {
-  elapsed_ticks_ = 0;
-  consecutive_ = 0;
+  elapsed_periods_ = 0.0;
   settled_ = false;
-  run_sum_m_.setZero();
-  run_count_ = 0;
+  breakRun();
   window_sum_m_.setZero();
-  window_fill_ = 0;
+  window_fill_periods_ = 0.0;
+  window_spoilt_ = false;
+  spoilt_windows_ = 0;
+  window_interval_sum_ = 0.0;
+  window_interval_squares_ = 0.0;
+  window_samples_ = 0;
   has_previous_mean_ = false;
 }
 
+void SteadyStateDetector::breakRun() noexcept {
+  consecutive_ = 0;
+  run_periods_ = 0.0;
+  run_sum_m_.setZero();
+  run_weight_ = 0.0;
+}
+
+void SteadyStateDetector::closeWindow() noexcept {
+  const Eigen::Vector3d mean_m = window_sum_m_ / window_periods_;
+  window_sum_m_.setZero();
+  window_fill_periods_ = 0.0;
+  if (window_spoilt_) {
+    window_interval_sum_ = 0.0;
+    window_interval_squares_ = 0.0;
+    window_samples_ = 0;
+    // The loop stalled in this window: its mean is not that of a symmetric dither, and the next
+    // window has nothing trustworthy to agree with.
+    window_spoilt_ = false;
+    ++spoilt_windows_;
+    breakRun();
+    has_previous_mean_ = false;
+    return;
+  }
+  const double window_s = window_periods_ * period_s_;
+  // An irregular loop makes window means scatter (its ticks hold each force for a random time):
+  // the tolerance widens with the spread of the intervals, relative to the nominal period (0 for
+  // an exact loop, which keeps the tolerance as it is).
+  double spread = 0.0;
+  if (window_samples_ > 0) {
+    const double mean = window_interval_sum_ / window_samples_;
+    spread = std::sqrt(std::max(0.0, window_interval_squares_ / window_samples_ - mean * mean));
+  }
+  window_interval_sum_ = 0.0;
+  window_interval_squares_ = 0.0;
+  window_samples_ = 0;
+  const double tolerance_m = std::max(speed_threshold_m_per_s_ * window_s, window_tolerance_m_) *
+                             (1.0 + kToleranceGrowthPerSpread * spread);
+  const bool agrees = has_previous_mean_ && (mean_m - previous_mean_m_).norm() <= tolerance_m;
+  if (agrees) {
+    // The run holds the windows that agreed with their predecessor, not the first of a pair:
+    // that one still carries the transient of the last update.
+    run_sum_m_ += mean_m;
+    run_weight_ += 1.0;
+    ++consecutive_;
+  } else {
+    breakRun();
+  }
+  previous_mean_m_ = mean_m;
+  has_previous_mean_ = true;
+}
+
 bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
-                                 const Eigen::Vector3d& velocity_m_per_s) noexcept {
+                                 const Eigen::Vector3d& velocity_m_per_s,
+                                 double interval_s) noexcept {
   if (settled_) return true;
-  ++elapsed_ticks_;
-  if (window_ticks_ == 0) {
+  // The sample stands for the interval that ends with it (exactly one period in an exact loop).
+  const double periods = periodsOf(interval_s, period_s_);
+  elapsed_periods_ += periods;
+  if (window_periods_ == 0.0) {
+    if (periods > kMaxGapPeriods) breakRun();  // nobody watched the end-effector meanwhile
     if (velocity_m_per_s.allFinite() && velocity_m_per_s.norm() <= speed_threshold_m_per_s_) {
       ++consecutive_;
-      run_sum_m_ += position_m;
-      ++run_count_;
+      run_periods_ += periods;
+      run_sum_m_ += periods * position_m;
+      run_weight_ += periods;
     } else {
-      consecutive_ = 0;
-      run_sum_m_.setZero();
-      run_count_ = 0;
+      breakRun();
     }
-  } else {
-    window_sum_m_ += position_m;
-    if (++window_fill_ < window_ticks_) return false;
-    const Eigen::Vector3d mean_m = window_sum_m_ / window_ticks_;
-    window_sum_m_.setZero();
-    window_fill_ = 0;
-    const double window_s = window_ticks_ * period_s_;
-    const double tolerance_m = std::max(speed_threshold_m_per_s_ * window_s, window_tolerance_m_);
-    const bool agrees = has_previous_mean_ && (mean_m - previous_mean_m_).norm() <= tolerance_m;
-    if (agrees) {
-      // The run holds the windows that agreed with their predecessor, not the first of a pair:
-      // that one still carries the transient of the last update.
-      run_sum_m_ += mean_m;
-      ++run_count_;
-      ++consecutive_;
-    } else {
-      consecutive_ = 0;
-      run_sum_m_.setZero();
-      run_count_ = 0;
-    }
-    previous_mean_m_ = mean_m;
-    has_previous_mean_ = true;
+    settled_ = run_periods_ >= required_ - kSlackPeriods &&
+               elapsed_periods_ >= min_periods_ - kSlackPeriods;
+    return settled_;
   }
-  settled_ = consecutive_ >= required_ && elapsed_ticks_ >= min_ticks_;
+  const bool gap = periods > kMaxGapOfWindow * window_periods_;
+  window_interval_sum_ += periods;
+  window_interval_squares_ += periods * periods;
+  ++window_samples_;
+  double remaining = periods;
+  bool closed = false;
+  // Split the sample's interval at each window end it straddles.
+  while (window_fill_periods_ + remaining >= window_periods_ - kSlackPeriods) {
+    const double part = std::max(0.0, window_periods_ - window_fill_periods_);
+    window_sum_m_ += part * position_m;
+    window_spoilt_ = window_spoilt_ || gap;
+    remaining -= part;
+    closeWindow();
+    closed = true;
+  }
+  if (remaining > kSlackPeriods) {
+    window_sum_m_ += remaining * position_m;
+    window_fill_periods_ += remaining;
+    window_spoilt_ = window_spoilt_ || gap;
+  }
+  // Judged when a window ends: the estimate is read over whole windows only.
+  if (closed) {
+    settled_ = consecutive_ >= required_ && elapsed_periods_ >= min_periods_ - kSlackPeriods;
+  }
   return settled_;
 }
 
 Eigen::Vector3d SteadyStateDetector::settledPosition_m() const noexcept {
-  if (run_count_ == 0) return Eigen::Vector3d::Constant(NAN);
-  return run_sum_m_ / run_count_;
+  if (!(run_weight_ > 0.0)) return Eigen::Vector3d::Constant(NAN);
+  return run_sum_m_ / run_weight_;
 }
 
 double SteadyStateDetector::progress() const noexcept {
+  if (window_periods_ == 0.0) return std::min(1.0, run_periods_ / required_);
   return std::min(1.0, static_cast<double>(consecutive_) / required_);
 }
 

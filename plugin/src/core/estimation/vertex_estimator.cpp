@@ -9,12 +9,22 @@
 namespace autograv {
 
 namespace {
-// Consecutive bad samples tolerated (holding the last force) before the vertex is given up.
-constexpr int kMaxInvalidSamples = 20;
-// Holding force at the actuator limit for this long (at 1 kHz: 50 ms) means the device cannot be
-// held at the vertex with the force it has, and the estimate is corrupted by saturation (paper
-// Sec. IV: the proofs hold only without saturation).
-constexpr int kMaxSaturatedTicks = 50;
+// Servo time of consecutive bad samples tolerated (holding the last force) before the vertex is
+// given up: rides over a dropped USB frame, not over a dead device. Unit: [s]
+constexpr double kMaxInvalid_s = 0.02;
+// Holding force at the actuator limit for this long means the device cannot be held at the vertex
+// with the force it has, and the estimate is corrupted by saturation (paper Sec. IV: the proofs
+// hold only without saturation). Unit: [s]
+constexpr double kMaxSaturated_s = 0.05;
+// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
+constexpr double kSlackPeriods = 1e-6;
+// Smoothing of the mean servo interval the dither's payback is spread over.
+constexpr double kIntervalSmoothing = 0.05;
+// The dither's payback: rate per nominal period (about 3 ms to pay a debt back) and damping.
+constexpr double kPaybackRate = 0.3;
+constexpr double kPaybackDamping = 0.7;
+// Longer intervals (stalls) are not paid back: nominal periods.
+constexpr double kMaxDebtIntervalPeriods = 12.0;
 
 void validate(const EstimationParameters& p, double max_force_n) {
   std::ostringstream problem;
@@ -62,6 +72,8 @@ VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double 
                               : EstimationParameters::kAutoDitherFraction * max_force_n;
     dither_step_rad_ = 2.0 * kPi * parameters.dither_frequency_hz * parameters.servo_period_s;
   }
+  max_invalid_periods_ = kMaxInvalid_s / parameters.servo_period_s + kSlackPeriods;
+  max_saturated_periods_ = kMaxSaturated_s / parameters.servo_period_s + kSlackPeriods;
   estimate_.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
 }
 
@@ -87,27 +99,100 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   estimate_.history.clear();  // keeps the reserved capacity
   last_error_m_ = NAN;
   last_force_n_.setZero();
-  ticks_ = 0;
+  elapsed_periods_ = 0.0;
   small_updates_ = 0;
   stalled_updates_ = 0;
   last_update_n_ = 0.0;
-  saturated_ticks_ = 0;
-  invalid_samples_ = 0;
+  saturated_periods_ = 0.0;
+  invalid_periods_ = 0.0;
   finished_ = false;
   detector_.reset();
   detector_.setRequired(requiredSteadyCount(false));
-  dither_ticks_ = 0;
+  dither_periods_ = 0.0;
+  dither_started_ = false;
+  dither_debt_ns_.setZero();
+  dither_displacement_debt_.setZero();
+  last_dither_n_.setZero();
+  hold_started_ = false;
+  hold_debt_ns_.setZero();
+  last_hold_payback_n_.setZero();
 }
 
-Eigen::Vector3d VertexEstimator::ditherForce_n() const noexcept {
+Eigen::Vector3d VertexEstimator::ditherForce_n(double cell) const noexcept {
   // x and y in quadrature at f, z at 3f: only odd harmonics, so d(t + T/2) = -d(t). Every joint
   // torque J^T d is then half-wave symmetric too, the motion it drives is symmetric and the dry
   // friction averages to zero over whole periods; the force direction sweeps all of space, so no
   // joint is left undithered.
-  const double angle_rad = dither_step_rad_ * static_cast<double>(dither_ticks_);
+  const double angle_rad = dither_step_rad_ * cell;
   const double sine = std::sin(angle_rad);
   const double triple = sine * (3.0 - 4.0 * sine * sine);  // sin(3 angle)
   return dither_amplitude_n_ * Eigen::Vector3d(sine, std::cos(angle_rad), triple);
+}
+
+Eigen::Vector3d VertexEstimator::ditherImpulse_ns(double from, double to) const noexcept {
+  // The waveform an exact loop sends, one value per nominal period, integrated over [from, to]
+  // (in nominal periods since the iteration's first sample). Unit: [N period]
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  const double first = std::floor(from + kSlackPeriods);
+  const double last = std::ceil(to - kSlackPeriods);
+  for (double cell = first; cell < last; cell += 1.0) {
+    const double overlap = std::min(to, cell + 1.0) - std::max(from, cell);
+    if (overlap > 0.0) impulse += ditherForce_n(cell) * overlap;
+  }
+  return impulse;
+}
+
+Eigen::Vector3d VertexEstimator::ditherCommand_n(double periods) noexcept {
+  // The dither is a function of servo time: the value an exact loop would send in the nominal
+  // period the tick falls in. A late, early or stalled tick holds its command longer or shorter
+  // than one period, which a loop that ticks irregularly turns into a random impulse on the
+  // end-effector (and a dither that no longer averages to zero over a window): each command pays
+  // back what its predecessors delivered too much or too little, so the impulse sent follows the
+  // waveform's. On an exact loop the debt is exactly zero, always.
+  if (dither_started_) {
+    const double from = dither_periods_;
+    dither_periods_ += periods;
+    mean_interval_periods_ += kIntervalSmoothing * (periods - mean_interval_periods_);
+    if (periods <= kMaxDebtIntervalPeriods) {
+      const Eigen::Vector3d before = dither_debt_ns_;
+      dither_debt_ns_ += last_dither_n_ * periods - ditherImpulse_ns(from, dither_periods_);
+      dither_displacement_debt_ += 0.5 * (before + dither_debt_ns_) * periods;
+    } else {
+      dither_debt_ns_.setZero();  // a stall: the detector does not trust its windows anyway
+      dither_displacement_debt_.setZero();
+    }
+  }
+  dither_started_ = true;
+  const Eigen::Vector3d waveform_n = ditherForce_n(std::floor(dither_periods_ + kSlackPeriods));
+  // Both the impulse debt and its integral (what it did to the position, times the mass) are
+  // paid back, critically damped at kPaybackRate per nominal period: the end-effector ends up
+  // where the exact waveform would have put it, not merely at its velocity.
+  Eigen::Vector3d payback_n = 2.0 * kPaybackDamping * kPaybackRate * dither_debt_ns_ +
+                              kPaybackRate * kPaybackRate * dither_displacement_debt_;
+  payback_n = payback_n.cwiseMax(-dither_amplitude_n_).cwiseMin(dither_amplitude_n_);
+  last_dither_n_ = waveform_n - payback_n;
+  return last_dither_n_;
+}
+
+Eigen::Vector3d VertexEstimator::holdPayback_n(const Eigen::Vector3d& feedback_n,
+                                               double periods) noexcept {
+  // The feedback force moves quickly under the dither (the damping term follows the dithered
+  // velocity): held for an interval longer or shorter than one period it delivers more or less of
+  // its old value than an exact loop would, a random impulse on a jittery loop. With the force
+  // taken as linear between two ticks, the excess is half its change times the hold's deviation
+  // from one period; it is paid back as the dither's is (zero on an exact loop).
+  if (hold_started_ && periods <= kMaxDebtIntervalPeriods) {
+    hold_debt_ns_ +=
+        -last_hold_payback_n_ * periods + 0.5 * (last_feedback_n_ - feedback_n) * (periods - 1.0);
+  } else {
+    hold_debt_ns_.setZero();
+  }
+  hold_started_ = true;
+  last_feedback_n_ = feedback_n;
+  Eigen::Vector3d payback_n = (0.5 / mean_interval_periods_) * hold_debt_ns_;
+  payback_n = payback_n.cwiseMax(-dither_amplitude_n_).cwiseMin(dither_amplitude_n_);
+  last_hold_payback_n_ = payback_n;
+  return payback_n;
 }
 
 int VertexEstimator::requiredSteadyCount(bool last_update_small) const noexcept {
@@ -128,34 +213,34 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     force_n = last_force_n_;
     return Status::kSettling;
   }
-  ++ticks_;
-  estimate_.seconds = ticks_ * parameters_.servo_period_s;
+  const double periods = servoPeriodsOf(sample, parameters_.servo_period_s);
+  elapsed_periods_ += periods;
+  estimate_.seconds = elapsed_periods_ * parameters_.servo_period_s;
   if (!sample.valid) {
     force_n = last_force_n_;
-    if (++invalid_samples_ > kMaxInvalidSamples) {
+    invalid_periods_ += periods;
+    if (invalid_periods_ > max_invalid_periods_) {
       force_n.setZero();
       finish(VertexOutcome::kDeviceFault);
       return Status::kDeviceFault;
     }
     return Status::kSettling;
   }
-  invalid_samples_ = 0;
+  invalid_periods_ = 0.0;
 
   // eq. (10), plus the zero-mean dither of the dither method
   force_n = stiffness_n_per_m_ * (vertex_m_ - sample.position_m) -
             damping_n_s_per_m_ * sample.velocity_m_per_s + gravity_n_;
-  if (dither_amplitude_n_ > 0.0) {
-    force_n += ditherForce_n();
-    ++dither_ticks_;
-  }
-  saturated_ticks_ = clampForce(force_n, max_force_n_) ? saturated_ticks_ + 1 : 0;
+  if (dither_amplitude_n_ > 0.0) force_n -= holdPayback_n(force_n, periods);
+  if (dither_amplitude_n_ > 0.0) force_n += ditherCommand_n(periods);
+  saturated_periods_ = clampForce(force_n, max_force_n_) ? saturated_periods_ + periods : 0.0;
   last_force_n_ = force_n;
-  if (saturated_ticks_ > kMaxSaturatedTicks) {
+  if (saturated_periods_ > max_saturated_periods_) {
     finish(VertexOutcome::kUnreachable);
     return Status::kUnreachable;
   }
 
-  if (!detector_.update(sample.position_m, sample.velocity_m_per_s)) {
+  if (!detector_.update(sample.position_m, sample.velocity_m_per_s, sample.interval_s)) {
     if (detector_.elapsed_s() > parameters_.max_step_duration_s) {
       // Far from X_i the hold failed because the device cannot get there (bouncing on a rubber
       // end stop, buzzing at a joint limit); close to it, the estimator merely missed its steady
@@ -189,7 +274,9 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   const bool small_update = update_n <= parameters_.eps_g_n;
   detector_.reset();
   detector_.setRequired(requiredSteadyCount(small_update));
-  dither_ticks_ = 0;  // the next window starts at phase 0 again
+  dither_periods_ = 0.0;  // the next window starts at phase 0 again
+  dither_started_ = false;
+  dither_debt_ns_.setZero();
 
   small_updates_ = small_update ? small_updates_ + 1 : 0;
   const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);

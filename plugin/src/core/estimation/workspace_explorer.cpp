@@ -9,7 +9,8 @@
 namespace autograv {
 
 namespace {
-constexpr int kMaxInvalidSamples = 20;  // 20 ms at 1 kHz, as in the vertex estimator
+/// How long the readings may stay invalid before the device counts as gone. Unit: [s]
+constexpr double kMaxInvalid_s = 0.02;  // as the vertex estimator
 /// Floor on |G_hat| for the apparent mass of the probe's damping (eq. 6). Unit: [N]
 constexpr double kMinGravityN = 0.01;
 /// Time constant of the gravity estimate following the probe effort. Unit: [s]
@@ -71,11 +72,11 @@ void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
   center_m_ = center_m;
   gravity_n_ = gravity_n;
   target_m_ = center_m;
-  ticks_ = 0;
+  elapsed_s_ = 0.0;
   current_ = 0;
   probed_ = 0;
   open_directions_ = 0;
-  invalid_samples_ = 0;
+  invalid_s_ = 0.0;
   longest_recognition_s_ = 0.0;
   filtered_velocity_.setZero();
   std::fill(reach_m_.begin(), reach_m_.end(), 0.0);
@@ -93,7 +94,7 @@ void WorkspaceExplorer::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
   move_.start(from_m, to_m,
               MinimumJerkMove::durationFor((to_m - from_m).norm(),
                                            options_.max_move_acceleration_m_per_s2, kMinMove_s));
-  phase_ticks_ = 0;
+  phase_s_ = 0.0;
   state_ = Status::kTransfer;
 }
 
@@ -107,7 +108,7 @@ void WorkspaceExplorer::finishDirection(double reach_m, const Eigen::Vector3d& f
   move_.start(from_m, back_m,
               MinimumJerkMove::durationFor((back_m - from_m).norm(),
                                            options_.max_move_acceleration_m_per_s2, kMinMove_s));
-  phase_ticks_ = 0;
+  phase_s_ = 0.0;
   contact_since_s_ = -1.0;
   state_ = Status::kBackingOff;
 }
@@ -125,7 +126,7 @@ Eigen::Vector3d WorkspaceExplorer::impedanceForce(const ServoSample& sample,
   clampForce(effort_n, force_cap_n_);
   // The estimate follows the end-effector, so that a field that changes along the way does not
   // build up probe effort that a stop check would take for a stop.
-  if (adapt) gravity_n_ += effort_n * (period_s_ / kGravityFollow_s);
+  if (adapt) gravity_n_ += effort_n * (dt_s_ / kGravityFollow_s);
   target_m_ = target_m;
   Eigen::Vector3d force_n = gravity_n_ + effort_n;
   clampForce(force_n, max_force_n_);
@@ -138,22 +139,27 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
     force_n.setZero();
     return state_;
   }
-  ++ticks_;
+  // Servo time from the sample's interval: a late or early tick counts as long as it was.
+  const double dt_s =
+      sample.interval_s > 0.0 && sample.interval_s < 1.0 ? sample.interval_s : period_s_;
+  elapsed_s_ += dt_s;
   if (!sample.valid) {
     force_n = last_force_n_;
-    if (++invalid_samples_ > kMaxInvalidSamples) {
+    invalid_s_ += dt_s;
+    if (invalid_s_ > kMaxInvalid_s) {
       force_n.setZero();
       last_force_n_.setZero();
       state_ = Status::kDeviceFault;
     }
     return state_;
   }
-  invalid_samples_ = 0;
-  ++phase_ticks_;
-  const double now_s = ticks_ * period_s_;
-  const double phase_s = phase_ticks_ * period_s_;
+  invalid_s_ = 0.0;
+  phase_s_ += dt_s;
+  dt_s_ = dt_s;
+  const double now_s = elapsed_s_;
+  const double phase_s = phase_s_;
   filtered_velocity_ +=
-      (sample.velocity_m_per_s - filtered_velocity_) * std::min(1.0, period_s_ / kVelocityFilter_s);
+      (sample.velocity_m_per_s - filtered_velocity_) * std::min(1.0, dt_s / kVelocityFilter_s);
 
   switch (state_) {
     case Status::kTransfer:
@@ -169,7 +175,7 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
         state_ = Status::kFinished;
       } else {
         probe_start_m_ = desired_m;
-        phase_ticks_ = 0;
+        phase_s_ = 0.0;
         last_progress_s_ = now_s;
         last_following_m_ = sample.position_m;
         contact_since_s_ = -1.0;

@@ -115,9 +115,12 @@ CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, Wizar
                 std::to_string(kMaxVerifyPoints));
   }
   CompensationOptions compensation;
-  // The wizard runs in servo ticks of the calibration parameters, also on a simulated device that
-  // runs faster than real time.
-  compensation.clock = std::make_shared<FixedPeriodServoClock>(config_.parameters.servo_period_s);
+  // Without a clock the wizard runs in servo ticks of exactly the calibration period, also on a
+  // simulated device that runs faster than real time; with one, it and the compensation read the
+  // loop's time from it.
+  compensation.clock =
+      config_.clock ? config_.clock
+                    : std::make_shared<FixedPeriodServoClock>(config_.parameters.servo_period_s);
   compensation.ramp_duration_s = config_.compensation_ramp_s;
   compensation.enabled = false;  // the calibration itself must run uncompensated
   device_ = std::make_shared<GravityCompensatedDevice>(std::move(device), compensation);
@@ -143,16 +146,31 @@ void CalibrationWizard::post(WizardEvent event) noexcept {
 WizardStep CalibrationWizard::servoTick() noexcept {
   const WizardStep phase = phase_.load(std::memory_order_acquire);
   if (phase == WizardStep::kCheck) return phase;  // service() owns the device during Check
-  ++ticks_;
   ++phase_ticks_;
   const double period_s = config_.parameters.servo_period_s;
-  const ServoSample sample = readServoSample(*device_);
+  // Servo time since the previous tick, read once per tick (unknown without a clock: one period).
+  double interval_s = 0.0;
+  if (config_.clock) {
+    const double now_s = config_.clock->now_s();
+    if (clock_read_) interval_s = now_s - last_clock_s_;
+    last_clock_s_ = now_s;
+    clock_read_ = true;
+  }
+  const ServoSample sample = readServoSample(*device_, interval_s);
+  const double periods = servoPeriodsOf(sample, period_s);
+  servo_periods_ += periods;
+  phase_periods_ += periods;
+  loop_stats_.record(periods * period_s, std::max(0.0, (periods - 1.0) * period_s));
+  if (++loop_summary_countdown_ >= wizard::kLoopSummaryTicks) {
+    loop_summary_countdown_ = 0;
+    live_->servo_loop = loop_stats_.summary();
+  }
   bool pressed = false;
   if (!device_->getUserSwitch(0, pressed)) pressed = false;
   const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
   const std::uint32_t replies = replies_.exchange(0, std::memory_order_acq_rel);
 
-  live_->time_s = static_cast<double>(ticks_) * period_s;
+  live_->time_s = servo_periods_ * period_s;
   live_->position_valid = sample.valid;
   if (sample.valid) {
     live_->position_m = sample.position_m;
@@ -205,17 +223,21 @@ WizardStep CalibrationWizard::servoTick() noexcept {
 
 void CalibrationWizard::enter(WizardStep step) noexcept {
   phase_ticks_ = 0;
+  phase_periods_ = 0.0;
+  live_->servo_loop = loop_stats_.summary();  // what the loop did up to here, for the texts
   live_->step = step;
   phase_.store(step, std::memory_order_release);
 }
 
 bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
   if (sample.valid) {
-    invalid_samples_ = 0;
+    invalid_periods_ = 0.0;
     return false;
   }
   // A dropped frame now and then is ridden over; a device that stays silent is a fault.
-  if (++invalid_samples_ > wizard::kMaxInvalidSamples) {
+  invalid_periods_ += servoPeriodsOf(sample, config_.parameters.servo_period_s);
+  if (invalid_periods_ >
+      wizard::kMaxInvalid_s / config_.parameters.servo_period_s + wizard::kSlackPeriods) {
     fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
   }
   return true;
@@ -263,8 +285,9 @@ void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std:
   live_->last_still_held_s = -1.0;
   live_->not_settling = false;
   live_->initial_gravity_valid = false;
-  waiting_since_tick_ =
-      ticks_ + std::lround(config_.field_ramp_s / config_.parameters.servo_period_s);
+  waiting_since_periods_ =
+      servo_periods_ +
+      static_cast<double>(std::lround(config_.field_ramp_s / config_.parameters.servo_period_s));
   hold_mode_ = HoldMode::kField;
   enter(WizardStep::kRelease);
 }
@@ -278,7 +301,7 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
   const Status status = initialization_->step(sample, force_n);
   live_->release_status = status;
   live_->sag_m = initialization_->sag_m();
-  live_->release_elapsed_s = static_cast<double>(phase_ticks_) * period_s;
+  live_->release_elapsed_s = phase_periods_ * period_s;
   if (has(events, WizardEvent::kAbort)) {
     enter(WizardStep::kAborted);  // the field keeps holding until the front end closes
     return;
@@ -289,11 +312,10 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
     case Status::kStillHeld:
       live_->last_still_held_s = live_->time_s;
       live_->not_settling = false;
-      waiting_since_tick_ = ticks_;  // patience restarts: the user was told to let go
+      waiting_since_periods_ = servo_periods_;  // patience restarts: the user was told to let go
       break;
     case Status::kWaiting:
-      if (static_cast<double>(ticks_ - waiting_since_tick_) * period_s >
-          config_.release_patience_s) {
+      if ((servo_periods_ - waiting_since_periods_) * period_s > config_.release_patience_s) {
         live_->not_settling = true;
       }
       break;
@@ -450,7 +472,7 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
       }
     }
     verify_stage_ = VerifyStage::kWaitMap;
-    verify_ticks_ = 0;
+    verify_periods_ = 0.0;
     enter(WizardStep::kVerify);
     return;
   }
@@ -479,14 +501,14 @@ void CalibrationWizard::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept 
                                                   config_.calibrator.min_move_duration_s));
   hold_gravity_n_ = verify_map_->gravityAt(target_m);
   verify_stage_ = VerifyStage::kMove;
-  verify_ticks_ = 0;
+  verify_periods_ = 0.0;
 }
 
 void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t events,
                                    Eigen::Vector3d& force_n) noexcept {
   const double period_s = config_.parameters.servo_period_s;
-  ++verify_ticks_;
-  const double stage_s = static_cast<double>(verify_ticks_) * period_s;
+  verify_periods_ += servoPeriodsOf(sample, period_s);
+  const double stage_s = verify_periods_ * period_s;
   if (sampleLost(sample)) {
     force_n.setZero();
     return;
@@ -523,7 +545,7 @@ void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t even
       hold_m_ = desired_m;
       if (stage_s >= verify_move_.duration_s()) {
         verify_stage_ = VerifyStage::kSettle;
-        verify_ticks_ = 0;
+        verify_periods_ = 0.0;
       }
       break;
     }
@@ -532,7 +554,7 @@ void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t even
       if (stage_s >= config_.verify_settle_s && device_->compensationLevel() >= 1.0) {
         release_start_m_ = sample.position_m;
         verify_stage_ = VerifyStage::kRelease;
-        verify_ticks_ = 0;
+        verify_periods_ = 0.0;
       }
       break;
     case VerifyStage::kRelease: {

@@ -39,8 +39,14 @@ constexpr int kFaultDeviceStopped = 1;
 constexpr int kFaultPlanRefused = 2;
 constexpr int kFaultWritesFailed = 3;
 
-/// Consecutive invalid samples tolerated before a fault: 20 ms at 1 kHz, as the estimators do.
-constexpr int kMaxInvalidSamples = 20;
+/// Servo time of consecutive invalid samples tolerated before a fault, as the estimators do.
+/// Unit: [s]
+constexpr double kMaxInvalid_s = 0.02;
+/// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
+constexpr double kSlackPeriods = 1e-6;
+/// The servo side refreshes the loop summary it publishes every this many ticks (and on every
+/// step change): reading the histograms is cheap, but not per tick.
+constexpr int kLoopSummaryTicks = 4096;
 /// Centre is confirmed only with the end-effector about still (a hand holding it shakes a
 /// little; carrying it moves it at several cm/s). Unit: [m/s]
 constexpr double kCentreStillSpeed_m_per_s = 0.02;
@@ -78,6 +84,7 @@ struct Live {
   double calibration_elapsed_s = 0.0;
   double peak_force_n = 0.0;
   double lipschitz_n_per_m = 0.0;
+  ServoLoopStats::Summary servo_loop;
   std::array<VerifyResult, kMaxVerifyPoints> verify{};
   int verify_count = 0;
   int verify_index = 0;

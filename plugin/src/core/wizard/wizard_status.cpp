@@ -77,6 +77,29 @@ int stepNumber(WizardStep step) {
 
 }  // namespace
 
+std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_s) {
+  if (loop.ticks < 1000 || !(loop.duration_s > 0.0)) return {};  // too early to judge
+  // The estimator's windows span one dither period (50 ms at 20 Hz) in servo time: ticks a few
+  // milliseconds late average out, a gap of more than a fifth of a window spoils the window
+  // (SteadyStateDetector::kMaxGapOfWindow), which costs time, and a loop that keeps stalling or
+  // runs far below its nominal rate no longer holds the end-effector as the figures assume.
+  const double stalls_per_minute =
+      60.0 * static_cast<double>(loop.gaps_over_10ms) / loop.duration_s;
+  const bool slow = loop.rate_hz < 0.5 / period_s;
+  const bool late = loop.interval_p99_ms > 5.0;
+  const bool stalling = stalls_per_minute > 6.0 || loop.longest_gap_ms > 100.0;
+  if (!slow && !late && !stalling) return {};
+  std::ostringstream text;
+  text << "The servo loop ran irregularly: " << format("%.0f Hz", loop.rate_hz) << " (nominal "
+       << format("%.0f Hz", 1.0 / period_s) << "), 99 % of ticks within "
+       << format("%.1f ms", loop.interval_p99_ms) << " of the previous one, longest gap "
+       << format("%.0f ms", loop.longest_gap_ms) << ", " << loop.gaps_over_10ms
+       << " stalls over 10 ms. The figures shown assume a loop that keeps its time: give the "
+          "servo thread real-time priority (run as a user allowed SCHED_FIFO, e.g. chrt -f 80), "
+          "close programs that load the machine, and calibrate again.";
+  return text.str();
+}
+
 WizardStatus CalibrationWizard::status() const {
   wizard::Live live;
   {
@@ -91,6 +114,8 @@ WizardStatus CalibrationWizard::status() const {
   s.speed_m_per_s = live.speed_m_per_s;
   s.position_valid = live.position_valid;
   s.time_s = live.time_s;
+  s.servo_loop = live.servo_loop;
+  s.servo_warning = servoLoopWarning(live.servo_loop, config_.parameters.servo_period_s);
   s.centre_m = grid_.center_m();
   s.to_centre_m = grid_.center_m() - live.position_m;
   s.centre_distance_m = s.to_centre_m.norm();
@@ -263,6 +288,7 @@ WizardStatus CalibrationWizard::status() const {
                 << " after " << row.iterations << " iterations";
       }
       if (!redo_message_.empty()) message << "\n" << redo_message_;
+      if (!s.servo_warning.empty()) message << "\nWarning: " << s.servo_warning;
       s.waiting_for_user = true;
       if (live.awaiting_service) {
         message << "\nPreparing the redo...";
@@ -313,6 +339,7 @@ WizardStatus CalibrationWizard::status() const {
       s.title = "Done";
       message << "Map saved to " << config_.map_path << ": " << s.converged << " of "
               << s.vertex_count << " vertices converged.";
+      if (!s.servo_warning.empty()) message << "\nWarning: " << s.servo_warning;
       int tested = 0;
       for (const VerifyResult& result : s.verify) tested += result.finished ? 1 : 0;
       if (tested > 0) {
@@ -350,7 +377,7 @@ WizardStatus CalibrationWizard::status() const {
       switch (live.fault_code) {
         case wizard::kFaultDeviceStopped:
           message << "The device stopped answering (no valid position for "
-                  << wizard::kMaxInvalidSamples << " servo ticks).";
+                  << format("%.0f ms", wizard::kMaxInvalid_s * 1e3) << " of servo time).";
           break;
         case wizard::kFaultWritesFailed:
           message << "The device refused the forces sent to it (" << wizard::kMaxFailedWrites

@@ -1,0 +1,169 @@
+// Calibration on a loop that keeps its own time: a stall in the middle of a vertex neither ends it
+// with a wrong estimate nor faults it, the estimators allocate nothing on a jittery loop, and a
+// small calibration on a desktop or a free-running loop matches the exact loop's accuracy.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "autograv/device/servo_sample.h"
+#include "autograv/estimation/auto_calibrator.h"
+#include "autograv/estimation/vertex_estimator.h"
+#include "autograv/sim/procedures.h"
+#include "autograv/sim/servo_timing_model.h"
+#include "autograv/sim/simulated_device.h"
+#include "cube_calibration.h"
+
+namespace autograv {
+namespace {
+
+struct VertexRun {
+  VertexEstimate estimate;
+  double error_rel = 0.0;  ///< |G_hat - G| / |G| against the simulation's truth
+  int spoilt_windows = 0;
+};
+
+/// One vertex at the workspace centre of `name` (seed 1, typical friction), initialized by the
+/// simulated hand, on an exact 1 kHz loop that stalls for `stall_s` once `stall_at_s` of the
+/// vertex has passed (never, for a negative time).
+VertexRun runVertex(const std::string& name, double stall_at_s, double stall_s) {
+  auto device = sim::makeSimulatedDevice(name, 1);
+  device->open();
+  device->calibrate();
+  const EstimationParameters parameters = testing::toolParameters(*device);
+  const Eigen::Vector3d vertex_m = device->workspaceCenter_m();
+  const sim::InitializationResult initialization =
+      sim::initializeWithSimulatedHand(*device, parameters, vertex_m);
+  EXPECT_TRUE(initialization.ok) << initialization.message;
+  VertexEstimator estimator(parameters, device->specifications().max_linear_force_n);
+  estimator.start(vertex_m, initialization.gravity_n);
+  double elapsed_s = 0.0, interval_s = parameters.servo_period_s;
+  bool stalled = false;
+  VertexRun run;
+  while (!estimator.finished() && elapsed_s < 120.0) {
+    const ServoSample sample = readServoSample(*device, interval_s);
+    Eigen::Vector3d force_n;
+    estimator.step(sample, force_n);
+    device->setForce(force_n);
+    interval_s = parameters.servo_period_s;
+    if (!stalled && stall_at_s >= 0.0 && elapsed_s >= stall_at_s) {
+      interval_s = stall_s;  // the force just sent is held all that time
+      stalled = true;
+    }
+    device->advance(interval_s);
+    elapsed_s += interval_s;
+  }
+  run.estimate = estimator.estimate();
+  const Eigen::Vector3d truth_n = device->trueGravity(vertex_m);
+  run.error_rel = (run.estimate.gravity_n - truth_n).norm() / truth_n.norm();
+  return run;
+}
+
+class VertexStallTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(VertexStallTest, AStallInTheMiddleOfAVertexNeitherSpoilsTheEstimateNorFaultsIt) {
+  const VertexRun exact = runVertex(GetParam(), -1.0, 0.0);
+  ASSERT_EQ(exact.estimate.outcome, VertexOutcome::kConverged);
+  // A 20 ms stall at ten places across the vertex: in a transient, inside a window, in the
+  // windows the final estimate is read from.
+  for (int place = 1; place <= 10; ++place) {
+    const double stall_at_s = exact.estimate.seconds * place / 11.0;
+    const VertexRun stalled = runVertex(GetParam(), stall_at_s, 0.020);
+    EXPECT_EQ(stalled.estimate.outcome, VertexOutcome::kConverged)
+        << GetParam() << " stall at " << stall_at_s << " s";
+    EXPECT_LT(std::abs(stalled.error_rel - exact.error_rel), 0.003)
+        << GetParam() << " stall at " << stall_at_s << " s: error " << 100 * stalled.error_rel
+        << " % against " << 100 * exact.error_rel << " %";
+    EXPECT_LT(stalled.estimate.seconds, 1.5 * exact.estimate.seconds + 1.0) << GetParam();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySimulatedDevice, VertexStallTest,
+                         ::testing::ValuesIn(sim::simulatedDeviceNames()));
+
+TEST(ServoTimingAllocationTest, EstimatorsOnAJitteryLoopAllocateNothing) {
+  auto device = sim::makeSimulatedDevice("sim:omni", 1);
+  device->open();
+  device->calibrate();
+  const EstimationParameters parameters = testing::toolParameters(*device);
+  const WorkspaceGrid grid(device->workspaceCenter_m(), 0.02, 2);
+  AutoCalibrator calibrator(grid, parameters, device->specifications().max_linear_force_n);
+  device->resetState(grid.center_m());
+  calibrator.start(grid.center_m(), device->trueGravity(grid.center_m()));
+  sim::ServoTimingModel timing(sim::ServoTiming::kDesktop, 1);
+  ServoLoopStats stats;
+  std::vector<ServoSample> samples;
+  testing::AllocationCounter counter;
+  for (int tick = 0; tick < 20000; ++tick) {
+    const ServoSample sample = readServoSample(*device, timing.lastInterval_s());
+    Eigen::Vector3d force_n;
+    calibrator.step(sample, force_n);
+    device->setForce(force_n);
+    device->advance(timing.nextInterval_s());
+    stats.record(timing.lastInterval_s(), timing.lastLateness_s());
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_GT(calibrator.visitedCount(), 0);  // it did get through vertices meanwhile
+}
+
+struct TimedCalibration {
+  double max_error_rel = 0.0;
+  double rms_rel = 0.0;
+  double seconds = 0.0;
+  int converged = 0;
+  ServoLoopStats::Summary loop;
+};
+
+TimedCalibration calibrateCube(const std::string& name, sim::ServoTiming timing) {
+  auto device = sim::makeSimulatedDevice(name, 1);
+  device->open();
+  device->calibrate();
+  sim::CalibrationRunOptions options;
+  options.grid_center_m = device->workspaceCenter_m();
+  options.grid_size_m =
+      Eigen::Vector3d::Constant(defaultGridSide_m(device->specifications().workspace_radius_m));
+  options.grid_resolution = Eigen::Vector3i::Constant(3);
+  options.parameters = testing::toolParameters(*device);
+  options.servo_timing = timing;
+  options.servo_timing_seed = 1;
+  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+  const GravityMap map(
+      WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
+      run.vertices, MapMetadata{});
+  const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 500);
+  TimedCalibration result;
+  result.max_error_rel = accuracy.max_error_rel;
+  result.rms_rel = accuracy.rms_residual_rel;
+  result.seconds = run.simulated_seconds;
+  result.converged = map.convergedCount();
+  result.loop = run.servo_loop;
+  return result;
+}
+
+TEST(ServoTimingCalibrationTest, DesktopAndFreeLoopsCalibrateAsAccuratelyAsAnExactOne) {
+  const TimedCalibration exact = calibrateCube("sim:omega", sim::ServoTiming::kExact);
+  EXPECT_NEAR(exact.loop.rate_hz, 1000.0, 1e-6);
+  EXPECT_NEAR(exact.loop.longest_gap_ms, 1.0, 1e-9);
+  for (const sim::ServoTiming timing : {sim::ServoTiming::kDesktop, sim::ServoTiming::kFree}) {
+    const TimedCalibration timed = calibrateCube("sim:omega", timing);
+    const char* name = sim::toString(timing);
+    EXPECT_EQ(timed.converged, exact.converged) << name;
+    EXPECT_LT(std::abs(timed.max_error_rel - exact.max_error_rel), 0.003) << name;
+    EXPECT_LT(std::abs(timed.rms_rel - exact.rms_rel), 0.003) << name;
+    EXPECT_LT(timed.seconds, 1.15 * exact.seconds) << name;
+    if (timing == sim::ServoTiming::kFree) {
+      EXPECT_GT(timed.loop.rate_hz, 2000.0);
+      EXPECT_LT(timed.loop.rate_hz, 8000.0);
+    } else {
+      EXPECT_NEAR(timed.loop.rate_hz, 1000.0, 5.0);
+      EXPECT_GT(timed.loop.lateness_p50_ms, 0.3);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace autograv
