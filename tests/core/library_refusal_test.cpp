@@ -173,12 +173,7 @@ std::vector<Refusal> everyRefusal() {
        checking([](WizardConfig& c) { c.grid_size_m = Eigen::Vector3d(0.16, 0.12, 0.07); })},
       {"k0 stiffer than the device", "EstimationParameters::k0_n_per_m",
        checking([](WizardConfig& c) { c.parameters.k0_n_per_m = 1e7; })},
-      {"saturating cells", "EstimationParameters::beta_per_s2", checking([](WizardConfig& c) {
-         c.grid_size_m = Eigen::Vector3d::Constant(0.05);
-         c.grid_resolution = Eigen::Vector3i::Constant(4);
-         c.parameters.lipschitz_prior_n_per_m = 200.0;
-       })},
-      {"saturating cells (grid)", "WizardConfig::grid_resolution", checking([](WizardConfig& c) {
+      {"no weight converges", "EstimationParameters::beta_per_s2", checking([](WizardConfig& c) {
          c.grid_size_m = Eigen::Vector3d::Constant(0.05);
          c.grid_resolution = Eigen::Vector3i::Constant(4);
          c.parameters.lipschitz_prior_n_per_m = 200.0;
@@ -212,7 +207,10 @@ std::vector<Refusal> everyRefusal() {
        estimating([](P& p) { p.max_iterations = p.n_g - 1; })},
       {"step durations", "EstimationParameters::max_step_duration_s",
        estimating([](P& p) { p.max_step_duration_s = p.min_step_duration_s; })},
-      {"n_S", "EstimationParameters::n_s", estimating([](P& p) { p.n_s = 0; })},
+      {"n_S", "EstimationParameters::n_s", estimating([](P& p) {
+         p = EstimationParameters::paper();  // the rule that counts n_S samples
+         p.n_s = 0;
+       })},
       {"eps_S", "EstimationParameters::eps_s_m_per_s",
        estimating([](P& p) { p.eps_s_m_per_s = 0.0; })},
       {"dither amplitude", "EstimationParameters::dither_amplitude_n",

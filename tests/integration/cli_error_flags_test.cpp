@@ -34,14 +34,12 @@ void expectRefusalInFlags(const testing::CommandResult& run, const std::string& 
       << run.output;
 }
 
-TEST(CliErrorFlagsTest, ASaturatingGridIsRefusedWithTheFlagsThatChangeIt) {
+TEST(CliErrorFlagsTest, ABetaThatCannotConvergeIsRefusedWithTheFlagThatChangesIt) {
   const auto run = runCommand(kBinary +
-                              " calibrate --device sim:omega --grid 2 --side-mm 50 --beta 2500 "
-                              "--out " +
-                              scratch("saturating.json"));
+                              " calibrate --device sim:omega --grid 2 --side-mm 50 --beta 50 "
+                              "--alpha 10 --out " +
+                              scratch("slow.json"));
   expectRefusalInFlags(run, "--beta");
-  EXPECT_NE(run.output.find("--grid"), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find("--side-mm"), std::string::npos) << run.output;
 }
 
 TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsRefusedWithBoxMm) {

@@ -10,8 +10,9 @@ namespace autograv {
 /// recording allocates nothing; the summary reads percentiles from them (to kBin_s).
 class ServoLoopStats {
  public:
+  /// The loop's figures so far, for reports and warnings.
   struct Summary {
-    std::int64_t ticks = 0;
+    std::int64_t ticks = 0;           ///< Ticks recorded.
     double duration_s = 0.0;          ///< Sum of the intervals. Unit: [s]
     double rate_hz = 0.0;             ///< ticks / duration_s. Unit: [Hz]
     double interval_p50_ms = 0.0;     ///< Unit: [ms]
@@ -26,7 +27,7 @@ class ServoLoopStats {
   /// Histogram bin width and range (longer intervals are counted in the last bin, and the
   /// longest is kept exactly). Unit: [s]
   static constexpr double kBin_s = 2e-6;
-  static constexpr double kRange_s = 0.05;
+  static constexpr double kRange_s = 0.05;  ///< Unit: [s]
 
   /// Not real-time safe (allocates the histograms).
   ServoLoopStats();

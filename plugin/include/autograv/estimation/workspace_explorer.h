@@ -24,6 +24,7 @@ namespace autograv {
 /// force. Stepped once per servo tick; never blocks.
 class WorkspaceExplorer {
  public:
+  /// What the explorer is doing.
   enum class Status : std::uint8_t {
     kIdle,         ///< start() not called yet.
     kTransfer,     ///< Moving to where the next probe starts.
@@ -34,6 +35,7 @@ class WorkspaceExplorer {
     kDeviceFault,  ///< The device stopped answering; sending zero force.
   };
 
+  /// How the explorer probes.
   struct Options {
     /// Probe directions, spread evenly over the sphere.
     int directions = 26;
@@ -59,7 +61,9 @@ class WorkspaceExplorer {
     double max_move_acceleration_m_per_s2 = 0.5;
   };
 
+  /// Default contact force as a fraction of the maximum force.
   static constexpr double kContactForceFraction = 0.09;
+  /// Default reach limit in specified workspace radii.
   static constexpr double kReachFactor = 1.75;
   /// The end-effector follows no more than this fraction of the probe's speed at a stop.
   static constexpr double kStalledSpeedFraction = 0.3;
@@ -72,6 +76,7 @@ class WorkspaceExplorer {
   /// Throws autograv::Error on bad options or specifications. Not real-time safe.
   WorkspaceExplorer(const EstimationParameters& parameters,
                     const DeviceSpecifications& specifications, const Options& options);
+  /// With the default options.
   WorkspaceExplorer(const EstimationParameters& parameters,
                     const DeviceSpecifications& specifications)
       : WorkspaceExplorer(parameters, specifications, Options()) {}
@@ -84,7 +89,9 @@ class WorkspaceExplorer {
   /// Stops probing; keeps holding the end-effector where it is. Real-time safe.
   void abort() noexcept;
 
+  /// What the explorer is doing now.
   Status state() const noexcept { return state_; }
+  /// Directions to probe in all.
   int directionCount() const noexcept { return static_cast<int>(directions_.size()); }
   /// Directions finished so far.
   int probedCount() const noexcept { return probed_; }
@@ -96,6 +103,7 @@ class WorkspaceExplorer {
   const Eigen::Vector3d& target_m() const noexcept { return target_m_; }
   /// The probe force cap beyond the gravity estimate, and the contact threshold. Unit: [N]
   double probeForceCap_n() const noexcept { return force_cap_n_; }
+  /// The probe effort that, with the end-effector not following, means a stop. Unit: [N]
   double contactForce_n() const noexcept { return contact_force_n_; }
   /// Reach found so far along each direction (0 for those not probed yet). Unit: [m]
   const std::vector<double>& reach_m() const noexcept { return reach_m_; }

@@ -21,9 +21,13 @@ class ExploredWorkspace {
   ExploredWorkspace(const Eigen::Vector3d& center_m, std::vector<Eigen::Vector3d> directions,
                     std::vector<double> radii_m);
 
+  /// True when nothing was explored (every point counts as inside).
   bool empty() const noexcept { return directions_.empty(); }
+  /// Where the probes started. Unit: [m]
   const Eigen::Vector3d& center_m() const noexcept { return center_m_; }
+  /// The probe directions, unit vectors.
   const std::vector<Eigen::Vector3d>& directions() const noexcept { return directions_; }
+  /// Distance to the stop along each direction. Unit: [m]
   const std::vector<double>& radii_m() const noexcept { return radii_m_; }
 
   /// Distance from the centre to the boundary along `direction` (any length). Infinite when empty.
@@ -39,8 +43,9 @@ class ExploredWorkspace {
   /// centre `margin_m` inside the boundary (the centre if the workspace is thinner than that).
   /// Real-time safe. Unit: [m]
   Eigen::Vector3d pullInside(const Eigen::Vector3d& position_m, double margin_m) const noexcept;
-  /// Smallest and largest boundary distance. Unit: [m]
+  /// Smallest boundary distance. Unit: [m]
   double minRadius_m() const noexcept;
+  /// Largest boundary distance. Unit: [m]
   double maxRadius_m() const noexcept;
 
   /// `count` directions spread evenly over the sphere (a Fibonacci lattice), ordered so that each

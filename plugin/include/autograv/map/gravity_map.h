@@ -72,6 +72,7 @@ struct VertexEstimate {
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   /// The estimate measured at measured_at_m (only when measuredOffVertex()). Unit: [N]
   Eigen::Vector3d measured_gravity_n = Eigen::Vector3d::Zero();
+  /// True when the estimate was measured at measured_at_m, not at the vertex.
   bool measuredOffVertex() const noexcept { return measured_at_m.allFinite(); }
 };
 

@@ -86,8 +86,8 @@ struct DeltaParameters {
   /// the arms reach their stops): a rubber wall on each face of a box of this half-width.
   /// 0: none. Units: [m], [N/m], [N s/m]
   double travel_stop_half_width_m = 0.0;
-  double travel_stop_stiffness_n_per_m = 2000.0;
-  double travel_stop_damping_n_s_per_m = 5.0;
+  double travel_stop_stiffness_n_per_m = 2000.0;  ///< Unit: [N/m]
+  double travel_stop_damping_n_s_per_m = 5.0;     ///< Unit: [N s/m]
 };
 
 /// The "sim:falcon" preset: a Novint-Falcon-like delta (8.9 N, 4-inch cube, > 400 dpi) with

@@ -95,7 +95,7 @@ struct CalibrationRunOptions {
   /// Where the simulated hand initializes (X0) when grid_from_workspace; else the grid's centre.
   /// Unit: [m]
   Eigen::Vector3d initialization_center_m = Eigen::Vector3d::Zero();
-  WorkspaceExplorer::Options explorer;
+  WorkspaceExplorer::Options explorer;  ///< How the exploration probes.
   /// A workspace explored before (a resumed run's checkpoint): used instead of exploring again.
   ExploredWorkspace workspace;
   /// Centre of the grid's box. Unit: [m]
@@ -125,7 +125,7 @@ struct CalibrationRunOptions {
   /// How the servo ticks arrive (README, "Servo timing"), drawn from servo_timing_seed; the
   /// nominal period is parameters.servo_period_s.
   ServoTiming servo_timing = ServoTiming::kExact;
-  std::uint64_t servo_timing_seed = 1;
+  std::uint64_t servo_timing_seed = 1;  ///< Seed of the timing model's draws.
   /// After the grid, visit again the vertices that did not converge, up to this many times (what
   /// the wizard's Review offers a user): a vertex that missed its steady state once, because of
   /// an encoder's one-count dither, usually settles on a second visit.
@@ -140,15 +140,15 @@ struct CalibrationRunResult {
   InitializationResult initialization;
   /// The grid calibrated (the options' box, or the one fitted to the explored workspace).
   WorkspaceGrid grid{Eigen::Vector3d::Zero(), 0.06, 2};
-  ExploredWorkspace workspace;  ///< Empty without explore.
-  MeasurementPlan plan;
+  ExploredWorkspace workspace;       ///< Empty without explore.
+  MeasurementPlan plan;              ///< Where each vertex was measured.
   double exploration_seconds = 0.0;  ///< Servo time of the exploration. Unit: [s]
   /// Longest time from the end-effector's last progress to a recognised stop. Unit: [s]
   double longest_stop_recognition_s = 0.0;
   /// Servo ticks whose force reached the device's limit (clamped by the device), and the servo
   /// time spent above its continuous rating, exploration and grid run together. Unit: [s]
   std::uint64_t force_limit_ticks = 0;
-  double seconds_above_continuous_force = 0.0;
+  double seconds_above_continuous_force = 0.0;  ///< Unit: [s]
   /// Every vertex; the unreachable ones filled from the converged ones (AutoCalibrator::makeMap).
   std::vector<VertexEstimate> vertices;
   double simulated_seconds = 0.0;      ///< Initialization included. Unit: [s]
@@ -202,19 +202,19 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
 /// only), inside the grid's box or not. The shell is the part within `shell_m` of the workspace's
 /// boundary, where hands rest against the stops.
 struct FieldErrorReport {
-  int samples = 0;  ///< Points drawn (all reachable).
-  double p50_rel = 0.0;
-  double p90_rel = 0.0;
-  double p99_rel = 0.0;
-  double max_rel = 0.0;
-  double max_n = 0.0;  ///< Largest |G_hat(X) - G(X)|. Unit: [N]
+  int samples = 0;       ///< Points drawn (all reachable).
+  double p50_rel = 0.0;  ///< Median of the relative error.
+  double p90_rel = 0.0;  ///< 90th percentile.
+  double p99_rel = 0.0;  ///< 99th percentile.
+  double max_rel = 0.0;  ///< Largest.
+  double max_n = 0.0;    ///< Largest |G_hat(X) - G(X)|. Unit: [N]
   /// Where max_rel was found. Unit: [m]
   Eigen::Vector3d worst_point_m = Eigen::Vector3d::Zero();
-  int shell_samples = 0;  ///< Of those, the points within shell_m of the boundary.
-  double shell_p50_rel = 0.0;
-  double shell_p90_rel = 0.0;
-  double shell_p99_rel = 0.0;
-  double shell_max_rel = 0.0;
+  int shell_samples = 0;       ///< Of those, the points within shell_m of the boundary.
+  double shell_p50_rel = 0.0;  ///< The same over the shell's points.
+  double shell_p90_rel = 0.0;  ///< 90th percentile in the shell.
+  double shell_p99_rel = 0.0;  ///< 99th percentile in the shell.
+  double shell_max_rel = 0.0;  ///< Largest in the shell.
 };
 
 /// Draws `samples` reachable points uniformly (seeded) and measures the map's error there; a point

@@ -49,19 +49,21 @@ class ServoTimingModel {
   double lastLateness_s() const noexcept { return last_lateness_s_; }
   /// Time of the latest tick since construction. Unit: [s]
   double now_s() const noexcept { return now_s_; }
+  /// The model's kind of loop.
   ServoTiming timing() const noexcept { return timing_; }
+  /// The loop's nominal period. Unit: [s]
   double nominalPeriod_s() const noexcept { return nominal_period_s_; }
 
   /// Desktop: the stall, its spacing, the rare late ticks. Units: [s], fraction
   static constexpr double kStall_s = 0.020;
-  static constexpr double kStallSpacingMin_s = 10.0;
-  static constexpr double kStallSpacingMax_s = 30.0;
-  static constexpr double kRareLateFraction = 0.01;
+  static constexpr double kStallSpacingMin_s = 10.0;  ///< Unit: [s]
+  static constexpr double kStallSpacingMax_s = 30.0;  ///< Unit: [s]
+  static constexpr double kRareLateFraction = 0.01;   ///< Of the ticks, 3-5 ms late.
   /// Shortest interval: even a catch-up tick takes this long. Unit: [s]
   static constexpr double kMinInterval_s = 20e-6;
   /// Free-running band. Unit: [Hz]
   static constexpr double kFreeMinRate_hz = 2000.0;
-  static constexpr double kFreeMaxRate_hz = 8000.0;
+  static constexpr double kFreeMaxRate_hz = 8000.0;  ///< Unit: [Hz]
 
  private:
   double uniform() noexcept;  // [0, 1)
@@ -81,6 +83,7 @@ class ServoTimingModel {
 /// decorator and the loop around it can share it. Real-time safe.
 class ServoTimingClock final : public ServoClock {
  public:
+  /// Reads `model`, which must outlive the clock.
   explicit ServoTimingClock(const ServoTimingModel& model) noexcept : model_(model) {}
   double now_s() noexcept override { return model_.now_s(); }
 

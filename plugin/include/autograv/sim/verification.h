@@ -130,7 +130,7 @@ struct VerificationOptions {
   CompensationOptions compensation;
   /// How the servo ticks arrive, drawn from servo_timing_seed (README, "Servo timing").
   ServoTiming servo_timing = ServoTiming::kExact;
-  std::uint64_t servo_timing_seed = 1;
+  std::uint64_t servo_timing_seed = 1;  ///< Seed of the timing model's draws.
   /// Also release every point with compensation off (the baseline the drift is compared with).
   bool compare_uncompensated = true;
   /// Called after each point of each pass with (points done, points in all passes).

@@ -138,8 +138,9 @@ void CalibrationWizard::runCheck(bool retry) {
               << specifications.max_linear_stiffness_n_per_m << " N/m.";
       throw Error(message.str());
     }
-    const std::vector<std::string> refusal =
-        refusalForAnyGravity(parameters, grid_.maxSpacing_m(), max_force_n_);
+    const std::vector<std::string> refusal = refusalForAnyGravity(
+        parameters, AutoCalibrator::largestHoldStep_m(parameters, config_.calibrator),
+        max_force_n_);
     if (!refusal.empty()) {
       std::string message =
           "These parameters cannot work on this device whatever its weight (paper Secs. IV and "
@@ -225,8 +226,12 @@ void CalibrationWizard::service() {
 
   const std::uint32_t requests = requests_.exchange(0, std::memory_order_acq_rel);
   if ((requests & wizard::kRequestPlanCheck) != 0) {
+    // The moves are minimum-jerk paths: the gap they leave, not a whole cell, is what the PD
+    // must close (AutoCalibrator::largestHoldStep_m).
     const std::vector<std::string> problems = checkCalibrationPlan(
-        config_.parameters, grid_.maxSpacing_m(), max_force_n_, plan_gravity_n_);
+        config_.parameters,
+        AutoCalibrator::largestHoldStep_m(config_.parameters, config_.calibrator), max_force_n_,
+        plan_gravity_n_);
     plan_message_.clear();
     for (const auto& problem : problems) plan_message_ += "\n  - " + problem;
     replies_.fetch_or(problems.empty() ? wizard::kReplyPlanAccepted : wizard::kReplyPlanRefused,
