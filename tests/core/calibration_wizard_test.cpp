@@ -364,15 +364,18 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
       << rig.wizard->status().message;
 }
 
-TEST(CalibrationWizardTest, APlanThatWouldSaturateThisDeviceIsRefusedAfterRelease) {
+TEST(CalibrationWizardTest, APlanThatCannotConvergeForThisDeviceIsRefusedAfterRelease) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path, 2, 0.05);
-  config.parameters.beta_per_s2 = 2500.0;  // feasible for a light end-effector, not for 2 N
+  // beta |G| >= 2 c g holds for an end-effector above 3.9 N, not for this one's 2.1 N: only the
+  // weight measured at the initialization can tell.
+  config.parameters.beta_per_s2 = 50.0;
+  config.parameters.alpha_per_s = 10.0;
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 30.0)) << rig.wizard->status().message;
   const WizardStatus status = rig.wizard->status();
   EXPECT_TRUE(status.initial_gravity_valid);
-  EXPECT_NE(status.message.find("saturation check failed"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("convergence check failed"), std::string::npos) << status.message;
   EXPECT_NE(status.message.find("refused before the device moves"), std::string::npos);
   // The k0 field still holds the end-effector near where it was released.
   const Eigen::Vector3d before_m = rig.device->truePosition_m();

@@ -27,8 +27,6 @@ constexpr double kSettleTolerance_m = 1e-4;
 constexpr double kProbeFrozenForceFloor_n = 2.0;
 // How far outside the map's grid the residual probe may take the end-effector. Unit: [m]
 constexpr double kProbeOutsideGrid_m = 0.003;
-// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
-constexpr double kSlackPeriods = 1e-6;
 
 /// Remembers the largest force that went to the device: the check "never above the device's
 /// maximum" is made on what was sent, not on what the decorator meant to send.
@@ -70,12 +68,13 @@ ProbeOutcome holdToward(HapticDevice& device, TickSource& ticks, const Eigen::Ve
   const double period_s = ticks.period_s();
   const long total_ticks = std::max(1L, std::lround(duration_s / period_s));
   const long average_ticks = std::clamp(std::lround(average_s / period_s), 1L, total_ticks);
-  const double window_from = static_cast<double>(total_ticks - average_ticks) - kSlackPeriods;
+  const double window_from =
+      static_cast<double>(total_ticks - average_ticks) - kServoTimeSlackPeriods;
   Eigen::Vector3d window_start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d effort_sum_n = Eigen::Vector3d::Zero();
   double weight_sum = 0.0;
   bool window_started = false;
-  for (double elapsed = 0.0; elapsed < static_cast<double>(total_ticks) - kSlackPeriods;) {
+  for (double elapsed = 0.0; elapsed < static_cast<double>(total_ticks) - kServoTimeSlackPeriods;) {
     const ServoSample sample = readServoSample(device, ticks.lastInterval_s());
     Eigen::Vector3d effort_n = Eigen::Vector3d::Zero();
     if (sample.valid) {
@@ -206,7 +205,7 @@ ReleaseMeasurement measureRelease(HapticDevice& device, TickSource& ticks, doubl
   Eigen::Vector3d released_at_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   double elapsed = 0.0;  // servo time in nominal periods
-  for (long k = 0; elapsed < static_cast<double>(total_ticks) - kSlackPeriods; ++k) {
+  for (long k = 0; elapsed < static_cast<double>(total_ticks) - kServoTimeSlackPeriods; ++k) {
     const bool read = device.getPosition(position_m) && position_m.allFinite();
     device.setForce(Eigen::Vector3d::Zero());
     if (!read) {

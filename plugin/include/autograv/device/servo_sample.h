@@ -6,6 +6,13 @@
 
 namespace autograv {
 
+/// How long a servo loop rides over invalid readings, holding the last force, before it counts
+/// the device as gone: a dropped USB frame, not a dead device. Unit: [s]
+inline constexpr double kMaxInvalidReadings_s = 0.02;
+/// Rounding slack when servo time summed in nominal periods is compared with a duration.
+/// Unit: [nominal servo periods]
+inline constexpr double kServoTimeSlackPeriods = 1e-6;
+
 /// What the servo loop read from the device this tick.
 struct ServoSample {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();        ///< Unit: [m]

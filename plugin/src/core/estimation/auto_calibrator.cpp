@@ -10,9 +10,6 @@
 namespace autograv {
 
 namespace {
-// Servo time of consecutive bad samples tolerated, as in the vertex estimator. Unit: [s]
-constexpr double kMaxInvalid_s = 0.02;
-constexpr double kSlackPeriods = 1e-6;  // rounding slack of servo time summed in periods
 
 bool isDone(const VertexEstimate& vertex) noexcept {
   return vertex.outcome == VertexOutcome::kConverged;
@@ -226,7 +223,8 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
   if (!sample.valid) {
     force_n = last_force_n_;
     invalid_periods_ += periods;
-    if (invalid_periods_ > kMaxInvalid_s / parameters_.servo_period_s + kSlackPeriods) {
+    if (invalid_periods_ >
+        kMaxInvalidReadings_s / parameters_.servo_period_s + kServoTimeSlackPeriods) {
       force_n.setZero();
       last_force_n_.setZero();
       if (active_ && state_ == Status::kEstimating) {

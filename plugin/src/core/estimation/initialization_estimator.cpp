@@ -3,17 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 
 namespace autograv {
 
-namespace {
-// Servo time of consecutive bad samples tolerated (holding the last force) before declaring a
-// fault: rides over a dropped USB frame but not over a dead device. Unit: [s]
-constexpr double kMaxInvalid_s = 0.02;
-// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
-constexpr double kSlackPeriods = 1e-6;
-}  // namespace
+namespace {}  // namespace
 
 InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
                                                  double max_force_n, double ramp_s,
@@ -23,7 +18,8 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
       damping_n_s_per_m_(damping_n_s_per_m),
       ramp_periods_(
           static_cast<double>(std::max(1L, std::lround(ramp_s / parameters.servo_period_s)))),
-      max_invalid_periods_(kMaxInvalid_s / parameters.servo_period_s + kSlackPeriods),
+      max_invalid_periods_(kMaxInvalidReadings_s / parameters.servo_period_s +
+                           kServoTimeSlackPeriods),
       detector_(SteadyStateDetector::forParameters(parameters)) {
   if (!(parameters.k0_n_per_m > 0.0))
     throw Error(

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 
 namespace autograv {
 
 namespace {
-// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
-constexpr double kSlackPeriods = 1e-6;
 
 double periodsOf(double interval_s, double period_s) noexcept {
   if (!(interval_s > 0.0) || !(interval_s < 1e300)) return 1.0;
@@ -168,8 +167,8 @@ bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
     } else {
       breakRun();
     }
-    settled_ = run_periods_ >= required_ - kSlackPeriods &&
-               elapsed_periods_ >= min_periods_ - kSlackPeriods;
+    settled_ = run_periods_ >= required_ - kServoTimeSlackPeriods &&
+               elapsed_periods_ >= min_periods_ - kServoTimeSlackPeriods;
     return settled_;
   }
   const bool gap = periods > kMaxGapOfWindow * window_periods_;
@@ -179,7 +178,7 @@ bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
   double remaining = periods;
   bool closed = false;
   // Split the sample's interval at each window end it straddles.
-  while (window_fill_periods_ + remaining >= window_periods_ - kSlackPeriods) {
+  while (window_fill_periods_ + remaining >= window_periods_ - kServoTimeSlackPeriods) {
     const double part = std::max(0.0, window_periods_ - window_fill_periods_);
     window_sum_m_ += part * position_m;
     window_spoilt_ = window_spoilt_ || gap;
@@ -187,14 +186,15 @@ bool SteadyStateDetector::update(const Eigen::Vector3d& position_m,
     closeWindow();
     closed = true;
   }
-  if (remaining > kSlackPeriods) {
+  if (remaining > kServoTimeSlackPeriods) {
     window_sum_m_ += remaining * position_m;
     window_fill_periods_ += remaining;
     window_spoilt_ = window_spoilt_ || gap;
   }
   // Judged when a window ends: the estimate is read over whole windows only.
   if (closed) {
-    settled_ = consecutive_ >= required_ && elapsed_periods_ >= min_periods_ - kSlackPeriods;
+    settled_ =
+        consecutive_ >= required_ && elapsed_periods_ >= min_periods_ - kServoTimeSlackPeriods;
   }
   return settled_;
 }

@@ -9,15 +9,10 @@
 namespace autograv {
 
 namespace {
-// Servo time of consecutive bad samples tolerated (holding the last force) before the vertex is
-// given up: rides over a dropped USB frame, not over a dead device. Unit: [s]
-constexpr double kMaxInvalid_s = 0.02;
 // Holding force at the actuator limit for this long means the device cannot be held at the vertex
 // with the force it has, and the estimate is corrupted by saturation (paper Sec. IV: the proofs
 // hold only without saturation). Unit: [s]
 constexpr double kMaxSaturated_s = 0.05;
-// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
-constexpr double kSlackPeriods = 1e-6;
 // Smoothing of the mean servo interval the dither's payback is spread over.
 constexpr double kIntervalSmoothing = 0.05;
 // The dither's payback: rate per nominal period (about 3 ms to pay a debt back) and damping.
@@ -72,8 +67,8 @@ VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double 
                               : EstimationParameters::kAutoDitherFraction * max_force_n;
     dither_step_rad_ = 2.0 * kPi * parameters.dither_frequency_hz * parameters.servo_period_s;
   }
-  max_invalid_periods_ = kMaxInvalid_s / parameters.servo_period_s + kSlackPeriods;
-  max_saturated_periods_ = kMaxSaturated_s / parameters.servo_period_s + kSlackPeriods;
+  max_invalid_periods_ = kMaxInvalidReadings_s / parameters.servo_period_s + kServoTimeSlackPeriods;
+  max_saturated_periods_ = kMaxSaturated_s / parameters.servo_period_s + kServoTimeSlackPeriods;
   estimate_.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
 }
 
@@ -133,8 +128,8 @@ Eigen::Vector3d VertexEstimator::ditherImpulse_ns(double from, double to) const 
   // The waveform an exact loop sends, one value per nominal period, integrated over [from, to]
   // (in nominal periods since the iteration's first sample). Unit: [N period]
   Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
-  const double first = std::floor(from + kSlackPeriods);
-  const double last = std::ceil(to - kSlackPeriods);
+  const double first = std::floor(from + kServoTimeSlackPeriods);
+  const double last = std::ceil(to - kServoTimeSlackPeriods);
   for (double cell = first; cell < last; cell += 1.0) {
     const double overlap = std::min(to, cell + 1.0) - std::max(from, cell);
     if (overlap > 0.0) impulse += ditherForce_n(cell) * overlap;
@@ -163,7 +158,8 @@ Eigen::Vector3d VertexEstimator::ditherCommand_n(double periods) noexcept {
     }
   }
   dither_started_ = true;
-  const Eigen::Vector3d waveform_n = ditherForce_n(std::floor(dither_periods_ + kSlackPeriods));
+  const Eigen::Vector3d waveform_n =
+      ditherForce_n(std::floor(dither_periods_ + kServoTimeSlackPeriods));
   // Both the impulse debt and its integral (what it did to the position, times the mass) are
   // paid back, critically damped at kPaybackRate per nominal period: the end-effector ends up
   // where the exact waveform would have put it, not merely at its velocity.

@@ -9,8 +9,6 @@
 namespace autograv {
 
 namespace {
-/// How long the readings may stay invalid before the device counts as gone. Unit: [s]
-constexpr double kMaxInvalid_s = 0.02;  // as the vertex estimator
 /// Floor on |G_hat| for the apparent mass of the probe's damping (eq. 6). Unit: [N]
 constexpr double kMinGravityN = 0.01;
 /// Time constant of the gravity estimate following the probe effort. Unit: [s]
@@ -146,7 +144,7 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
   if (!sample.valid) {
     force_n = last_force_n_;
     invalid_s_ += dt_s;
-    if (invalid_s_ > kMaxInvalid_s) {
+    if (invalid_s_ > kMaxInvalidReadings_s) {
       force_n.setZero();
       last_force_n_.setZero();
       state_ = Status::kDeviceFault;

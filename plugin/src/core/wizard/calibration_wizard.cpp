@@ -237,7 +237,7 @@ bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
   // A dropped frame now and then is ridden over; a device that stays silent is a fault.
   invalid_periods_ += servoPeriodsOf(sample, config_.parameters.servo_period_s);
   if (invalid_periods_ >
-      wizard::kMaxInvalid_s / config_.parameters.servo_period_s + wizard::kSlackPeriods) {
+      kMaxInvalidReadings_s / config_.parameters.servo_period_s + kServoTimeSlackPeriods) {
     fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
   }
   return true;

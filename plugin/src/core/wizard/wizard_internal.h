@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/wizard/calibration_wizard.h"
@@ -39,11 +40,6 @@ constexpr int kFaultDeviceStopped = 1;
 constexpr int kFaultPlanRefused = 2;
 constexpr int kFaultWritesFailed = 3;
 
-/// Servo time of consecutive invalid samples tolerated before a fault, as the estimators do.
-/// Unit: [s]
-constexpr double kMaxInvalid_s = 0.02;
-/// Rounding slack when servo time, summed in nominal periods, is compared with a duration.
-constexpr double kSlackPeriods = 1e-6;
 /// The servo side refreshes the loop summary it publishes every this many ticks (and on every
 /// step change): reading the histograms is cheap, but not per tick.
 constexpr int kLoopSummaryTicks = 4096;

@@ -377,7 +377,7 @@ WizardStatus CalibrationWizard::status() const {
       switch (live.fault_code) {
         case wizard::kFaultDeviceStopped:
           message << "The device stopped answering (no valid position for "
-                  << format("%.0f ms", wizard::kMaxInvalid_s * 1e3) << " of servo time).";
+                  << format("%.0f ms", kMaxInvalidReadings_s * 1e3) << " of servo time).";
           break;
         case wizard::kFaultWritesFailed:
           message << "The device refused the forces sent to it (" << wizard::kMaxFailedWrites
