@@ -109,6 +109,19 @@ TEST(MapRefinementTest, TheRefinedLookupAllocatesNothing) {
 TEST(MapRefinementTest, ARefinementOutOfRangeIsRefused) {
   EXPECT_THROW(measuredMap(affineField, 0), Error);
   EXPECT_THROW(measuredMap(affineField, kMaxLookupRefinement + 1), Error);
+  // A fine grid refined much further would cost a long solve at every load: refused.
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 16);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (auto& vertex : vertices) vertex.outcome = VertexOutcome::kConverged;
+  MapMetadata metadata;
+  metadata.lookup_refinement = 4;  // 61^3 lookup vertices
+  try {
+    GravityMap(grid, vertices, metadata);
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("MapMetadata::lookup_refinement"), std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(MapRefinementTest, WorkspaceMeasurementsAndRefinementRoundTripInSchema3) {

@@ -98,6 +98,9 @@ struct MapMetadata {
 inline constexpr int kDefaultLookupRefinement = 2;
 /// Largest lookup refinement a map accepts.
 inline constexpr int kMaxLookupRefinement = 8;
+/// Most vertices of a refined lookup grid (a 33 x 33 x 33 grid): its values take one sparse solve
+/// when the map is built.
+inline constexpr long kMaxLookupVertices = 35937;
 
 /// Largest magnitude of a vertex estimate's component that a map accepts. No device's gravity
 /// comes near it; the bound keeps interpolation, ramps and the application's force plus the
@@ -110,7 +113,7 @@ class GravityMap {
  public:
   /// Throws autograv::Error when vertices.size() != grid.vertexCount(), an estimate is not
   /// finite or has a component beyond kMaxGravityEstimate_n, or the lookup refinement lies
-  /// outside 1..kMaxLookupRefinement or makes more than 64 lookup vertices along an axis.
+  /// outside 1..kMaxLookupRefinement or makes more than kMaxLookupVertices lookup vertices.
   /// Not real-time safe.
   GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices, MapMetadata metadata);
 

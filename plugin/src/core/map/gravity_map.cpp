@@ -102,6 +102,16 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
                 std::to_string(kMaxLookupRefinement) + ", got " + std::to_string(refinement));
   }
   if (refinement == 1) return;
+  const Eigen::Vector3i fine =
+      (grid_.resolution() - Eigen::Vector3i::Ones()) * refinement + Eigen::Vector3i::Ones();
+  // The finer grid's values are one sparse solve: bounded so that a map file cannot ask for
+  // minutes of it.
+  if (fine.cast<long>().prod() > kMaxLookupVertices) {
+    throw Error("gravity map: MapMetadata::lookup_refinement " + std::to_string(refinement) +
+                " on a grid of " + grid_.describe() + " makes more than " +
+                std::to_string(kMaxLookupVertices) +
+                " lookup vertices; use a smaller refinement for so fine a grid");
+  }
   const std::vector<Eigen::Vector3d> refined = refinedVertexValues(grid_, vertices_, refinement);
   lookup_resolution_ =
       (grid_.resolution() - Eigen::Vector3i::Ones()) * refinement + Eigen::Vector3i::Ones();
