@@ -49,11 +49,15 @@ step "AddressSanitizer + UndefinedBehaviorSanitizer build of core, sim and their
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \
   -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
 cmake --build build/asan -j "$jobs"
-# verify's accuracy tests simulate minutes of probing on every device: 1-3 minutes each under
-# ASan, half the stage. They run in the release stage above; here their probing code still runs
-# through VerificationHistoryTest and VerificationServoPathTest.
+# verify's accuracy tests simulate minutes of probing on every device, and the whole default
+# calibrations (exploration, a 5x5x5 plan, the solved map) minutes of servo time: 1-5 minutes each
+# under ASan. They run in the release stage above; here their code still runs through
+# VerificationHistoryTest, VerificationServoPathTest, WorkspaceExplorationTest, MeasurementPlanTest
+# and MapRefinementTest.
+asan_release_only="^SimulatedDevices/VerificationTest\.|^EverySimulatedDevice/DefaultCalibrationTest\."
+asan_release_only+="|^DevicesWithStopsInReach/EndStopCalibrationTest\.|^CalibrationTest\.CoarseGrids"
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --output-on-failure -j "$jobs" -LE "xvfb|slow" -E "^SimulatedDevices/VerificationTest\.")
+  ctest --output-on-failure -j "$jobs" -LE "xvfb|slow" -E "$asan_release_only")
 
 step "libFuzzer targets (clang, ASan + UBSan): each on its seed corpus for ${fuzz_seconds}s"
 cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_FUZZ=ON \

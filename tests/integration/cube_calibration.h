@@ -23,6 +23,7 @@ inline EstimationParameters toolParameters(const sim::SimulatedDevice& device) {
 /// returns the map, labelled with the device's model. Not real-time safe.
 inline GravityMap calibrateDefaultCube(sim::SimulatedDevice& device, int resolution) {
   sim::CalibrationRunOptions options;
+  options.explore = false;  // every vertex of the default cube is reachable
   options.grid_center_m = device.workspaceCenter_m();
   options.grid_size_m =
       Eigen::Vector3d::Constant(defaultGridSide_m(device.specifications().workspace_radius_m));

@@ -214,6 +214,16 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   if (!result.initialization.ok) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
+  // The plan depends on G_hat_0 and the parameters only: checked before the device moves by
+  // itself, the exploration included.
+  const auto problems = checkCalibrationPlan(
+      parameters, AutoCalibrator::largestHoldStep_m(parameters, options.calibrator), max_force_n,
+      result.initialization.gravity_n);
+  if (!problems.empty()) {
+    std::string message = "calibration refused before the device moves by itself:";
+    for (const auto& problem : problems) message += "\n  - " + problem;
+    throw Error(message);
+  }
 
   if (options.explore && !options.workspace.empty()) {
     result.workspace = options.workspace;
@@ -239,15 +249,6 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   const WorkspaceGrid& grid = result.grid;
   result.plan = planMeasurements(grid, result.workspace);
   if (options.on_explored) options.on_explored(result.workspace, grid);
-  const auto problems = checkCalibrationPlan(
-      parameters, AutoCalibrator::largestHoldStep_m(parameters, options.calibrator), max_force_n,
-      result.initialization.gravity_n);
-  if (!problems.empty()) {
-    std::string message = "calibration refused before the device moves by itself:";
-    for (const auto& problem : problems) message += "\n  - " + problem;
-    throw Error(message);
-  }
-
   AutoCalibrator calibrator(grid, parameters, max_force_n, options.calibrator);
   if (!options.resume_from.empty()) calibrator.restore(options.resume_from);
   calibrator.setPlan(result.plan);
