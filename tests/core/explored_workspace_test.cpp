@@ -61,6 +61,35 @@ TEST(ExploredWorkspaceTest, ContainsAndPullInsideKeepTheMargin) {
   EXPECT_EQ(unknown.pullInside(outside, 0.004), outside);
 }
 
+TEST(ExploredWorkspaceTest, DepthIsMeasuredSquareToTheBoundaryNotAlongTheRay) {
+  // A cube of half-width 50 mm probed along its 26 lattice directions: every boundary point lies
+  // on a face, and the facets near the +x face lie in its plane.
+  std::vector<Eigen::Vector3d> directions;
+  std::vector<double> radii;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      for (int k = -1; k <= 1; ++k) {
+        if (i == 0 && j == 0 && k == 0) continue;
+        const Eigen::Vector3d u = Eigen::Vector3d(i, j, k).normalized();
+        directions.push_back(u);
+        radii.push_back(0.05 / u.cwiseAbs().maxCoeff());
+      }
+    }
+  }
+  const ExploredWorkspace cube(Eigen::Vector3d::Zero(), directions, radii);
+  // 5 mm from the +x face along its normal; along the oblique ray from the centre it is 6.4 mm.
+  const Eigen::Vector3d near_face(0.045, 0.03, 0.02);
+  EXPECT_NEAR(cube.depth_m(near_face), 0.005, 1e-9);
+  EXPECT_GT(cube.boundaryDistance_m(near_face) - near_face.norm(), 0.006);
+  EXPECT_TRUE(cube.contains(near_face, 0.0049));
+  EXPECT_FALSE(cube.contains(near_face, 0.0051));
+  // Pulled inside, a point beyond the face keeps the margin from the face itself.
+  const Eigen::Vector3d beyond(0.06, 0.036, 0.024);
+  const Eigen::Vector3d pulled = cube.pullInside(beyond, 0.004);
+  EXPECT_NEAR(pulled.x(), 0.046, 1e-9);
+  EXPECT_NEAR((pulled.normalized()).dot(beyond.normalized()), 1.0, 1e-12);
+}
+
 TEST(ExploredWorkspaceTest, RefusesWhatIsNoWorkspace) {
   const std::vector<Eigen::Vector3d> six = ExploredWorkspace::probeDirections(6);
   EXPECT_THROW(ExploredWorkspace(Eigen::Vector3d::Zero(), six, std::vector<double>(5, 0.05)),

@@ -36,12 +36,13 @@ class ExploredWorkspace {
   /// True when `position_m` lies at least `margin_m` inside the boundary (always, when empty).
   /// Real-time safe. Unit: [m]
   bool contains(const Eigen::Vector3d& position_m, double margin_m = 0.0) const noexcept;
-  /// How far `position_m` lies inside the boundary, measured along the ray from the centre
-  /// (negative outside). Real-time safe. Unit: [m]
+  /// How far `position_m` lies inside the boundary (negative outside), measured square to the
+  /// boundary facet its ray from the centre meets: a point a few millimetres inside along an
+  /// oblique ray may be much closer to the stop. Real-time safe. Unit: [m]
   double depth_m(const Eigen::Vector3d& position_m) const noexcept;
   /// `position_m` itself when it lies `margin_m` inside, else the point on its ray from the
-  /// centre `margin_m` inside the boundary (the centre if the workspace is thinner than that).
-  /// Real-time safe. Unit: [m]
+  /// centre that lies `margin_m` inside the boundary (depth_m; the centre if the workspace is
+  /// thinner than that). Real-time safe. Unit: [m]
   Eigen::Vector3d pullInside(const Eigen::Vector3d& position_m, double margin_m) const noexcept;
   /// Smallest boundary distance. Unit: [m]
   double minRadius_m() const noexcept;
@@ -53,6 +54,17 @@ class ExploredWorkspace {
   static std::vector<Eigen::Vector3d> probeDirections(int count);
 
  private:
+  /// Where the ray from the centre along the unit vector `u` leaves the model, and the cosine
+  /// between `u` and the outward normal of the facet it leaves through (at least
+  /// kMinFacetCosine, 1 where no facet holds `u`).
+  struct Exit {
+    double distance_m;
+    double cosine;
+  };
+  Exit exitAlong(const Eigen::Vector3d& u) const noexcept;
+  /// Floor on Exit::cosine: a facet seen this obliquely is treated as seen at this angle.
+  static constexpr double kMinFacetCosine = 0.25;
+
   Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> directions_;
   std::vector<double> radii_m_;

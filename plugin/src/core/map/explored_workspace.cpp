@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include "autograv/error.h"
@@ -46,7 +47,10 @@ double ExploredWorkspace::boundaryDistance_m(const Eigen::Vector3d& direction) c
   if (directions_.empty()) return std::numeric_limits<double>::infinity();
   const double norm = direction.norm();
   if (!(norm > 0.0)) return minRadius_m();
-  const Eigen::Vector3d u = direction / norm;
+  return exitAlong(direction / norm).distance_m;
+}
+
+ExploredWorkspace::Exit ExploredWorkspace::exitAlong(const Eigen::Vector3d& u) const noexcept {
   // The kCandidates probe directions closest to u (largest dot products), closest first.
   constexpr int kCandidates = 6;
   int best[kCandidates];
@@ -88,7 +92,12 @@ double ExploredWorkspace::boundaryDistance_m(const Eigen::Vector3d& direction) c
         if ((w.array() < -1e-12).any()) continue;
         const double sum = w.sum();
         if (!(sum > 0.0)) continue;
-        return 1.0 / sum;
+        const Eigen::Vector3d edge_b = corners.col(1) - corners.col(0);
+        const Eigen::Vector3d edge_c = corners.col(2) - corners.col(0);
+        const Eigen::Vector3d normal = edge_b.cross(edge_c);
+        const double normal_norm = normal.norm();
+        const double cosine = normal_norm > 0.0 ? std::abs(normal.dot(u)) / normal_norm : 1.0;
+        return {1.0 / sum, std::max(cosine, kMinFacetCosine)};
       }
     }
   }
@@ -97,12 +106,17 @@ double ExploredWorkspace::boundaryDistance_m(const Eigen::Vector3d& direction) c
   for (int k = 0; k < 3 && best[k] >= 0; ++k) {
     reach = std::min(reach, radii_m_[static_cast<std::size_t>(best[k])]);
   }
-  return reach;
+  return {reach, 1.0};
 }
 
 double ExploredWorkspace::depth_m(const Eigen::Vector3d& position_m) const noexcept {
+  if (directions_.empty()) return std::numeric_limits<double>::infinity();
   const Eigen::Vector3d offset = position_m - center_m_;
-  return boundaryDistance_m(offset) - offset.norm();
+  const double distance = offset.norm();
+  if (!(distance > 0.0)) return minRadius_m();
+  // Along the ray the facet's plane is distance_m away; square to it, cosine times as far.
+  const Exit exit = exitAlong(offset / distance);
+  return (exit.distance_m - distance) * exit.cosine;
 }
 
 bool ExploredWorkspace::contains(const Eigen::Vector3d& position_m,
@@ -117,7 +131,8 @@ Eigen::Vector3d ExploredWorkspace::pullInside(const Eigen::Vector3d& position_m,
   const Eigen::Vector3d offset = position_m - center_m_;
   const double distance = offset.norm();
   if (!(distance > 0.0)) return center_m_;
-  const double reach = std::max(0.0, boundaryDistance_m(offset) - margin_m);
+  const Exit exit = exitAlong(offset / distance);
+  const double reach = std::max(0.0, exit.distance_m - margin_m / exit.cosine);
   return center_m_ + offset * (reach / distance);
 }
 
