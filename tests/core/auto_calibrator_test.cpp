@@ -52,6 +52,27 @@ TEST(AutoCalibratorTest, CalibratesEveryVertexOfTheGrid) {
   EXPECT_LT(f.calibrator.peakForce_n(), 12.0);
 }
 
+TEST(AutoCalibratorTest, APointAStopHoldsShortIsMeasuredBackFromTheStop) {
+  // The +x face of the grid lies 2 mm beyond a stop the plan did not know of.
+  Fixture f;
+  f.device.wall_x_m = f.grid.maxCorner_m().x() - 0.002;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  EXPECT_EQ(f.run(4'000'000), AutoCalibrator::Status::kFinished);
+  EXPECT_EQ(f.calibrator.stopRetreats(), 9);  // every vertex of the +x face, once
+  for (int i = 0; i < f.grid.vertexCount(); ++i) {
+    const VertexEstimate& vertex = f.calibrator.vertices()[static_cast<std::size_t>(i)];
+    EXPECT_EQ(vertex.outcome, VertexOutcome::kConverged) << "vertex " << i;
+    const bool on_face = f.grid.vertexCoordinates(i).x() == 2;
+    EXPECT_EQ(vertex.measuredOffVertex(), on_face) << "vertex " << i;
+    if (!on_face) continue;
+    // Measured back from the stop, by kStopRetreat_m, and right there.
+    EXPECT_NEAR(vertex.measured_at_m.x(), f.device.wall_x_m - AutoCalibrator::kStopRetreat_m, 1e-3);
+    EXPECT_LT((vertex.measured_gravity_n - f.device.gravity(vertex.measured_at_m)).norm(),
+              2.0 * f.parameters.eps_g_n);
+  }
+}
+
 TEST(AutoCalibratorTest, ExtrapolationSavesIterationsWithoutChangingTheResult) {
   Fixture plain;
   AutoCalibrator::Options options;

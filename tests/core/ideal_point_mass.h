@@ -22,6 +22,10 @@ class IdealPointMass {
   Eigen::Vector3d velocity_m_per_s = Eigen::Vector3d::Zero();
   double static_friction_n = 0.0;   ///< Unit: [N]
   double coulomb_friction_n = 0.0;  ///< Unit: [N]
+  /// A stop: a stiff spring and damper pushing back where x exceeds wall_x_m (none by default).
+  double wall_x_m = HUGE_VAL;              ///< Unit: [m]
+  double wall_stiffness_n_per_m = 2000.0;  ///< Unit: [N/m]
+  double wall_damping_n_s_per_m = 5.0;     ///< Unit: [N s/m]
 
   Eigen::Vector3d gravity(const Eigen::Vector3d& x) const {
     return gravity_at_origin_n + gradient_n_per_m * x;
@@ -34,6 +38,10 @@ class IdealPointMass {
       const Eigen::Vector3d g = gravity(position_m);
       const double mass_kg = g.norm() / 9.81;
       Eigen::Vector3d net_n = force_n - g;
+      if (position_m.x() > wall_x_m) {
+        net_n.x() -= wall_stiffness_n_per_m * (position_m.x() - wall_x_m) +
+                     wall_damping_n_s_per_m * velocity_m_per_s.x();
+      }
       for (int axis = 0; axis < 3; ++axis) {
         double& v = velocity_m_per_s[axis];
         if (v == 0.0 && std::abs(net_n[axis]) <= static_friction_n) {

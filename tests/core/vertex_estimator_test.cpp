@@ -69,6 +69,55 @@ TEST(VertexEstimatorTest, EachUpdateFollowsEquation12) {
               (device.gravity(device.position_m) - initial).norm() / stiffness, 2e-5);
 }
 
+TEST(VertexEstimatorTest, ConvergesWhereTheFieldChangesFasterThanTheHoldIsStiff) {
+  // dG_x/dx = -0.6 K_P: eq. (12)'s steps reverse and grow by half each time (ratio
+  // -0.6 / (1 - 0.6) = -1.5), as near a singular pose of a parallel arm. Relaxed, they converge.
+  for (const EstimationParameters& parameters :
+       {EstimationParameters{}, EstimationParameters::paper()}) {
+    testing::IdealPointMass device;
+    const double stiffness =
+        parameters.beta_per_s2 * device.gravity_at_origin_n.norm() / kStandardGravity;
+    device.gradient_n_per_m.setZero();
+    device.gradient_n_per_m(0, 0) = -0.6 * stiffness;
+    const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
+    VertexEstimator estimator(parameters, 12.0, 12.0);
+    estimator.start(vertex, device.gravity(vertex) + Eigen::Vector3d(0.15, 0.0, 0.0));
+    EXPECT_EQ(runToEnd(estimator, device), VertexEstimator::Status::kConverged)
+        << toString(parameters.method);
+    EXPECT_LT((estimator.estimate().gravity_n - device.gravity(vertex)).norm(),
+              2.0 * parameters.eps_g_n)
+        << toString(parameters.method);
+    EXPECT_LE(estimator.estimate().iterations, 12) << toString(parameters.method);
+  }
+}
+
+TEST(VertexEstimatorTest, AStopIsRecognisedFromTheForceGrowingWhileThePositionStays) {
+  // The vertex lies 1.5 mm beyond a stop along +x: each step of eq. (12) pushes harder into it.
+  testing::IdealPointMass device;
+  device.wall_x_m = -0.0015;
+  const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
+  device.position_m = Eigen::Vector3d(-0.01, 0.0, 0.0);
+  VertexEstimator estimator(EstimationParameters{}, 12.0, 12.0);
+  estimator.start(vertex, device.gravity(vertex));
+  EXPECT_EQ(runToEnd(estimator, device), VertexEstimator::Status::kUnreachable);
+  EXPECT_TRUE(estimator.stopContact());
+  EXPECT_GT(estimator.contactDirection().x(), 0.95);  // into the stop
+  EXPECT_NEAR(estimator.contactPosition_m().x(), device.wall_x_m, 5e-4);
+  EXPECT_LE(estimator.estimate().iterations, 4);  // two pushing steps after the first
+  // The stop's reaction is left out of the estimate: it is the one before the pushing began.
+  EXPECT_EQ(estimator.estimate().gravity_n, estimator.gravityBeforeContact_n());
+  EXPECT_LT((estimator.gravityBeforeContact_n() - device.gravity(device.position_m)).norm(), 0.05);
+
+  // In free space, and where friction leaves a vertex short of X_i, no contact is reported.
+  testing::IdealPointMass free_device;
+  free_device.static_friction_n = 0.05;
+  free_device.coulomb_friction_n = 0.03;
+  VertexEstimator free_estimator(EstimationParameters{}, 12.0, 12.0);
+  free_estimator.start(vertex, 0.8 * free_device.gravity(vertex));
+  EXPECT_EQ(runToEnd(free_estimator, free_device), VertexEstimator::Status::kConverged);
+  EXPECT_FALSE(free_estimator.stopContact());
+}
+
 TEST(VertexEstimatorTest, StopsAtTheIterationCapAndKeepsTheEstimate) {
   testing::IdealPointMass device;
   EstimationParameters parameters = EstimationParameters::paper();
@@ -163,7 +212,7 @@ TEST(VertexEstimatorTest, DitherMethodMeasuresBelowTheFriction) {
 TEST(VertexEstimatorTest, DitherIsZeroMeanOverEachWindowAndHalfWaveSymmetric) {
   testing::IdealPointMass device;
   const EstimationParameters parameters = EstimationParameters{};
-  VertexEstimator estimator(parameters, 12.0);
+  VertexEstimator estimator(parameters, 12.0, 12.0);  // a continuous rating that leaves room
   const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
   estimator.start(vertex, device.gravity(vertex));
   EXPECT_NEAR(estimator.ditherAmplitude_n(), EstimationParameters::kAutoDitherFraction * 12.0,
@@ -191,6 +240,37 @@ TEST(VertexEstimatorTest, DitherIsZeroMeanOverEachWindowAndHalfWaveSymmetric) {
     smallest_peak = std::min(smallest_peak, peak);
   }
   EXPECT_GT(smallest_peak, 0.9 * estimator.ditherAmplitude_n());  // every axis is driven
+}
+
+TEST(VertexEstimatorTest, AutomaticDitherKeepsWithinTheContinuousRating) {
+  // sim:omega-like: 12 N peak, 3 N continuous (a quarter of the peak), |G| 1.9 N.
+  const double amplitude_n = VertexEstimator::automaticDitherAmplitude_n(12.0, 3.0, 1.9);
+  EXPECT_NEAR(amplitude_n, (0.95 * 3.0 - 1.9) / std::sqrt(2.0), 1e-12);
+  EXPECT_LE(1.9 + std::sqrt(2.0) * amplitude_n, 3.0);
+  // Plenty of room: the largest amplitude. No room at all: the smallest that still breaks the
+  // friction, not zero.
+  EXPECT_NEAR(VertexEstimator::automaticDitherAmplitude_n(12.0, 12.0, 2.1), 1.08, 1e-12);
+  EXPECT_NEAR(VertexEstimator::automaticDitherAmplitude_n(12.0, 3.0, 2.9),
+              EstimationParameters::kMinAutoDither_n, 1e-12);
+  // A device so weak that the floor is above the largest amplitude: the largest.
+  EXPECT_NEAR(VertexEstimator::automaticDitherAmplitude_n(2.0, 0.5, 0.4), 0.18, 1e-12);
+
+  // The estimator picks it per vertex, from the estimate it starts with; 0 for the rating takes
+  // kDefaultContinuousForceFraction of the peak.
+  testing::IdealPointMass device;
+  const Eigen::Vector3d vertex = Eigen::Vector3d::Zero();
+  const double gravity_n = device.gravity(vertex).norm();
+  VertexEstimator estimator(EstimationParameters{}, 12.0);
+  estimator.start(vertex, device.gravity(vertex));
+  EXPECT_NEAR(estimator.ditherAmplitude_n(),
+              VertexEstimator::automaticDitherAmplitude_n(12.0, 3.0, gravity_n), 1e-12);
+  // An amplitude asked for is kept as it is.
+  EstimationParameters fixed;
+  fixed.dither_amplitude_n = 0.2;
+  VertexEstimator fixed_estimator(fixed, 12.0, 3.0);
+  fixed_estimator.start(vertex, device.gravity(vertex));
+  EXPECT_EQ(fixed_estimator.ditherAmplitude_n(), 0.2);
+  EXPECT_THROW(VertexEstimator(EstimationParameters{}, 12.0, -1.0), Error);
 }
 
 void stepsWithoutAllocating(const EstimationParameters& parameters) {

@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "autograv/device/device_specifications.h"
+#include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 
@@ -66,6 +68,32 @@ TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
 INSTANTIATE_TEST_SUITE_P(SimulatedDevices, WorkspaceExplorationTest,
                          ::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
                          [](const auto& info) { return info.param.substr(4); });
+
+TEST(InitializationClearanceTest, AnInitializationOnAStopIsRefusedFromDriverDataAlone) {
+  // The hand lets go 1 mm above sim:omega's lower stop: the end-effector settles on it.
+  auto device = sim::makeSimulatedDevice("sim:omega", 1, sim::FrictionLevel::kTypical);
+  ASSERT_TRUE(device->open() && device->calibrate());
+  sim::CalibrationRunOptions run;
+  run.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  run.grid_from_workspace = true;
+  const double radius_m = device->specifications().workspace_radius_m;
+  run.initialization_center_m =
+      device->workspaceCenter_m() - Eigen::Vector3d(0.0, 0.0, radius_m - 0.001);
+  try {
+    sim::runSimulatedCalibration(*device, run);
+    FAIL() << "a calibration initialized on a stop ran";
+  } catch (const Error& error) {
+    // The exploration's probes met the stop right under the settled point.
+    const std::string message = error.what();
+    EXPECT_NE(message.find("from a stop the exploration found"), std::string::npos) << message;
+  }
+  // Where the exploration saw room all round, nothing is said.
+  const ExploredWorkspace roomy(Eigen::Vector3d::Zero(), ExploredWorkspace::probeDirections(26),
+                                std::vector<double>(26, 0.05));
+  EXPECT_TRUE(initializationClearanceProblem(roomy, Eigen::Vector3d::Zero()).empty());
+  EXPECT_FALSE(initializationClearanceProblem(roomy, Eigen::Vector3d(0.0, 0.0, -0.047)).empty());
+  EXPECT_TRUE(initializationClearanceProblem(ExploredWorkspace{}, Eigen::Vector3d::Zero()).empty());
+}
 
 }  // namespace
 }  // namespace autograv

@@ -211,7 +211,11 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       options.grid_from_workspace ? options.initialization_center_m : result.grid.center_m();
   result.initialization =
       initializeWithSimulatedHand(device, parameters, x0_m, 30.0, &timing, &stats);
-  if (!result.initialization.ok) {
+  // With a workspace (explored now, or resumed) a stop under the initialization is recognised from
+  // driver data (initializationClearanceProblem, below); the simulator's contact flag judges only
+  // runs without one.
+  const bool judged_from_workspace = options.explore;
+  if (!result.initialization.ok && !(judged_from_workspace && result.initialization.end_stop_hit)) {
     throw Error("calibration: manual initialization failed: " + result.initialization.message);
   }
   // The plan depends on G_hat_0 and the parameters only: checked before the device moves by
@@ -243,13 +247,23 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
     }
     result.workspace = exploration.workspace;
   }
+  const std::string clearance =
+      initializationClearanceProblem(result.workspace, result.initialization.settled_m);
+  if (!clearance.empty()) {
+    device.setForce(Eigen::Vector3d::Zero());
+    throw Error("calibration refused: " + clearance);
+  }
   if (options.grid_from_workspace && !result.workspace.empty()) {
     result.grid = gridAroundWorkspace(result.workspace, options.grid_resolution);
   }
   const WorkspaceGrid& grid = result.grid;
   result.plan = planMeasurements(grid, result.workspace);
   if (options.on_explored) options.on_explored(result.workspace, grid);
-  AutoCalibrator calibrator(grid, parameters, max_force_n, options.calibrator);
+  AutoCalibrator::Options calibrator_options = options.calibrator;
+  if (!(calibrator_options.continuous_force_n > 0.0)) {
+    calibrator_options.continuous_force_n = continuous_n;
+  }
+  AutoCalibrator calibrator(grid, parameters, max_force_n, calibrator_options);
   if (!options.resume_from.empty()) calibrator.restore(options.resume_from);
   calibrator.setPlan(result.plan);
   const ServoSample first = readServoSample(device);

@@ -34,13 +34,19 @@ class AutoCalibrator {
 
   /// How the device travels between vertices and where each vertex starts.
   struct Options {
-    /// Peak acceleration of the moves between vertices. Unit: [m/s^2]
-    double max_move_acceleration_m_per_s2 = 0.5;
+    /// Peak acceleration of the moves between vertices: a 50 mm move takes 0.62 s, and the gap
+    /// it leaves for the PD (largestHoldStep_m) is 3.2 mm, within the 4 mm by which the
+    /// measurement plan keeps its points inside the stops. Unit: [m/s^2]
+    double max_move_acceleration_m_per_s2 = 0.75;
     /// Shortest move. Unit: [s]
     double min_move_duration_s = 0.25;
     /// Start each vertex from a linear extrapolation of the two previous converged vertices on
     /// the same line instead of eq. (9)'s plain copy; fewer iterations, same fixed point.
     bool extrapolate_initial_estimate = true;
+    /// The device's continuous force rating (continuousForceRating_n), within which the
+    /// automatic dither keeps G_hat plus its peaks; 0 takes kDefaultContinuousForceFraction of
+    /// the maximum force. Unit: [N]
+    double continuous_force_n = 0.0;
   };
 
   /// The largest gap between hold target and end-effector that the moves leave for the PD to
@@ -54,6 +60,12 @@ class AutoCalibrator {
   }
   /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
   static constexpr double kMassUncertainty = 3.0;
+  /// When a stop holds the end-effector short of a measurement point
+  /// (VertexEstimator::stopContact), the point moves this far back from where the stop held it,
+  /// away from the stop, and the vertex is measured there; once per vertex. Unit: [m]
+  static constexpr double kStopRetreat_m = 0.004;
+  /// Measurement points moved back from a stop so far in this run. Real-time safe.
+  int stopRetreats() const noexcept { return stop_retreats_; }
 
   /// Allocates everything the run needs. Throws autograv::Error on bad parameters.
   /// Not real-time safe.
@@ -139,6 +151,8 @@ class AutoCalibrator {
   double max_force_n_;
   Options options_;
   VertexEstimator estimator_;
+  bool retreated_ = false;  // the current vertex's point was moved back from a stop
+  int stop_retreats_ = 0;
   MinimumJerkMove move_;
   std::vector<VertexEstimate> vertices_;
   std::vector<int> order_;

@@ -60,8 +60,10 @@ struct EstimationParameters {
   double lipschitz_prior_n_per_m = 10.0;
 
   // Dither method only (kDither).
-  /// Amplitude of the dither force on each axis; 0 picks kAutoDitherFraction of the device's
-  /// maximum force, which is above the breakaway force of the devices we model. Unit: [N]
+  /// Amplitude of the dither force on each axis; 0 picks it at each vertex
+  /// (VertexEstimator::automaticDitherAmplitude_n): kAutoDitherFraction of the device's maximum
+  /// force, above the breakaway force of the devices we model, lowered to keep G_hat plus the
+  /// dither within the continuous force rating, but not below kMinAutoDither_n. Unit: [N]
   double dither_amplitude_n = 0.0;
   /// Base frequency: x and y are driven in quadrature at f, z at 3f (odd harmonics only, so the
   /// force and hence the motion are half-wave symmetric and the friction cancels). Well above the
@@ -77,8 +79,13 @@ struct EstimationParameters {
   /// large updates stay quick.
   int final_steady_windows = 4;
 
-  /// Dither amplitude as a fraction of the device's maximum force when dither_amplitude_n is 0.
+  /// Largest automatic dither amplitude, as a fraction of the device's maximum force.
   static constexpr double kAutoDitherFraction = 0.09;
+  /// Smallest automatic dither amplitude when the continuous rating leaves less room: above the
+  /// breakaway force of the devices we model at `high` friction (190 mN on sim:omni); a smaller
+  /// dither no longer breaks their friction, and an estimate that friction biases is not worth
+  /// the budget. Set dither_amplitude_n for a device whose friction is larger. Unit: [N]
+  static constexpr double kMinAutoDither_n = 0.23;
 
   /// The paper's method exactly as published (Section V's values, n_G = 5, no dither): what
   /// `paper-experiment` runs. Dry friction biases each of its updates by up to the breakaway

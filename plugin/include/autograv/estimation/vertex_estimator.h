@@ -40,9 +40,12 @@ class VertexEstimator {
     kDeviceFault,    ///< Done: the device stopped answering.
   };
 
-  /// Reserves the history for max_iterations records. Throws autograv::Error on bad parameters.
-  /// Not real-time safe.
-  VertexEstimator(const EstimationParameters& parameters, double max_force_n);
+  /// Reserves the history for max_iterations records. `continuous_force_n` is the device's
+  /// continuous force rating (continuousForceRating_n), which the automatic dither keeps within;
+  /// 0 takes kDefaultContinuousForceFraction of `max_force_n`. Units: [N]. Throws
+  /// autograv::Error on bad parameters. Not real-time safe.
+  VertexEstimator(const EstimationParameters& parameters, double max_force_n,
+                  double continuous_force_n = 0.0);
 
   /// Begins the inner loop at `vertex_m` with G_hat_0 = `initial_gravity_n` (eqs. 9 and 13: the
   /// gains of iteration 0 come from the same estimate). Real-time safe.
@@ -65,6 +68,17 @@ class VertexEstimator {
   /// Dither amplitude per axis in use (0 with the paper's method). Unit: [N]
   double ditherAmplitude_n() const noexcept { return dither_amplitude_n_; }
 
+  /// The dither amplitude picked when EstimationParameters::dither_amplitude_n is 0, for a vertex
+  /// whose estimate is `gravity_n` in magnitude: kAutoDitherFraction of `max_force_n`, lowered
+  /// so that |G_hat| plus the dither's largest magnitude (sqrt(2) times the amplitude) stays
+  /// within kContinuousForceMargin of `continuous_force_n`, but not below
+  /// EstimationParameters::kMinAutoDither_n. Units: [N]. Real-time safe.
+  static double automaticDitherAmplitude_n(double max_force_n, double continuous_force_n,
+                                           double gravity_n) noexcept;
+  /// Fraction of the continuous rating the automatic dither plans to use at its peaks, leaving
+  /// room for the hold's feedback force.
+  static constexpr double kContinuousForceMargin = 0.95;
+
   /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6). Unit: [N]
   static constexpr double kMinGravityN = 0.01;
   /// Consecutive updates that do not shrink (each at least kStallRatio of the one before and
@@ -81,6 +95,32 @@ class VertexEstimator {
   /// well above the steady-state offsets friction leaves (0.1 mm on the simulated devices).
   /// Unit: [m]
   static constexpr double kUnreachableGap_m = 2e-3;
+  /// Where G changes faster than the hold is stiff (c above K_P / 2, the paper's condition (6)
+  /// broken: near a singular pose of a parallel arm), eq. (12) overshoots: each step reverses the
+  /// last one without shrinking. A reversal that keeps more than kOvershootRatio of the previous
+  /// step's length scales the steps that follow by the relaxation that would have cancelled it
+  /// (1 / (1 - ratio) for a linear field): the fixed point, G_hat = G(X_i), is the same.
+  static constexpr double kOvershootRatio = 0.3;
+  /// Smallest relaxation: a step reversing with ratio -4 or worse is not followed any further.
+  static constexpr double kMinRelaxation = 0.2;
+  /// A stop holds the end-effector when two steps in a row push the same way without shrinking
+  /// while the steady state moves by less than this fraction of what the first step should have
+  /// moved it (its length over K_P): the force grows, the position does not follow. The vertex
+  /// then ends kUnreachable with stopContact() set, after two updates instead of
+  /// kStalledUpdates.
+  static constexpr double kStopFollowFraction = 0.25;
+
+  /// True when the vertex ended against a stop (kStopFollowFraction). Real-time safe.
+  bool stopContact() const noexcept { return stop_contact_; }
+  /// Where the stop held the end-effector (the last steady state). Unit: [m]
+  const Eigen::Vector3d& contactPosition_m() const noexcept { return contact_position_m_; }
+  /// Unit vector from the contact toward X_i, i.e. into the stop. Zero without a contact.
+  const Eigen::Vector3d& contactDirection() const noexcept { return contact_direction_; }
+  /// G_hat before the stop's reaction entered it (the estimate the first pushing step started
+  /// from). Unit: [N]
+  const Eigen::Vector3d& gravityBeforeContact_n() const noexcept {
+    return gravity_before_contact_n_;
+  }
 
  private:
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
@@ -94,6 +134,7 @@ class VertexEstimator {
 
   EstimationParameters parameters_;
   double max_force_n_;
+  double continuous_force_n_;  // the automatic dither's budget. Unit: [N]
   SteadyStateDetector detector_;
   VertexEstimate estimate_;
   Eigen::Vector3d vertex_m_ = Eigen::Vector3d::Zero();
@@ -105,7 +146,15 @@ class VertexEstimator {
   double elapsed_periods_ = 0.0;  // servo time at this vertex, in nominal periods
   int small_updates_ = 0;
   int stalled_updates_ = 0;
-  double last_update_n_ = 0.0;      // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
+  double last_update_n_ = 0.0;  // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
+  Eigen::Vector3d last_raw_update_n_ = Eigen::Vector3d::Zero();  // eq. (12)'s previous step. [N]
+  double relaxation_ = 1.0;  // fraction of eq. (12)'s step applied (kMinRelaxation..1)
+  Eigen::Vector3d last_settled_m_ = Eigen::Vector3d::Zero();   // previous steady state. [m]
+  Eigen::Vector3d last_previous_n_ = Eigen::Vector3d::Zero();  // G_hat before the last step. [N]
+  bool stop_contact_ = false;
+  Eigen::Vector3d contact_position_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d contact_direction_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_before_contact_n_ = Eigen::Vector3d::Zero();
   double saturated_periods_ = 0.0;  // servo time at the force limit, in nominal periods
   double invalid_periods_ = 0.0;    // servo time of consecutive bad samples
   double max_saturated_periods_ = 0.0;

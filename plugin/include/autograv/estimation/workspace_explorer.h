@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -57,8 +58,9 @@ class WorkspaceExplorer {
     /// Lag of the end-effector behind the target at which the probe effort reaches
     /// contact_force_n: sets the probe's stiffness. Unit: [m]
     double contact_lag_m = 0.002;
-    /// Peak acceleration of the transfer moves. Unit: [m/s^2]
-    double max_move_acceleration_m_per_s2 = 0.5;
+    /// Peak acceleration of the transfer moves, which start where the probe backed off and end
+    /// well inside (start_fraction of the next reach). Unit: [m/s^2]
+    double max_move_acceleration_m_per_s2 = 1.0;
   };
 
   /// Default contact force as a fraction of the maximum force.
@@ -152,5 +154,16 @@ class WorkspaceExplorer {
 };
 
 const char* toString(WorkspaceExplorer::Status status) noexcept;
+
+/// Closest a stop may be to where the manual initialization settled: nearer, the end-effector
+/// may have rested on it, and eq. (7)'s G_hat_0 then carries the stop's reaction. Judged from the
+/// explored workspace (driver data: where probes met a stop), so it holds on any device. Unit: [m]
+inline constexpr double kInitializationClearance_m = 0.005;
+
+/// Empty when `settled_m`, where the initialization settled, lies at least
+/// kInitializationClearance_m inside `workspace` (ExploredWorkspace::depth_m); otherwise what to
+/// tell the user. Not real-time safe. Unit: [m]
+std::string initializationClearanceProblem(const ExploredWorkspace& workspace,
+                                           const Eigen::Vector3d& settled_m);
 
 }  // namespace autograv

@@ -27,7 +27,7 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
       parameters_(parameters),
       max_force_n_(max_force_n),
       options_(options),
-      estimator_(parameters, max_force_n),
+      estimator_(parameters, max_force_n, options.continuous_force_n),
       vertices_(static_cast<std::size_t>(grid.vertexCount())),
       order_(grid.visitOrder(grid.center_m())) {
   if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
@@ -128,6 +128,7 @@ void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
   }
   current_vertex_ = order_[next_in_order_++];
   active_ = true;
+  retreated_ = false;
   beginMove(from_m);
 }
 
@@ -266,6 +267,17 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
       const VertexEstimator::Status inner = estimator_.step(sample, force_n);
       if (inner == VertexEstimator::Status::kSettling ||
           inner == VertexEstimator::Status::kUpdated) {
+        break;
+      }
+      if (inner == VertexEstimator::Status::kUnreachable && estimator_.stopContact() &&
+          !retreated_) {
+        // A stop held the end-effector short of the point: measure it back from the stop.
+        retreated_ = true;
+        ++stop_retreats_;
+        targets_[static_cast<std::size_t>(current_vertex_)] =
+            estimator_.contactPosition_m() - kStopRetreat_m * estimator_.contactDirection();
+        gravity_n_ = estimator_.gravityBeforeContact_n();
+        beginMove(sample.position_m);
         break;
       }
       recordFinished();

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 
 namespace autograv {
@@ -56,15 +58,23 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kWindowToleranceOfEpsG = 0.25;
 }  // namespace
 
-VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double max_force_n)
+VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double max_force_n,
+                                 double continuous_force_n)
     : parameters_(parameters),
       max_force_n_(max_force_n),
+      continuous_force_n_(continuous_force_n > 0.0 ? continuous_force_n
+                                                   : kDefaultContinuousForceFraction * max_force_n),
       detector_(SteadyStateDetector::forParameters(parameters)) {
   validate(parameters, max_force_n);
+  if (!(continuous_force_n >= 0.0) || !std::isfinite(continuous_force_n)) {
+    throw Error("VertexEstimator: the continuous force rating must be finite and >= 0 N, not " +
+                std::to_string(continuous_force_n));
+  }
   if (parameters.method == EstimationMethod::kDither) {
-    dither_amplitude_n_ = parameters.dither_amplitude_n > 0.0
-                              ? parameters.dither_amplitude_n
-                              : EstimationParameters::kAutoDitherFraction * max_force_n;
+    dither_amplitude_n_ =
+        parameters.dither_amplitude_n > 0.0
+            ? parameters.dither_amplitude_n
+            : EstimationParameters::kAutoDitherFraction * max_force_n;  // set per vertex
     dither_step_rad_ = 2.0 * kPi * parameters.dither_frequency_hz * parameters.servo_period_s;
   }
   max_invalid_periods_ = kMaxInvalidReadings_s / parameters.servo_period_s + kServoTimeSlackPeriods;
@@ -82,8 +92,22 @@ void VertexEstimator::setGains(const Eigen::Vector3d& gravity_n) noexcept {
   detector_.setWindowTolerance_m(kWindowToleranceOfEpsG * parameters_.eps_g_n / stiffness_n_per_m_);
 }
 
+double VertexEstimator::automaticDitherAmplitude_n(double max_force_n, double continuous_force_n,
+                                                   double gravity_n) noexcept {
+  const double largest = EstimationParameters::kAutoDitherFraction * max_force_n;
+  const double smallest = std::min(EstimationParameters::kMinAutoDither_n, largest);
+  // |d| = A sqrt(1 + sin^2 3wt) peaks at sqrt(2) A (ditherForce_n).
+  const double within_rating =
+      (kContinuousForceMargin * continuous_force_n - gravity_n) / std::sqrt(2.0);
+  return std::clamp(within_rating, smallest, largest);
+}
+
 void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
                             const Eigen::Vector3d& initial_gravity_n) noexcept {
+  if (parameters_.method == EstimationMethod::kDither && !(parameters_.dither_amplitude_n > 0.0)) {
+    dither_amplitude_n_ =
+        automaticDitherAmplitude_n(max_force_n_, continuous_force_n_, initial_gravity_n.norm());
+  }
   vertex_m_ = vertex_m;
   gravity_n_ = initial_gravity_n;
   setGains(initial_gravity_n);  // eqs. (8) and (13)
@@ -98,6 +122,14 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   small_updates_ = 0;
   stalled_updates_ = 0;
   last_update_n_ = 0.0;
+  last_raw_update_n_.setZero();
+  relaxation_ = 1.0;
+  last_settled_m_.setZero();
+  last_previous_n_ = initial_gravity_n;
+  stop_contact_ = false;
+  contact_position_m_.setZero();
+  contact_direction_.setZero();
+  gravity_before_contact_n_ = initial_gravity_n;
   saturated_periods_ = 0.0;
   invalid_periods_ = 0.0;
   finished_ = false;
@@ -254,7 +286,21 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   // Steady state of iteration j: eq. (12), then gains for j+1 from G_hat_j (eq. 11).
   const Eigen::Vector3d settled_m = detector_.settledPosition_m();
   const Eigen::Vector3d previous_n = gravity_n_;
-  const Eigen::Vector3d updated_n = stiffness_n_per_m_ * (vertex_m_ - settled_m) + previous_n;
+  const Eigen::Vector3d raw_update_n = stiffness_n_per_m_ * (vertex_m_ - settled_m);
+  const double update_n = raw_update_n.norm();
+  const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
+  // A step that reverses the last one and stays large: eq. (12) overshoots (kOvershootRatio).
+  // With relaxation w the observed ratio of raw steps is 1 + w (r - 1), r the unrelaxed one, so
+  // w / (1 - ratio) is the relaxation that cancels it.
+  const bool both_large =
+      estimate_.iterations > 0 && update_n > stall_floor_n && last_update_n_ > stall_floor_n;
+  const double step_ratio =
+      both_large ? raw_update_n.dot(last_raw_update_n_) / (last_update_n_ * last_update_n_) : 0.0;
+  const bool overshoot = both_large && step_ratio < -kOvershootRatio;
+  if (overshoot) {
+    relaxation_ = std::clamp(relaxation_ / (1.0 - step_ratio), kMinRelaxation, 1.0);
+  }
+  const Eigen::Vector3d updated_n = previous_n + relaxation_ * raw_update_n;
   last_error_m_ = (vertex_m_ - settled_m).norm();
   IterationRecord record;
   record.position_error_m = last_error_m_;
@@ -266,7 +312,6 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   setGains(previous_n);
   gravity_n_ = updated_n;
   estimate_.gravity_n = updated_n;
-  const double update_n = (updated_n - previous_n).norm();
   const bool small_update = update_n <= parameters_.eps_g_n;
   detector_.reset();
   detector_.setRequired(requiredSteadyCount(small_update));
@@ -275,11 +320,31 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   dither_debt_ns_.setZero();
 
   small_updates_ = small_update ? small_updates_ + 1 : 0;
-  const double stall_floor_n = std::max(kStallUpdateFloor_n, 4.0 * parameters_.eps_g_n);
+  // Against a stop every step points the same way and keeps its length; an overshoot is
+  // relaxed instead, unless the relaxation is already at its floor.
   const bool stalled = estimate_.iterations > 1 && update_n > stall_floor_n &&
-                       update_n >= kStallRatio * last_update_n_;
+                       update_n >= kStallRatio * last_update_n_ &&
+                       (!overshoot || relaxation_ <= kMinRelaxation);
   stalled_updates_ = stalled ? stalled_updates_ + 1 : 0;
+  // A stop: this step pushes the way the last one did, no shorter, and the last one moved the
+  // steady state by far less than the hold's spring would have (kStopFollowFraction).
+  const double expected_move_m = relaxation_ * last_update_n_ / stiffness_n_per_m_;
+  const bool pushed_again = both_large && step_ratio >= kStallRatio;
+  if (pushed_again &&
+      (settled_m - last_settled_m_).norm() < kStopFollowFraction * expected_move_m) {
+    stop_contact_ = true;
+    contact_position_m_ = settled_m;
+    contact_direction_ = raw_update_n / update_n;
+    gravity_before_contact_n_ = last_previous_n_;
+    gravity_n_ = last_previous_n_;  // the stop's reaction is no part of G
+    estimate_.gravity_n = gravity_n_;
+    finish(VertexOutcome::kUnreachable);
+    return Status::kUnreachable;
+  }
   last_update_n_ = update_n;
+  last_raw_update_n_ = raw_update_n;
+  last_settled_m_ = settled_m;
+  last_previous_n_ = previous_n;
   if (stalled_updates_ >= kStalledUpdates) {
     finish(VertexOutcome::kUnreachable);
     return Status::kUnreachable;

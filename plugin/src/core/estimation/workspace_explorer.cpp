@@ -264,4 +264,18 @@ const char* toString(WorkspaceExplorer::Status status) noexcept {
   return "unknown";
 }
 
+std::string initializationClearanceProblem(const ExploredWorkspace& workspace,
+                                           const Eigen::Vector3d& settled_m) {
+  if (workspace.empty()) return {};
+  const double depth_m = workspace.depth_m(settled_m);
+  if (depth_m >= kInitializationClearance_m) return {};
+  std::ostringstream message;
+  message.precision(1);
+  message << std::fixed << "the initialization settled " << 1e3 * std::max(depth_m, 0.0)
+          << " mm from a stop the exploration found (at least " << 1e3 * kInitializationClearance_m
+          << " mm are needed): the end-effector may have rested on it, so G_hat_0 (eq. 7) is "
+             "wrong; initialize again further inside the workspace";
+  return message.str();
+}
+
 }  // namespace autograv
