@@ -105,10 +105,12 @@ class VertexEstimator {
   static constexpr double kMinRelaxation = 0.2;
   /// A stop holds the end-effector when two steps in a row push the same way without shrinking
   /// while the steady state moves by less than this fraction of what the first step should have
-  /// moved it (its length over K_P): the force grows, the position does not follow. The vertex
-  /// then ends kUnreachable with stopContact() set, after two updates instead of
+  /// moved it (its length over K_P): the force grows, the position does not follow. A stop is
+  /// a spring 30 or more times stiffer than the hold (1500-2000 N/m on the simulators, a rigid
+  /// body on hardware); a field that steep elsewhere (up to 9 K_P) still counts as free space. The
+  /// vertex then ends kUnreachable with stopContact() set, after two updates instead of
   /// kStalledUpdates.
-  static constexpr double kStopFollowFraction = 0.25;
+  static constexpr double kStopFollowFraction = 0.1;
 
   /// True when the vertex ended against a stop (kStopFollowFraction). Real-time safe.
   bool stopContact() const noexcept { return stop_contact_; }

@@ -299,6 +299,10 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   const bool overshoot = both_large && step_ratio < -kOvershootRatio;
   if (overshoot) {
     relaxation_ = std::clamp(relaxation_ / (1.0 - step_ratio), kMinRelaxation, 1.0);
+  } else if (both_large && step_ratio > 0.0 && relaxation_ < 1.0) {
+    // Steps that keep their direction: the relaxation was too strong (or the field changed
+    // under the hold); let it back toward 1 by the same rule, at most doubling it.
+    relaxation_ = std::min(1.0, relaxation_ / (1.0 - std::min(step_ratio, 0.5)));
   }
   const Eigen::Vector3d updated_n = previous_n + relaxation_ * raw_update_n;
   last_error_m_ = (vertex_m_ - settled_m).norm();
