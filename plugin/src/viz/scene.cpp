@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include <vtkActor.h>
@@ -23,6 +24,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
 #include <vtkPolyLine.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
@@ -50,6 +52,8 @@ constexpr int kResidualMaxSamples = 65;
 // Layout in normalized window coordinates: the 3D scene on the left, a column for the scalar bar
 // and the legend on the right, the title above, the residual bar below.
 constexpr double kSceneRight = 0.80;
+// A legend that names the kinds of value needs a wider column.
+constexpr double kSceneRightWithKinds = 0.74;
 constexpr double kSceneTop = 0.93;
 constexpr double kResidualBarTop = 0.13;
 
@@ -70,13 +74,23 @@ CameraPreset presetFor(CameraView view) noexcept {
   return {40.0, 28.0};
 }
 
-bool isFilled(const VertexEstimate& vertex) noexcept {
-  return vertex.provenance == VertexProvenance::kFilled;
+// The three kinds of value a map holds, as the legend names them.
+bool isMeasuredOffVertex(const VertexEstimate& vertex) noexcept {
+  return vertex.measuredOffVertex();
+}
+
+bool isSolved(const VertexEstimate& vertex) noexcept {
+  return vertex.provenance == VertexProvenance::kFilled && !vertex.measuredOffVertex();
+}
+
+bool isMeasuredAtVertex(const VertexEstimate& vertex) noexcept {
+  return vertex.outcome == VertexOutcome::kConverged &&
+         vertex.provenance == VertexProvenance::kMeasured && !vertex.measuredOffVertex();
 }
 
 bool isFailed(const VertexEstimate& vertex) noexcept {
   return vertex.outcome != VertexOutcome::kConverged && vertex.outcome != VertexOutcome::kPending &&
-         !isFilled(vertex);
+         vertex.provenance != VertexProvenance::kFilled;
 }
 
 int residualSubdivisions(const WorkspaceGrid& grid) noexcept {
@@ -186,33 +200,6 @@ vtkSmartPointer<vtkPolyData> latticeLines(const WorkspaceGrid& grid) {
   data->SetPoints(points);
   data->SetLines(lines);
   return data;
-}
-
-// Points (in mm) of the vertices that satisfy `keep`.
-template <typename Keep>
-vtkSmartPointer<vtkPolyData> vertexPoints(const GravityMap& map, Keep keep) {
-  vtkNew<vtkPoints> points;
-  for (int i = 0; i < map.grid().vertexCount(); ++i) {
-    if (!keep(map.vertices()[static_cast<std::size_t>(i)])) continue;
-    const Eigen::Vector3d p = map.grid().vertexPosition(i) * kMmPerM;
-    points->InsertNextPoint(p.x(), p.y(), p.z());
-  }
-  auto data = vtkSmartPointer<vtkPolyData>::New();
-  data->SetPoints(points);
-  return data;
-}
-
-vtkSmartPointer<vtkActor> markerActor(vtkPolyData* points, vtkPolyDataAlgorithm* shape,
-                                      const detail::Rgb& color) {
-  vtkNew<vtkGlyph3D> glyphs;
-  glyphs->SetInputData(points);
-  glyphs->SetSourceConnection(shape->GetOutputPort());
-  glyphs->ScalingOff();
-  glyphs->OrientOff();
-  glyphs->Update();
-  auto data = vtkSmartPointer<vtkPolyData>::New();
-  data->ShallowCopy(glyphs->GetOutput());
-  return makeActor(data, color);
 }
 
 // Round tick values covering [lo, hi], about `target` of them.
@@ -387,12 +374,13 @@ std::string defaultTitle(const GravityMap& map, const SceneSummary& summary) {
           << std::lround(size_mm.z()) << " mm box";
   }
   title << "   " << summary.converged << "/" << summary.vertices << " converged";
-  if (summary.filled > 0) title << ", " << summary.filled << " filled";
+  if (summary.solved > 0) title << ", " << summary.solved << " solved";
   return title.str();
 }
 
 void addScalarBar(vtkRenderer* renderer, vtkLookupTable* table, const std::string& title,
-                  const detail::Palette& palette, int font_px, bool horizontal) {
+                  const detail::Palette& palette, int font_px, bool horizontal,
+                  double scene_right) {
   vtkNew<vtkScalarBarActor> bar;
   bar->SetLookupTable(table);
   bar->SetTitle(title.c_str());
@@ -412,11 +400,546 @@ void addScalarBar(vtkRenderer* renderer, vtkLookupTable* table, const std::strin
     bar->SetPosition2(0.50, kResidualBarTop - 0.015);
   } else {
     bar->SetOrientationToVertical();
-    bar->SetPosition(kSceneRight + 0.03, 0.42);
+    bar->SetPosition(scene_right + 0.03, 0.42);
     bar->SetPosition2(0.15, 0.48);
   }
   bar->SetBarRatio(0.25);
   renderer->AddActor2D(bar);
+}
+
+// What the steps of renderScene share: the map, the options, and what earlier steps made.
+struct SceneBuild {
+  SceneBuild(const GravityMap& m, const SceneOptions& o)
+      : map(m),
+        options(o),
+        palette(detail::paletteFor(o.background)),
+        summary(summarizeScene(m)),
+        spacing_mm(m.grid().spacing_m().minCoeff() * kMmPerM),
+        marker_mm(0.11 * spacing_mm),
+        font_px(detail::baseFontPx(o.height_px)),
+        right(summary.measured_off_vertex > 0 || summary.solved > 0 ? kSceneRightWithKinds
+                                                                    : kSceneRight),
+        // The box of the data (grid, arrows, workspace) carries the axes.
+        data_bounds(m.grid().minCorner_m() * kMmPerM, m.grid().maxCorner_m() * kMmPerM) {}
+
+  const GravityMap& map;
+  const SceneOptions& options;
+  const detail::Palette palette;
+  const SceneSummary summary;
+  const double spacing_mm;
+  const double marker_mm;  ///< Size of the vertex markers. Unit: [mm]
+  const int font_px;
+  /// Right edge of the 3D scene's viewport; the scalar bar and the legend are right of it.
+  const double right;
+  Eigen::AlignedBox3d data_bounds;  ///< Unit: [mm]
+  /// The device's sphere, framed too when drawn (radius 0: none). Unit: [mm]
+  Eigen::Vector3d sphere_center_mm = Eigen::Vector3d::Zero();
+  double sphere_radius_mm = 0.0;
+
+  // Arrows: one length rule and one colour range for the vertex values and the measurements.
+  double gravity_lo_n = 0.0;
+  double gravity_hi_n = 0.0;
+  double arrow_mm_per_n = 0.0;
+  vtkSmartPointer<vtkLookupTable> gravity_table;
+
+  // Two layers: `overlay` (full window: background, title, scalar bars, legend) below and
+  // `renderer` (the 3D scene, in the area the annotations leave free) on top, so that text never
+  // lands on the scene whatever the camera does.
+  vtkNew<vtkRenderer> overlay;
+  vtkNew<vtkRenderer> renderer;
+
+  struct LegendEntry {
+    vtkSmartPointer<vtkPolyData> symbol;
+    std::string text;
+    detail::Rgb color;
+  };
+  std::vector<LegendEntry> legend;
+};
+
+// Marker shapes, one per kind of vertex.
+vtkSmartPointer<vtkPolyData> sphereShape(double radius_mm, int theta = 20, int phi = 14) {
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(radius_mm);
+  sphere->SetThetaResolution(theta);
+  sphere->SetPhiResolution(phi);
+  sphere->Update();
+  return sphere->GetOutput();
+}
+
+vtkSmartPointer<vtkPolyData> cubeShape(double side_mm) {
+  vtkNew<vtkCubeSource> cube;
+  cube->SetXLength(side_mm);
+  cube->SetYLength(side_mm);
+  cube->SetZLength(side_mm);
+  cube->Update();
+  return cube->GetOutput();
+}
+
+vtkSmartPointer<vtkActor> glyphActor(vtkPolyData* points, vtkPolyData* shape,
+                                     const detail::Rgb& color) {
+  vtkNew<vtkGlyph3D> glyphs;
+  glyphs->SetInputData(points);
+  glyphs->SetSourceData(shape);
+  glyphs->ScalingOff();
+  glyphs->OrientOff();
+  glyphs->Update();
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->ShallowCopy(glyphs->GetOutput());
+  return makeActor(data, color);
+}
+
+vtkSmartPointer<vtkPolyData> pointCloud(const std::vector<Eigen::Vector3d>& points_mm) {
+  vtkNew<vtkPoints> points;
+  for (const Eigen::Vector3d& p : points_mm) points->InsertNextPoint(p.data());
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(points);
+  return data;
+}
+
+void setUpLayers(SceneBuild& scene) {
+  const detail::Rgb& background = scene.palette.background;
+  scene.overlay->SetBackground(background[0], background[1], background[2]);
+  scene.overlay->SetLayer(0);
+  scene.renderer->SetLayer(1);
+  scene.renderer->SetViewport(0.0, scene.options.ground_truth ? kResidualBarTop : 0.0, scene.right,
+                              kSceneTop);
+}
+
+void addLattice(SceneBuild& scene) {
+  auto lattice = makeActor(latticeLines(scene.map.grid()), scene.palette.lattice);
+  lattice->GetProperty()->SetLineWidth(scene.options.height_px >= 720 ? 1.5f : 1.0f);
+  lattice->GetProperty()->LightingOff();
+  scene.renderer->AddActor(lattice);
+}
+
+// The colour range and the length rule of every gravity arrow: the longest is kArrowFraction of
+// the grid spacing, so neighbours never touch.
+void chooseArrowScale(SceneBuild& scene) {
+  double lo = scene.summary.min_gravity_n;
+  double hi = scene.summary.max_gravity_n;
+  for (const VertexEstimate& vertex : scene.map.vertices()) {
+    if (!vertex.measuredOffVertex()) continue;
+    const double magnitude = vertex.measured_gravity_n.norm();
+    if (!(magnitude > 0.0)) continue;
+    lo = hi > 0.0 ? std::min(lo, magnitude) : magnitude;
+    hi = std::max(hi, magnitude);
+  }
+  if (hi > 0.0) scene.arrow_mm_per_n = kArrowFraction * scene.spacing_mm / hi;
+  if (hi - lo < 1e-6) {
+    const double pad = 0.05 * hi + 1e-3;
+    lo = std::max(0.0, lo - pad);
+    hi += pad;
+  }
+  scene.gravity_lo_n = lo;
+  scene.gravity_hi_n = hi;
+  scene.gravity_table = detail::makeLookupTable(scene.options.color_map, lo, hi);
+}
+
+// Arrows from `origins_mm` along `gravity_n`, scaled and coloured by |G| like every other.
+void addGravityArrows(SceneBuild& scene, const std::vector<Eigen::Vector3d>& origins_mm,
+                      const std::vector<Eigen::Vector3d>& gravity_n, double thickness) {
+  if (origins_mm.empty()) return;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkDoubleArray> vectors;
+  vectors->SetName("gravity_N");
+  vectors->SetNumberOfComponents(3);
+  vtkNew<vtkDoubleArray> magnitudes;
+  magnitudes->SetName("gravity_magnitude_N");
+  for (std::size_t i = 0; i < origins_mm.size(); ++i) {
+    const Eigen::Vector3d& p = origins_mm[i];
+    const Eigen::Vector3d& g = gravity_n[i];
+    points->InsertNextPoint(p.x(), p.y(), p.z());
+    vectors->InsertNextTuple3(g.x(), g.y(), g.z());
+    magnitudes->InsertNextValue(g.norm());
+    scene.data_bounds.extend(p + g * scene.arrow_mm_per_n);
+  }
+  vtkNew<vtkPolyData> arrows_input;
+  arrows_input->SetPoints(points);
+  arrows_input->GetPointData()->SetVectors(vectors);
+  arrows_input->GetPointData()->SetScalars(magnitudes);
+  vtkNew<vtkArrowSource> arrow;
+  arrow->SetTipResolution(16);
+  arrow->SetShaftResolution(12);
+  arrow->SetTipLength(0.3);
+  arrow->SetTipRadius(0.1 * thickness);
+  arrow->SetShaftRadius(0.035 * thickness);
+  vtkNew<vtkGlyph3D> glyphs;
+  glyphs->SetInputData(arrows_input);
+  glyphs->SetSourceConnection(arrow->GetOutputPort());
+  glyphs->SetVectorModeToUseVector();
+  glyphs->SetScaleModeToScaleByVector();
+  glyphs->SetScaleFactor(scene.arrow_mm_per_n);
+  glyphs->SetColorModeToColorByScalar();
+  glyphs->OrientOn();
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(glyphs->GetOutputPort());
+  mapper->SetLookupTable(scene.gravity_table);
+  mapper->SetScalarRange(scene.gravity_lo_n, scene.gravity_hi_n);
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> arrows;
+  arrows->SetMapper(mapper);
+  arrows->GetProperty()->SetAmbient(0.25);
+  arrows->GetProperty()->SetDiffuse(0.8);
+  scene.renderer->AddActor(arrows);
+}
+
+// One arrow per vertex value and the |G_hat| scalar bar; the legend's first entry names them.
+void addVertexArrows(SceneBuild& scene) {
+  if (scene.summary.max_gravity_n <= 0.0) return;
+  const WorkspaceGrid& grid = scene.map.grid();
+  std::vector<Eigen::Vector3d> origins_mm;
+  std::vector<Eigen::Vector3d> gravity_n;
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const Eigen::Vector3d& g = scene.map.vertices()[static_cast<std::size_t>(i)].gravity_n;
+    if (g.norm() <= 0.0) continue;
+    origins_mm.push_back(grid.vertexPosition(i) * kMmPerM);
+    gravity_n.push_back(g);
+  }
+  addGravityArrows(scene, origins_mm, gravity_n, 1.0);
+  addScalarBar(scene.overlay, scene.gravity_table, detail::pickText("|\u011c| [N]", "|G_hat| [N]"),
+               scene.palette, scene.font_px, false, scene.right);
+  vtkNew<vtkArrowSource> symbol;
+  symbol->Update();
+  double mid[3];
+  scene.gravity_table->GetColor(0.5 * (scene.gravity_lo_n + scene.gravity_hi_n), mid);
+  // One kind only (every value measured at its vertex): nothing to tell apart, one word says it.
+  const SceneSummary& summary = scene.summary;
+  const bool kinds = summary.measured_off_vertex > 0 || summary.solved > 0;
+  const std::string text =
+      kinds ? "measured at\nthe vertex: " + std::to_string(summary.measured_at_vertex) : "estimate";
+  scene.legend.push_back({symbol->GetOutput(), text, {mid[0], mid[1], mid[2]}});
+}
+
+// Points measured inside the stops for vertices beyond them: a pink bead with the measured
+// arrow, and a thin line to the vertex whose value they went into.
+void addOffVertexMeasurements(SceneBuild& scene) {
+  if (scene.summary.measured_off_vertex == 0) return;
+  const WorkspaceGrid& grid = scene.map.grid();
+  std::vector<Eigen::Vector3d> points_mm;
+  std::vector<Eigen::Vector3d> arrow_points_mm;
+  std::vector<Eigen::Vector3d> measured_n;
+  vtkNew<vtkPoints> link_points;
+  vtkNew<vtkCellArray> links;
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const VertexEstimate& vertex = scene.map.vertices()[static_cast<std::size_t>(i)];
+    if (!vertex.measuredOffVertex()) continue;
+    const Eigen::Vector3d at_mm = vertex.measured_at_m * kMmPerM;
+    const Eigen::Vector3d vertex_mm = grid.vertexPosition(i) * kMmPerM;
+    points_mm.push_back(at_mm);
+    scene.data_bounds.extend(at_mm);
+    const vtkIdType ids[2] = {link_points->InsertNextPoint(at_mm.data()),
+                              link_points->InsertNextPoint(vertex_mm.data())};
+    links->InsertNextCell(2, ids);
+    if (vertex.measured_gravity_n.norm() > 0.0) {
+      arrow_points_mm.push_back(at_mm);
+      measured_n.push_back(vertex.measured_gravity_n);
+    }
+  }
+  addGravityArrows(scene, arrow_points_mm, measured_n, 0.75);
+  vtkNew<vtkPolyData> link_data;
+  link_data->SetPoints(link_points);
+  link_data->SetLines(links);
+  auto link_actor = makeActor(link_data, scene.palette.off_vertex);
+  link_actor->GetProperty()->SetLineWidth(1.0f);
+  link_actor->GetProperty()->LightingOff();
+  scene.renderer->AddActor(link_actor);
+  auto bead = sphereShape(0.7 * scene.marker_mm, 16, 10);
+  scene.renderer->AddActor(glyphActor(pointCloud(points_mm), bead, scene.palette.off_vertex));
+  scene.legend.push_back(
+      {sphereShape(scene.marker_mm),
+       "measured inside\nthe stops: " + std::to_string(scene.summary.measured_off_vertex),
+       scene.palette.off_vertex});
+}
+
+// Points (in mm) of the vertices that satisfy `keep`.
+template <typename Keep>
+std::vector<Eigen::Vector3d> vertexPositions_mm(const GravityMap& map, Keep keep) {
+  std::vector<Eigen::Vector3d> positions;
+  for (int i = 0; i < map.grid().vertexCount(); ++i) {
+    if (keep(map.vertices()[static_cast<std::size_t>(i)])) {
+      positions.push_back(map.grid().vertexPosition(i) * kMmPerM);
+    }
+  }
+  return positions;
+}
+
+// Solved vertices (purple diamonds), failed ones (red spheres), unvisited ones (grey cubes).
+void addVertexMarkers(SceneBuild& scene) {
+  const SceneSummary& summary = scene.summary;
+  const detail::Palette& palette = scene.palette;
+  const double marker_mm = scene.marker_mm;
+  if (summary.solved > 0) {
+    // A diamond, so that measured and solved values are told apart at a glance; their arrows are
+    // drawn like the others.
+    auto diamond = sphereShape(0.9 * marker_mm, 4, 3);
+    scene.renderer->AddActor(
+        glyphActor(pointCloud(vertexPositions_mm(scene.map, isSolved)), diamond, palette.filled));
+    scene.legend.push_back({diamond,
+                            "solved from the\nmeasurements: " + std::to_string(summary.solved),
+                            palette.filled});
+  }
+  if (summary.failed > 0) {
+    auto sphere = sphereShape(marker_mm);
+    scene.renderer->AddActor(
+        glyphActor(pointCloud(vertexPositions_mm(scene.map, isFailed)), sphere, palette.failed));
+    scene.legend.push_back({sphere, "failed: " + std::to_string(summary.failed), palette.failed});
+  }
+  if (summary.not_visited > 0) {
+    auto cube = cubeShape(1.4 * marker_mm);
+    const auto pending = [](const VertexEstimate& v) {
+      return v.outcome == VertexOutcome::kPending;
+    };
+    scene.renderer->AddActor(
+        glyphActor(pointCloud(vertexPositions_mm(scene.map, pending)), cube, palette.not_visited));
+    scene.legend.push_back(
+        {cube, "unvisited: " + std::to_string(summary.not_visited), palette.not_visited});
+  }
+}
+
+// `opacity` without ground truth; the residual field behind it asks for less.
+void addTranslucentSurface(SceneBuild& scene, vtkAlgorithmOutput* surface, double opacity) {
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(surface);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  const detail::Rgb& color = scene.palette.workspace;
+  actor->GetProperty()->SetColor(color[0], color[1], color[2]);
+  actor->GetProperty()->SetOpacity(scene.options.ground_truth ? 0.6 * opacity : opacity);
+  actor->GetProperty()->BackfaceCullingOn();
+  scene.renderer->AddActor(actor);
+}
+
+// The explored workspace: a translucent surface through the probes' stops (the boundary model
+// the measurement plan uses, sampled over the sphere of directions), and a dot at each stop.
+void addExploredWorkspace(SceneBuild& scene, const ExploredWorkspace& workspace) {
+  constexpr int kLongitudes = 72;
+  constexpr int kLatitudes = 36;
+  vtkNew<vtkSphereSource> directions;
+  directions->SetRadius(1.0);
+  directions->SetThetaResolution(kLongitudes);
+  directions->SetPhiResolution(kLatitudes);
+  directions->Update();
+  vtkNew<vtkPolyData> surface;
+  surface->DeepCopy(directions->GetOutput());
+  surface->GetPointData()->SetNormals(nullptr);
+  vtkPoints* points = surface->GetPoints();
+  const Eigen::Vector3d center_mm = workspace.center_m() * kMmPerM;
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i) {
+    double u[3];
+    points->GetPoint(i, u);
+    const Eigen::Vector3d direction(u[0], u[1], u[2]);
+    const Eigen::Vector3d p =
+        center_mm + direction * (workspace.boundaryDistance_m(direction) * kMmPerM);
+    points->SetPoint(i, p.data());
+    scene.data_bounds.extend(p);
+  }
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputData(surface);
+  normals->SplittingOff();
+  normals->ConsistencyOn();
+  addTranslucentSurface(scene, normals->GetOutputPort(), 0.16);
+
+  std::vector<Eigen::Vector3d> stops_mm;
+  for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
+    stops_mm.push_back(center_mm + workspace.directions()[i] * (workspace.radii_m()[i] * kMmPerM));
+  }
+  auto dot = sphereShape(0.45 * scene.marker_mm, 12, 8);
+  auto dots = glyphActor(pointCloud(stops_mm), dot, scene.palette.workspace);
+  scene.renderer->AddActor(dots);
+  scene.legend.push_back(
+      {dot,
+       "explored workspace:\n" + std::to_string(workspace.directions().size()) + " probe stops",
+       scene.palette.workspace});
+}
+
+// The workspace: the explored one when the map has it, else the device's reachable sphere when
+// known, else the grid's box.
+void addWorkspace(SceneBuild& scene) {
+  const SceneOptions& options = scene.options;
+  const ExploredWorkspace& explored = scene.map.metadata().workspace;
+  if (options.show_explored_workspace && !explored.empty()) {
+    addExploredWorkspace(scene, explored);
+    return;
+  }
+  const WorkspaceGrid& grid = scene.map.grid();
+  const Eigen::Vector3d center_mm = grid.center_m() * kMmPerM;
+  if (options.workspace_radius_m > 0.0) {
+    scene.sphere_center_mm = options.workspace_center_m
+                                 ? Eigen::Vector3d(*options.workspace_center_m * kMmPerM)
+                                 : center_mm;
+    scene.sphere_radius_mm = options.workspace_radius_m * kMmPerM;
+    vtkNew<vtkSphereSource> workspace;
+    workspace->SetCenter(scene.sphere_center_mm.data());
+    workspace->SetRadius(scene.sphere_radius_mm);
+    workspace->SetThetaResolution(64);
+    workspace->SetPhiResolution(40);
+    addTranslucentSurface(scene, workspace->GetOutputPort(), 0.10);
+  } else {
+    vtkNew<vtkCubeSource> workspace;
+    workspace->SetCenter(center_mm.data());
+    workspace->SetXLength(grid.size_m().x() * kMmPerM);
+    workspace->SetYLength(grid.size_m().y() * kMmPerM);
+    workspace->SetZLength(grid.size_m().z() * kMmPerM);
+    addTranslucentSurface(scene, workspace->GetOutputPort(), 0.10);
+  }
+}
+
+void addDevicePosition(SceneBuild& scene) {
+  if (!scene.options.device_position_m) return;
+  const Eigen::Vector3d p = *scene.options.device_position_m * kMmPerM;
+  vtkNew<vtkSphereSource> device;
+  device->SetCenter(p.data());
+  device->SetRadius(0.16 * scene.spacing_mm);
+  device->SetThetaResolution(24);
+  device->SetPhiResolution(16);
+  device->Update();
+  scene.renderer->AddActor(makeActor(device->GetOutput(), scene.palette.device));
+  scene.legend.push_back({sphereShape(scene.marker_mm), "device", scene.palette.device});
+}
+
+// The residual against ground truth, on the faces of the grid's box, with its own scalar bar.
+void addResidualField(SceneBuild& scene) {
+  const SceneOptions& options = scene.options;
+  if (!options.ground_truth) return;
+  const WorkspaceGrid& grid = scene.map.grid();
+  const Eigen::Vector3i samples = residualSamplesPerAxis(grid);
+  vtkNew<vtkImageData> field;
+  field->SetDimensions(samples.x(), samples.y(), samples.z());
+  const Eigen::Vector3d origin_mm = grid.minCorner_m() * kMmPerM;
+  field->SetOrigin(origin_mm.data());
+  const Eigen::Vector3d step_mm =
+      (grid.size_m() * kMmPerM).cwiseQuotient((samples.array() - 1).cast<double>().matrix());
+  field->SetSpacing(step_mm.x(), step_mm.y(), step_mm.z());
+  vtkNew<vtkDoubleArray> residual;
+  residual->SetName("residual_N");
+  residual->SetNumberOfValues(static_cast<vtkIdType>(samples.x()) * samples.y() * samples.z());
+  double max_residual_n = 0.0;
+  sampleResidual(scene.map, options.ground_truth, options.reachable,
+                 [&](int ix, int iy, int iz, double residual_n) {
+                   residual->SetValue(
+                       (static_cast<vtkIdType>(iz) * samples.y() + iy) * samples.x() + ix,
+                       residual_n);
+                   if (std::isfinite(residual_n))
+                     max_residual_n = std::max(max_residual_n, residual_n);
+                 });
+  field->GetPointData()->SetScalars(residual);
+  vtkNew<vtkDataSetSurfaceFilter> surface;
+  surface->SetInputData(field);
+  const double top = max_residual_n > 0.0 ? max_residual_n : 1e-3;
+  auto residual_table = detail::makeResidualLookupTable(top);
+  const detail::Rgb& no_data = scene.palette.not_visited;
+  residual_table->SetNanColor(no_data[0], no_data[1], no_data[2], 1.0);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(surface->GetOutputPort());
+  mapper->SetLookupTable(residual_table);
+  mapper->SetScalarRange(0.0, top);
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetOpacity(0.35);
+  actor->GetProperty()->SetAmbient(0.6);
+  actor->GetProperty()->SetDiffuse(0.4);
+  actor->GetProperty()->BackfaceCullingOn();
+  scene.renderer->AddActor(actor);
+  addScalarBar(scene.overlay, residual_table,
+               detail::pickText("|\u011c \u2212 G_true| [N]", "|G_hat - G_true| [N]"),
+               scene.palette, scene.font_px, true, scene.right);
+}
+
+// The camera's direction from the preset and the adjustments; `up` and `right` as on the screen.
+struct CameraBasis {
+  Eigen::Vector3d direction;
+  Eigen::Vector3d up;
+  Eigen::Vector3d right;
+};
+
+CameraBasis cameraBasis(const SceneOptions& options) {
+  const CameraPreset preset = presetFor(options.view);
+  const double azimuth = (preset.azimuth_deg + options.camera_azimuth_deg) * kPi / 180.0;
+  const double elevation =
+      std::clamp(preset.elevation_deg + options.camera_elevation_deg, -90.0, 90.0) * kPi / 180.0;
+  CameraBasis basis;
+  basis.direction = Eigen::Vector3d(std::cos(elevation) * std::cos(azimuth),
+                                    std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  const Eigen::Vector3d z_up = Eigen::Vector3d::UnitZ();
+  basis.up = z_up - z_up.dot(basis.direction) * basis.direction;
+  if (basis.up.norm() < 1e-3) {
+    // Straight above: the operator (+x) at the bottom of the picture, y to the right.
+    basis.up = Eigen::Vector3d(-std::cos(azimuth), -std::sin(azimuth), 0.0);
+  }
+  basis.up.normalize();
+  basis.right = (-basis.direction).cross(basis.up);
+  return basis;
+}
+
+// Legend of the symbols actually present, in the right-hand column under the scalar bar.
+void addLegend(SceneBuild& scene) {
+  // Long entries are set on two lines (the column is narrow): the line after the break is an
+  // entry of its own without a symbol, so that every symbol keeps the size of one line of text.
+  struct Row {
+    vtkPolyData* symbol;
+    std::string text;
+    detail::Rgb color;
+  };
+  std::vector<Row> rows;
+  // A symbol of two points and no cells: drawn as nothing (VTK reports a null symbol, or one
+  // without points, on stderr).
+  vtkNew<vtkPolyData> no_symbol;
+  vtkNew<vtkPoints> no_symbol_points;
+  no_symbol_points->InsertNextPoint(0.0, 0.0, 0.0);
+  no_symbol_points->InsertNextPoint(1.0, 1.0, 0.0);
+  no_symbol->SetPoints(no_symbol_points);
+  for (const auto& entry : scene.legend) {
+    const auto line_break = entry.text.find('\n');
+    rows.push_back({entry.symbol, entry.text.substr(0, line_break), entry.color});
+    if (line_break != std::string::npos) {
+      rows.push_back({no_symbol, entry.text.substr(line_break + 1), entry.color});
+    }
+  }
+  vtkNew<vtkLegendBoxActor> legend;
+  legend->SetNumberOfEntries(static_cast<int>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    legend->SetEntry(static_cast<int>(i), rows[i].symbol, rows[i].text.c_str(),
+                     rows[i].color.data());
+  }
+  detail::styleText(legend->GetEntryTextProperty(), scene.palette.text, scene.font_px);
+  legend->BorderOff();
+  legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  const double legend_h = rows.size() * 1.6 * scene.font_px / scene.options.height_px;
+  legend->SetPosition(scene.right + 0.01, 0.36 - legend_h);
+  legend->SetPosition2(0.98 - scene.right - 0.01, legend_h);
+  scene.overlay->AddActor2D(legend);
+}
+
+void addTitle(SceneBuild& scene) {
+  vtkNew<vtkTextActor> title;
+  const std::string& text = scene.options.title;
+  title->SetInput((text.empty() ? defaultTitle(scene.map, scene.summary) : text).c_str());
+  detail::styleText(title->GetTextProperty(), scene.palette.text, scene.font_px + scene.font_px / 4,
+                    true);
+  title->GetTextProperty()->SetVerticalJustificationToTop();
+  title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  title->SetPosition(0.015, 0.975);
+  scene.overlay->AddActor2D(title);
+}
+
+// The preset direction, framed on the axes' labels (`frame_points`), the data, the workspace
+// and the device.
+void placeCamera(SceneBuild& scene, const CameraBasis& basis,
+                 std::vector<Eigen::Vector3d> frame_points) {
+  for (int corner = 0; corner < 8; ++corner) {
+    frame_points.push_back(
+        scene.data_bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+  }
+  const SceneOptions& options = scene.options;
+  if (options.device_position_m) frame_points.push_back(*options.device_position_m * kMmPerM);
+  const double viewport_aspect =
+      scene.right * options.width_px /
+      ((kSceneTop - (options.ground_truth ? kResidualBarTop : 0.0)) * options.height_px);
+  frameCamera(scene.renderer->GetActiveCamera(), frame_points, scene.sphere_center_mm,
+              scene.sphere_radius_mm, basis.direction, basis.up, basis.right, viewport_aspect);
+  scene.renderer->ResetCameraClippingRange();
 }
 
 }  // namespace
@@ -447,11 +970,15 @@ SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_tru
                             const Reachability& reachable) {
   SceneSummary summary;
   summary.vertices = map.grid().vertexCount();
+  summary.workspace_directions = static_cast<int>(map.metadata().workspace.directions().size());
   bool any_gravity = false;
   for (const VertexEstimate& vertex : map.vertices()) {
     if (vertex.outcome == VertexOutcome::kConverged) ++summary.converged;
     if (isFailed(vertex)) ++summary.failed;
-    if (isFilled(vertex)) ++summary.filled;
+    if (vertex.provenance == VertexProvenance::kFilled) ++summary.filled;
+    if (isMeasuredAtVertex(vertex)) ++summary.measured_at_vertex;
+    if (isMeasuredOffVertex(vertex)) ++summary.measured_off_vertex;
+    if (isSolved(vertex)) ++summary.solved;
     if (vertex.outcome == VertexOutcome::kPending) ++summary.not_visited;
     const double magnitude = vertex.gravity_n.norm();
     if (magnitude <= 0.0) continue;
@@ -473,300 +1000,29 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   validate(options);
   requireDisplay();
 
-  const detail::Palette palette = detail::paletteFor(options.background);
-  const WorkspaceGrid& grid = map.grid();
-  const SceneSummary summary = summarizeScene(map);
-  const double spacing_mm = grid.spacing_m().minCoeff() * kMmPerM;
-  const Eigen::Vector3d center_mm = grid.center_m() * kMmPerM;
-  const int font_px = detail::baseFontPx(options.height_px);
-
-  // Two layers: `overlay` (full window: background, title, scalar bars, legend) below and
-  // `renderer` (the 3D scene, in the area the annotations leave free) on top, so that text never
-  // lands on the scene whatever the camera does.
-  vtkNew<vtkRenderer> overlay;
-  overlay->SetBackground(palette.background[0], palette.background[1], palette.background[2]);
-  overlay->SetLayer(0);
-  vtkNew<vtkRenderer> renderer;
-  renderer->SetLayer(1);
-  renderer->SetViewport(0.0, options.ground_truth ? kResidualBarTop : 0.0, kSceneRight, kSceneTop);
-
-  // The box of the data (grid and arrows) carries the axes.
-  Eigen::AlignedBox3d data_bounds(grid.minCorner_m() * kMmPerM, grid.maxCorner_m() * kMmPerM);
-
-  // The grid lattice.
-  auto lattice = makeActor(latticeLines(grid), palette.lattice);
-  lattice->GetProperty()->SetLineWidth(options.height_px >= 720 ? 1.5f : 1.0f);
-  lattice->GetProperty()->LightingOff();
-  renderer->AddActor(lattice);
-
-  // One arrow per vertex estimate, scaled and coloured by |G_hat|.
-  double lo = summary.min_gravity_n;
-  double hi = summary.max_gravity_n;
-  if (hi - lo < 1e-6) {
-    const double pad = 0.05 * hi + 1e-3;
-    lo = std::max(0.0, lo - pad);
-    hi += pad;
-  }
-  auto gravity_table = detail::makeLookupTable(options.color_map, lo, hi);
-  if (summary.max_gravity_n > 0.0) {
-    vtkNew<vtkPoints> points;
-    vtkNew<vtkDoubleArray> vectors;
-    vectors->SetName("gravity_N");
-    vectors->SetNumberOfComponents(3);
-    vtkNew<vtkDoubleArray> magnitudes;
-    magnitudes->SetName("gravity_magnitude_N");
-    const double scale_mm_per_n = kArrowFraction * spacing_mm / summary.max_gravity_n;
-    for (int i = 0; i < grid.vertexCount(); ++i) {
-      const Eigen::Vector3d& g = map.vertices()[static_cast<std::size_t>(i)].gravity_n;
-      if (g.norm() <= 0.0) continue;
-      const Eigen::Vector3d p = grid.vertexPosition(i) * kMmPerM;
-      points->InsertNextPoint(p.x(), p.y(), p.z());
-      vectors->InsertNextTuple3(g.x(), g.y(), g.z());
-      magnitudes->InsertNextValue(g.norm());
-      data_bounds.extend(p + g * scale_mm_per_n);
-    }
-    vtkNew<vtkPolyData> arrows_input;
-    arrows_input->SetPoints(points);
-    arrows_input->GetPointData()->SetVectors(vectors);
-    arrows_input->GetPointData()->SetScalars(magnitudes);
-    vtkNew<vtkArrowSource> arrow;
-    arrow->SetTipResolution(16);
-    arrow->SetShaftResolution(12);
-    arrow->SetTipLength(0.3);
-    arrow->SetTipRadius(0.1);
-    arrow->SetShaftRadius(0.035);
-    vtkNew<vtkGlyph3D> glyphs;
-    glyphs->SetInputData(arrows_input);
-    glyphs->SetSourceConnection(arrow->GetOutputPort());
-    glyphs->SetVectorModeToUseVector();
-    glyphs->SetScaleModeToScaleByVector();
-    glyphs->SetScaleFactor(scale_mm_per_n);
-    glyphs->SetColorModeToColorByScalar();
-    glyphs->OrientOn();
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(glyphs->GetOutputPort());
-    mapper->SetLookupTable(gravity_table);
-    mapper->SetScalarRange(lo, hi);
-    mapper->ScalarVisibilityOn();
-    vtkNew<vtkActor> arrows;
-    arrows->SetMapper(mapper);
-    arrows->GetProperty()->SetAmbient(0.25);
-    arrows->GetProperty()->SetDiffuse(0.8);
-    renderer->AddActor(arrows);
-    addScalarBar(overlay, gravity_table, detail::pickText("|\u011c| [N]", "|G_hat| [N]"), palette,
-                 font_px, false);
-  }
-
-  // Vertices that failed (red spheres) and vertices never visited (grey cubes).
-  const double marker_mm = 0.11 * spacing_mm;
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetRadius(marker_mm);
-  sphere->SetThetaResolution(20);
-  sphere->SetPhiResolution(14);
-  vtkNew<vtkCubeSource> cube;
-  cube->SetXLength(1.4 * marker_mm);
-  cube->SetYLength(1.4 * marker_mm);
-  cube->SetZLength(1.4 * marker_mm);
-  if (summary.failed > 0) {
-    auto failed = vertexPoints(map, [](const VertexEstimate& v) { return isFailed(v); });
-    renderer->AddActor(markerActor(failed, sphere, palette.failed));
-  }
-  // Filled vertices (out of reach): a purple diamond, so that measured and filled values are
-  // told apart at a glance; their arrows are drawn like the others.
-  vtkNew<vtkSphereSource> diamond;
-  diamond->SetRadius(0.9 * marker_mm);
-  diamond->SetThetaResolution(4);
-  diamond->SetPhiResolution(3);
-  if (summary.filled > 0) {
-    auto filled = vertexPoints(map, isFilled);
-    renderer->AddActor(markerActor(filled, diamond, palette.filled));
-  }
-  if (summary.not_visited > 0) {
-    auto pending = vertexPoints(
-        map, [](const VertexEstimate& v) { return v.outcome == VertexOutcome::kPending; });
-    renderer->AddActor(markerActor(pending, cube, palette.not_visited));
-  }
-
-  // The workspace: the device's reachable sphere when known, else the grid's box.
-  const Eigen::Vector3d sphere_center_mm =
-      options.workspace_center_m ? Eigen::Vector3d(*options.workspace_center_m * kMmPerM)
-                                 : center_mm;
-  vtkNew<vtkPolyDataMapper> workspace_mapper;
-  if (options.workspace_radius_m > 0.0) {
-    const double radius_mm = options.workspace_radius_m * kMmPerM;
-    const Eigen::Vector3d& sphere_mm = sphere_center_mm;
-    vtkNew<vtkSphereSource> workspace;
-    workspace->SetCenter(sphere_mm.data());
-    workspace->SetRadius(radius_mm);
-    workspace->SetThetaResolution(64);
-    workspace->SetPhiResolution(40);
-    workspace_mapper->SetInputConnection(workspace->GetOutputPort());
-  } else {
-    vtkNew<vtkCubeSource> workspace;
-    workspace->SetCenter(center_mm.data());
-    workspace->SetXLength(grid.size_m().x() * kMmPerM);
-    workspace->SetYLength(grid.size_m().y() * kMmPerM);
-    workspace->SetZLength(grid.size_m().z() * kMmPerM);
-    workspace_mapper->SetInputConnection(workspace->GetOutputPort());
-  }
-  vtkNew<vtkActor> workspace_actor;
-  workspace_actor->SetMapper(workspace_mapper);
-  workspace_actor->GetProperty()->SetColor(palette.workspace[0], palette.workspace[1],
-                                           palette.workspace[2]);
-  workspace_actor->GetProperty()->SetOpacity(options.ground_truth ? 0.06 : 0.10);
-  workspace_actor->GetProperty()->BackfaceCullingOn();
-  renderer->AddActor(workspace_actor);
-
-  // The device's current position.
-  if (options.device_position_m) {
-    const Eigen::Vector3d p = *options.device_position_m * kMmPerM;
-    vtkNew<vtkSphereSource> device;
-    device->SetCenter(p.data());
-    device->SetRadius(0.16 * spacing_mm);
-    device->SetThetaResolution(24);
-    device->SetPhiResolution(16);
-    device->Update();
-    renderer->AddActor(makeActor(device->GetOutput(), palette.device));
-  }
-
-  // The residual against ground truth, on the faces of the grid's box.
-  double max_residual_n = 0.0;
-  if (options.ground_truth) {
-    const Eigen::Vector3i samples = residualSamplesPerAxis(grid);
-    vtkNew<vtkImageData> field;
-    field->SetDimensions(samples.x(), samples.y(), samples.z());
-    const Eigen::Vector3d origin_mm = grid.minCorner_m() * kMmPerM;
-    field->SetOrigin(origin_mm.data());
-    const Eigen::Vector3d step_mm =
-        (grid.size_m() * kMmPerM).cwiseQuotient((samples.array() - 1).cast<double>().matrix());
-    field->SetSpacing(step_mm.x(), step_mm.y(), step_mm.z());
-    vtkNew<vtkDoubleArray> residual;
-    residual->SetName("residual_N");
-    residual->SetNumberOfValues(static_cast<vtkIdType>(samples.x()) * samples.y() * samples.z());
-    sampleResidual(map, options.ground_truth, options.reachable,
-                   [&](int ix, int iy, int iz, double residual_n) {
-                     residual->SetValue(
-                         (static_cast<vtkIdType>(iz) * samples.y() + iy) * samples.x() + ix,
-                         residual_n);
-                     if (std::isfinite(residual_n))
-                       max_residual_n = std::max(max_residual_n, residual_n);
-                   });
-    field->GetPointData()->SetScalars(residual);
-    vtkNew<vtkDataSetSurfaceFilter> surface;
-    surface->SetInputData(field);
-    const double top = max_residual_n > 0.0 ? max_residual_n : 1e-3;
-    auto residual_table = detail::makeResidualLookupTable(top);
-    residual_table->SetNanColor(palette.not_visited[0], palette.not_visited[1],
-                                palette.not_visited[2], 1.0);
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(surface->GetOutputPort());
-    mapper->SetLookupTable(residual_table);
-    mapper->SetScalarRange(0.0, top);
-    mapper->ScalarVisibilityOn();
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    actor->GetProperty()->SetOpacity(0.35);
-    actor->GetProperty()->SetAmbient(0.6);
-    actor->GetProperty()->SetDiffuse(0.4);
-    actor->GetProperty()->BackfaceCullingOn();
-    renderer->AddActor(actor);
-    addScalarBar(overlay, residual_table,
-                 detail::pickText("|\u011c \u2212 G_true| [N]", "|G_hat - G_true| [N]"), palette,
-                 font_px, true);
-  }
-
-  // Camera direction from the preset and the adjustments; `up` and `right` as on the screen.
-  const CameraPreset preset = presetFor(options.view);
-  const double azimuth = (preset.azimuth_deg + options.camera_azimuth_deg) * kPi / 180.0;
-  const double elevation =
-      std::clamp(preset.elevation_deg + options.camera_elevation_deg, -90.0, 90.0) * kPi / 180.0;
-  const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth),
-                                  std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-  const Eigen::Vector3d z_up = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d up = z_up - z_up.dot(direction) * direction;
-  if (up.norm() < 1e-3) {
-    // Straight above: the operator (+x) at the bottom of the picture, y to the right.
-    up = Eigen::Vector3d(-std::cos(azimuth), -std::sin(azimuth), 0.0);
-  }
-  up.normalize();
-  const Eigen::Vector3d right = (-direction).cross(up);
-
-  std::vector<Eigen::Vector3d> frame_points =
-      addAxes(renderer, data_bounds, direction, up, right, palette, font_px);
-
-  // Legend of the symbols actually present, in the right-hand column under the scalar bar.
-  struct Entry {
-    vtkSmartPointer<vtkPolyData> symbol;
-    std::string text;
-    detail::Rgb color;
-  };
-  std::vector<Entry> entries;
-  {
-    vtkNew<vtkArrowSource> arrow;
-    arrow->Update();
-    double mid[3];
-    gravity_table->GetColor(0.5 * (lo + hi), mid);
-    entries.push_back({arrow->GetOutput(), "estimate", {mid[0], mid[1], mid[2]}});
-    sphere->Update();
-    cube->Update();
-    if (summary.failed > 0) {
-      entries.push_back(
-          {sphere->GetOutput(), "failed: " + std::to_string(summary.failed), palette.failed});
-    }
-    if (summary.not_visited > 0) {
-      entries.push_back({cube->GetOutput(), "unvisited: " + std::to_string(summary.not_visited),
-                         palette.not_visited});
-    }
-    if (summary.filled > 0) {
-      diamond->Update();
-      entries.push_back({diamond->GetOutput(),
-                         "filled (unreachable): " + std::to_string(summary.filled),
-                         palette.filled});
-    }
-    if (options.device_position_m) {
-      entries.push_back({sphere->GetOutput(), "device", palette.device});
-    }
-  }
-  vtkNew<vtkLegendBoxActor> legend;
-  legend->SetNumberOfEntries(static_cast<int>(entries.size()));
-  for (std::size_t i = 0; i < entries.size(); ++i) {
-    legend->SetEntry(static_cast<int>(i), entries[i].symbol, entries[i].text.c_str(),
-                     entries[i].color.data());
-  }
-  detail::styleText(legend->GetEntryTextProperty(), palette.text, font_px);
-  legend->BorderOff();
-  legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  const double legend_h = entries.size() * 1.6 * font_px / options.height_px;
-  legend->SetPosition(kSceneRight + 0.01, 0.36 - legend_h);
-  legend->SetPosition2(0.98 - kSceneRight - 0.01, legend_h);
-  overlay->AddActor2D(legend);
-
-  // Title.
-  vtkNew<vtkTextActor> title;
-  title->SetInput((options.title.empty() ? defaultTitle(map, summary) : options.title).c_str());
-  detail::styleText(title->GetTextProperty(), palette.text, font_px + font_px / 4, true);
-  title->GetTextProperty()->SetVerticalJustificationToTop();
-  title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  title->SetPosition(0.015, 0.975);
-  overlay->AddActor2D(title);
-
-  // Camera: the preset direction, framed on the data, the axes, the workspace and the device.
-  for (int corner = 0; corner < 8; ++corner) {
-    frame_points.push_back(
-        data_bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
-  }
-  if (options.device_position_m) frame_points.push_back(*options.device_position_m * kMmPerM);
-  const double viewport_aspect =
-      kSceneRight * options.width_px /
-      ((kSceneTop - (options.ground_truth ? kResidualBarTop : 0.0)) * options.height_px);
-  frameCamera(renderer->GetActiveCamera(), frame_points, sphere_center_mm,
-              options.workspace_radius_m * kMmPerM, direction, up, right, viewport_aspect);
-  renderer->ResetCameraClippingRange();
+  SceneBuild scene(map, options);
+  setUpLayers(scene);
+  addLattice(scene);
+  chooseArrowScale(scene);
+  addVertexArrows(scene);
+  addOffVertexMeasurements(scene);
+  addVertexMarkers(scene);
+  addWorkspace(scene);
+  addDevicePosition(scene);
+  addResidualField(scene);
+  // The axes go along the box of everything drawn, so they come after the scene's content.
+  const CameraBasis basis = cameraBasis(options);
+  std::vector<Eigen::Vector3d> label_anchors =
+      addAxes(scene.renderer, scene.data_bounds, basis.direction, basis.up, basis.right,
+              scene.palette, scene.font_px);
+  addLegend(scene);
+  addTitle(scene);
+  placeCamera(scene, basis, std::move(label_anchors));
 
   detail::OffscreenWindow window(options.width_px, options.height_px);
   window.get()->SetNumberOfLayers(2);
-  window.get()->AddRenderer(overlay);
-  window.get()->AddRenderer(renderer);
+  window.get()->AddRenderer(scene.overlay);
+  window.get()->AddRenderer(scene.renderer);
   return detail::captureWindow(window.get());
 }
 
