@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -283,6 +284,38 @@ TEST_F(VisualRegressionTest, MovedCameraFails) {
   if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
   const RgbImage image = omegaIso([](SceneOptions& o) { o.camera_azimuth_deg = 2.0; });
   EXPECT_FALSE(compareWithGolden(image, "omega_iso.png").passed);
+}
+
+// The broken renders below start from the falcon_explored_iso golden case.
+RgbImage falconExploredIso(const std::function<void(SceneOptions&)>& change,
+                           const std::function<void(std::vector<VertexEstimate>&)>& edit) {
+  SceneOptions options;
+  options.width_px = kGoldenWidth;
+  options.height_px = kGoldenHeight;
+  if (change) change(options);
+  if (!edit) return renderScene(falconExploredMap(), options);
+  std::vector<VertexEstimate> vertices = falconExploredMap().vertices();
+  edit(vertices);
+  const GravityMap edited(falconExploredMap().grid(), vertices, falconExploredMap().metadata());
+  return renderScene(edited, options);
+}
+
+TEST_F(VisualRegressionTest, MissingExploredWorkspaceFails) {
+  if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
+  const RgbImage image =
+      falconExploredIso([](SceneOptions& o) { o.show_explored_workspace = false; }, nullptr);
+  EXPECT_FALSE(compareWithGolden(image, "falcon_explored_iso.png").passed);
+}
+
+TEST_F(VisualRegressionTest, MissingOffVertexPointsFail) {
+  if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
+  // The same values, but as if every one had been measured at its vertex: no beads, no lines.
+  const RgbImage image = falconExploredIso(nullptr, [](std::vector<VertexEstimate>& vertices) {
+    for (VertexEstimate& v : vertices) {
+      v.measured_at_m.setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+  });
+  EXPECT_FALSE(compareWithGolden(image, "falcon_explored_iso.png").passed);
 }
 
 }  // namespace
