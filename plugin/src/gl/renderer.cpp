@@ -436,6 +436,7 @@ void Renderer::render(const Scene& scene) {
   double min_magnitude = 0.0;
   double max_magnitude = 0.0;
   double scale_m_per_n = scene.arrow_scale_m_per_n;
+  int at_vertex_count = 0;
   int solved_count = 0;
   int off_vertex_count = 0;
   int workspace_stops = 0;
@@ -469,6 +470,10 @@ void Renderer::render(const Scene& scene) {
     // is never mistaken for a measured one.
     for (int i = 0; i < grid.vertexCount(); ++i) {
       const VertexEstimate& vertex = map->vertices()[static_cast<std::size_t>(i)];
+      if (vertex.outcome == VertexOutcome::kConverged &&
+          vertex.provenance == VertexProvenance::kMeasured && !vertex.measuredOffVertex()) {
+        ++at_vertex_count;
+      }
       if (vertex.provenance == VertexProvenance::kFilled && !vertex.measuredOffVertex()) {
         s.sphere_instances.push_back(makeInstance(grid.vertexPosition(i), Eigen::Vector3d::Zero(),
                                                   0.06 * cell_m, kSolvedVertexColor, 0.0f));
@@ -603,6 +608,9 @@ void Renderer::render(const Scene& scene) {
   };
   std::vector<KeyLine> key;
   if (legend) {
+    if (off_vertex_count > 0 || solved_count > 0) {
+      key.push_back({"MEASURED AT THE VERTEX " + std::to_string(at_vertex_count), kTextColor});
+    }
     if (off_vertex_count > 0 && scene.show_measurements) {
       key.push_back(
           {"MEASURED INSIDE THE STOPS " + std::to_string(off_vertex_count), kOffVertexColor});
