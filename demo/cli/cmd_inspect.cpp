@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "autograv/map/map_io.h"
+#include "autograv/map/value_kind.h"
 #include "commands.h"
 
 namespace autograv::cli {
@@ -34,13 +35,6 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
   char text[256];
   std::snprintf(text, sizeof text, pattern, a, b, c, d);
   return text;
-}
-
-// The three kinds of value a map holds, in the words the render legend uses.
-const char* valueKind(const VertexEstimate& v) {
-  if (v.measuredOffVertex()) return "off vertex";
-  if (v.provenance == VertexProvenance::kFilled) return "solved";
-  return v.outcome == VertexOutcome::kPending ? "none" : "at vertex";
 }
 
 // Volume of the explored workspace's boundary model: the integral of r(u)^3 / 3 over the sphere
@@ -110,10 +104,10 @@ void runInspectCommand(const InspectOptions& options) {
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
     ++outcomes[toString(v.outcome)];
-    const std::string kind = valueKind(v);
-    at_vertex += kind == "at vertex" && v.outcome == VertexOutcome::kConverged ? 1 : 0;
-    off_vertex += kind == "off vertex" ? 1 : 0;
-    solved += kind == "solved" ? 1 : 0;
+    const ValueKind kind = valueKind(v);
+    if (kind == ValueKind::kAtVertex) ++at_vertex;
+    if (kind == ValueKind::kOffVertex) ++off_vertex;
+    if (kind == ValueKind::kSolved) ++solved;
     if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
       not_converged.push_back(i);
     }
@@ -199,7 +193,7 @@ void runInspectCommand(const InspectOptions& options) {
       std::printf(
           "%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %-15s  %-10s  %s\n", i,
           x.x(), x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(), v.iterations,
-          v.seconds, toString(v.outcome), valueKind(v), measured_at.c_str());
+          v.seconds, toString(v.outcome), toString(valueKind(v)), measured_at.c_str());
     }
   }
 }

@@ -5,6 +5,8 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "autograv/map/value_kind.h"
+
 namespace autograv::demo {
 
 namespace {
@@ -80,7 +82,7 @@ std::vector<std::string> DemoView::readout(const ServoSnapshot& s, const Gravity
     // Values not measured at all (out of reach), solved from the measurements around them.
     int solved = 0;
     for (const VertexEstimate& vertex : map->vertices()) {
-      if (vertex.provenance == VertexProvenance::kFilled && !vertex.measuredOffVertex()) ++solved;
+      if (valueKind(vertex) == ValueKind::kSolved) ++solved;
     }
     if (solved > 0) first += format(" %d SOLVED", solved);
   } else {

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
+#include "autograv/map/value_kind.h"
 #include "gl/embedded_shaders.h"
 #include "gl/font.h"
 #include "gl/gl_functions.h"
@@ -470,11 +471,9 @@ void Renderer::render(const Scene& scene) {
     // is never mistaken for a measured one.
     for (int i = 0; i < grid.vertexCount(); ++i) {
       const VertexEstimate& vertex = map->vertices()[static_cast<std::size_t>(i)];
-      if (vertex.outcome == VertexOutcome::kConverged &&
-          vertex.provenance == VertexProvenance::kMeasured && !vertex.measuredOffVertex()) {
-        ++at_vertex_count;
-      }
-      if (vertex.provenance == VertexProvenance::kFilled && !vertex.measuredOffVertex()) {
+      const ValueKind kind = valueKind(vertex);
+      if (kind == ValueKind::kAtVertex) ++at_vertex_count;
+      if (kind == ValueKind::kSolved) {
         s.sphere_instances.push_back(makeInstance(grid.vertexPosition(i), Eigen::Vector3d::Zero(),
                                                   0.06 * cell_m, kSolvedVertexColor, 0.0f));
         ++solved_count;

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
+#include "autograv/map/value_kind.h"
 #include "autograv/viz/scene.h"
 #include "vtk_support.h"
 
@@ -37,18 +38,17 @@ inline constexpr double kSceneRightWithKinds = 0.74;
 inline constexpr double kSceneTop = 0.93;
 inline constexpr double kResidualBarTop = 0.13;
 
-// The three kinds of value a map holds, as the legend names them.
+// The three kinds of value a map holds (autograv/map/value_kind.h), as the legend names them.
 inline bool isMeasuredOffVertex(const VertexEstimate& vertex) noexcept {
-  return vertex.measuredOffVertex();
+  return valueKind(vertex) == ValueKind::kOffVertex;
 }
 
 inline bool isSolved(const VertexEstimate& vertex) noexcept {
-  return vertex.provenance == VertexProvenance::kFilled && !vertex.measuredOffVertex();
+  return valueKind(vertex) == ValueKind::kSolved;
 }
 
 inline bool isMeasuredAtVertex(const VertexEstimate& vertex) noexcept {
-  return vertex.outcome == VertexOutcome::kConverged &&
-         vertex.provenance == VertexProvenance::kMeasured && !vertex.measuredOffVertex();
+  return valueKind(vertex) == ValueKind::kAtVertex;
 }
 
 inline bool isFailed(const VertexEstimate& vertex) noexcept {
