@@ -27,6 +27,13 @@ TEST(ValueKindTest, NamesWhereEachValueComesFrom) {
   off_vertex.measured_at_m = Eigen::Vector3d(0.01, 0.0, 0.0);
   EXPECT_EQ(valueKind(off_vertex), ValueKind::kOffVertex);
 
+  // Its point inside the stops could not be held either: no measurement, solved like the rest.
+  VertexEstimate unheld = off_vertex;
+  unheld.outcome = VertexOutcome::kUnreachable;
+  EXPECT_EQ(valueKind(unheld), ValueKind::kSolved);
+  unheld.provenance = VertexProvenance::kMeasured;  // before the solve: nothing to show yet
+  EXPECT_EQ(valueKind(unheld), ValueKind::kNone);
+
   VertexEstimate solved;
   solved.outcome = VertexOutcome::kUnreachable;
   solved.provenance = VertexProvenance::kFilled;

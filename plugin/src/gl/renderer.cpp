@@ -483,7 +483,7 @@ void Renderer::render(const Scene& scene) {
     // arrow (thinner than the vertex arrows) and a line to the vertex.
     for (int i = 0; i < grid.vertexCount(); ++i) {
       const VertexEstimate& vertex = map->vertices()[static_cast<std::size_t>(i)];
-      if (!vertex.measuredOffVertex()) continue;
+      if (valueKind(vertex) != ValueKind::kOffVertex) continue;
       ++off_vertex_count;
       if (!scene.show_measurements) continue;
       s.sphere_instances.push_back(makeInstance(vertex.measured_at_m, Eigen::Vector3d::Zero(),

@@ -131,7 +131,7 @@ void chooseArrowScale(SceneBuild& scene) {
   double lo = scene.summary.min_gravity_n;
   double hi = scene.summary.max_gravity_n;
   for (const VertexEstimate& vertex : scene.map.vertices()) {
-    if (!vertex.measuredOffVertex()) continue;
+    if (valueKind(vertex) != ValueKind::kOffVertex) continue;
     const double magnitude = vertex.measured_gravity_n.norm();
     if (!(magnitude > 0.0)) continue;
     lo = hi > 0.0 ? std::min(lo, magnitude) : magnitude;
@@ -239,7 +239,7 @@ void addOffVertexMeasurements(SceneBuild& scene) {
   vtkNew<vtkCellArray> links;
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& vertex = scene.map.vertices()[static_cast<std::size_t>(i)];
-    if (!vertex.measuredOffVertex()) continue;
+    if (valueKind(vertex) != ValueKind::kOffVertex) continue;
     const Eigen::Vector3d at_mm = vertex.measured_at_m * kMmPerM;
     const Eigen::Vector3d vertex_mm = grid.vertexPosition(i) * kMmPerM;
     points_mm.push_back(at_mm);
