@@ -76,7 +76,7 @@ inline GravityMap makeExploredFixtureMap(
     const Eigen::Vector3d g = truth(point_m);
     const Eigen::Vector3d wobble(std::sin(1.7 * i), std::cos(2.3 * i), std::sin(0.9 * i + 1.0));
     v.gravity_n = g + spec.error_fraction * g.norm() * wobble;
-    v.iterations = 6 + (i * 7) % 9;
+    v.iterations = 4 + (i * 7) % 3;  // short histories keep the fixture file small
     v.seconds = 0.25 * v.iterations;
     v.outcome = VertexOutcome::kConverged;
     for (int j = 1; j <= v.iterations; ++j) {
