@@ -1,5 +1,6 @@
 // autograv inspect: a human summary of a gravity map file.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "autograv/map/map_io.h"
+#include "autograv/map/value_kind.h"
 #include "commands.h"
 
 namespace autograv::cli {
@@ -35,6 +37,54 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
   return text;
 }
 
+// Volume of the explored workspace's boundary model: the integral of r(u)^3 / 3 over the sphere
+// of directions, on a Fibonacci lattice of directions (equal areas). Unit: [m^3]
+double workspaceVolume_m3(const ExploredWorkspace& workspace) {
+  constexpr int kDirections = 4000;
+  constexpr double kPi = 3.14159265358979323846;
+  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
+  double sum = 0.0;
+  for (int i = 0; i < kDirections; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / kDirections;
+    const double ring = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Eigen::Vector3d u(ring * std::cos(golden_angle * i), ring * std::sin(golden_angle * i),
+                            z);
+    sum += std::pow(workspace.boundaryDistance_m(u), 3) / 3.0;
+  }
+  return sum * 4.0 * kPi / kDirections;
+}
+
+void printWorkspace(const ExploredWorkspace& workspace) {
+  if (workspace.empty()) {
+    printRow("workspace", "not explored (a map made before the exploration, or without it)");
+    return;
+  }
+  std::vector<double> reach_mm;
+  for (double r : workspace.radii_m()) reach_mm.push_back(r * 1e3);
+  const Eigen::Vector3d c = workspace.center_m() * 1e3;
+  printRow("workspace",
+           "explored along " + std::to_string(workspace.directions().size()) +
+               format(" probe directions from [%.1f, %.1f, %.1f] mm", c.x(), c.y(), c.z()));
+  printRow("", format("reach %.1f min, %.1f median, %.1f max mm", workspace.minRadius_m() * 1e3,
+                      median(reach_mm), workspace.maxRadius_m() * 1e3));
+  const double volume_m3 = workspaceVolume_m3(workspace);
+  printRow("", format("volume about %.0f cm^3 (%.2f L) inside the probes' stops", volume_m3 * 1e6,
+                      volume_m3 * 1e3));
+}
+
+void printLookup(const GravityMap& map) {
+  const int k = map.metadata().lookup_refinement;
+  if (k <= 1) {
+    printRow("lookup", "trilinear over the vertex values (refinement 1)");
+    return;
+  }
+  const Eigen::Vector3i n = (map.grid().resolution().array() - 1) * k + 1;
+  printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " +
+                         std::to_string(n.x()) + "x" + std::to_string(n.y()) + "x" +
+                         std::to_string(n.z()) +
+                         " grid of the thin-plate interpolant of every measurement");
+}
+
 void runInspectCommand(const InspectOptions& options) {
   // loadMap validates everything, the checksum included: what is printed is what a device would
   // use. No device model is expected here, so maps of every model can be inspected.
@@ -48,9 +98,16 @@ void runInspectCommand(const InspectOptions& options) {
   std::vector<double> seconds;
   std::map<std::string, int> outcomes;
   std::vector<int> not_converged;
+  int at_vertex = 0;
+  int off_vertex = 0;
+  int solved = 0;
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
     ++outcomes[toString(v.outcome)];
+    const ValueKind kind = valueKind(v);
+    if (kind == ValueKind::kAtVertex) ++at_vertex;
+    if (kind == ValueKind::kOffVertex) ++off_vertex;
+    if (kind == ValueKind::kSolved) ++solved;
     if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
       not_converged.push_back(i);
     }
@@ -74,13 +131,17 @@ void runInspectCommand(const InspectOptions& options) {
   std::string details;
   for (const auto& [name, count] : outcomes) {
     if (name == "converged") continue;
-    details += (details.empty() ? "" : ", ") + name + " " + std::to_string(count);
+    // "unreachable": beyond the explored workspace (or held by a stop), so not measured.
+    const std::string shown = name == "unreachable" ? "out of reach" : name;
+    details += (details.empty() ? "" : ", ") + shown + " " + std::to_string(count);
   }
   if (!details.empty()) outcome_text += " (" + details + ")";
   printRow("vertices", outcome_text);
-  printRow("values", std::to_string(grid.vertexCount() - map.filledCount()) + " measured, " +
-                         std::to_string(map.filledCount()) +
-                         " filled from measured neighbours (unreachable vertices)");
+  printRow("values", std::to_string(at_vertex) + " measured at the vertex, " +
+                         std::to_string(off_vertex) + " measured inside the stops (off vertex), " +
+                         std::to_string(solved) + " solved from the measurements");
+  printWorkspace(metadata.workspace);
+  printLookup(map);
   if (!norms_n.empty()) {
     const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
     printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,
@@ -119,14 +180,20 @@ void runInspectCommand(const InspectOptions& options) {
     }
   }
   if (options.list_vertices) {
-    std::printf("\n%6s  %-26s  %-30s  %5s  %7s  %-15s  %s\n", "vertex", "position [mm]",
-                "G_hat [N]", "iter", "time[s]", "outcome", "value");
+    std::printf("\n%6s  %-26s  %-30s  %5s  %7s  %-15s  %-10s  %s\n", "vertex", "position [mm]",
+                "G_hat [N]", "iter", "time[s]", "outcome", "value", "measured at [mm]");
     for (int i = 0; i < grid.vertexCount(); ++i) {
       const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
       const Eigen::Vector3d x = grid.vertexPosition(i) * 1e3;
-      std::printf("%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %-15s  %s\n", i,
-                  x.x(), x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(),
-                  v.iterations, v.seconds, toString(v.outcome), toString(v.provenance));
+      std::string measured_at;
+      if (v.measuredOffVertex()) {
+        const Eigen::Vector3d at = v.measured_at_m * 1e3;
+        measured_at = format("[%7.2f, %7.2f, %7.2f]", at.x(), at.y(), at.z());
+      }
+      std::printf(
+          "%6d  [%7.2f, %7.2f, %7.2f]  [%8.4f, %8.4f, %8.4f]  %5d  %7.2f  %-15s  %-10s  %s\n", i,
+          x.x(), x.y(), x.z(), v.gravity_n.x(), v.gravity_n.y(), v.gravity_n.z(), v.iterations,
+          v.seconds, toString(v.outcome), toString(valueKind(v)), measured_at.c_str());
     }
   }
 }

@@ -46,6 +46,7 @@ struct RenderOptions {
   std::string color_map = "viridis";
   double workspace_radius_mm = -1.0;  // < 0: the truth device's, else none
   std::vector<double> position_mm;
+  bool hide_explored_workspace = false;
   std::string title;
   std::string golden_path;
   TruthOptions truth;
@@ -201,6 +202,7 @@ void runRender(const RenderOptions& options) {
         Eigen::Vector3d(options.position_mm[0], options.position_mm[1], options.position_mm[2]) *
         1e-3;
   }
+  scene.show_explored_workspace = !options.hide_explored_workspace;
   scene.title = options.title;
   viz::writePng(viz::renderScene(map, scene), options.out_path);
   std::printf("wrote %s (%dx%d px, %s view)\n", options.out_path.c_str(), scene.width_px,
@@ -261,7 +263,9 @@ void addRenderCommands(CLI::App& app) {
   {
     auto options = std::make_shared<RenderOptions>();
     CLI::App* command = app.add_subcommand(
-        "render", "Render a map: workspace, grid, gravity arrows, failed vertices (PNG, headless)");
+        "render",
+        "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
+        "headless)");
     command->add_option("map", options->map_path, "Map file (JSON)")->required();
     command->add_option("-o,--out", options->out_path, "PNG to write")->required();
     command->add_option("--view", options->view, "Camera: iso, front or top")
@@ -272,11 +276,13 @@ void addRenderCommands(CLI::App& app) {
     command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
         ->capture_default_str();
     command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
-                        "Draw the workspace sphere with this radius (default: the --truth "
-                        "device's, else the grid's box)");
+                        "Draw the workspace sphere with this radius when the map has no "
+                        "explored workspace (default: the --truth device's, else the grid's box)");
     command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
         ->delimiter(',')
         ->expected(3);
+    command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
+                      "Draw the sphere or box instead of the map's explored workspace");
     command->add_option("--title", options->title, "Title (default: model, grid, converged)");
     addTruthOptions(command, options->truth);
     command->add_option("--compare", options->golden_path,

@@ -212,6 +212,7 @@ int runWindowed(const DemoOptions& given) {
     std::printf("%s\n", text.c_str());
   };
   bool show_map = true;
+  bool show_workspace = true;  // the map's explored workspace (W)
 
   struct Drag {
     bool hand = false;
@@ -309,6 +310,9 @@ int runWindowed(const DemoOptions& given) {
         case 'G':
           show_map = !show_map;
           break;
+        case 'W':
+          show_workspace = !show_workspace;
+          break;
         case 'R':
           camera = initialCamera(*session);
           break;
@@ -343,6 +347,8 @@ int runWindowed(const DemoOptions& given) {
                                  recent && !message.empty() ? upperCase(message) : help);
     scene.show_arrows = show_map;
     scene.show_grid = show_map;
+    scene.show_measurements = show_map;
+    scene.show_workspace = show_workspace;
     renderer.render(scene);
     const double elapsed_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

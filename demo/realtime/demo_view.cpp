@@ -5,6 +5,8 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "autograv/map/value_kind.h"
+
 namespace autograv::demo {
 
 namespace {
@@ -77,7 +79,12 @@ std::vector<std::string> DemoView::readout(const ServoSnapshot& s, const Gravity
   if (map != nullptr) {
     const Eigen::Vector3i& n = map->grid().resolution();
     first += format("  MAP %dX%dX%d", n.x(), n.y(), n.z());
-    if (map->filledCount() > 0) first += format(" %d FILLED", map->filledCount());
+    // Values not measured at all (out of reach), solved from the measurements around them.
+    int solved = 0;
+    for (const VertexEstimate& vertex : map->vertices()) {
+      if (valueKind(vertex) == ValueKind::kSolved) ++solved;
+    }
+    if (solved > 0) first += format(" %d SOLVED", solved);
   } else {
     first += "  NO MAP";
   }

@@ -15,6 +15,7 @@
 #include "autograv/gl/image.h"
 #include "autograv/gl/scene.h"
 #include "autograv/map/gravity_map.h"
+#include "explored_fixture_map.h"
 
 namespace autograv::gl::testing {
 
@@ -34,6 +35,25 @@ inline std::shared_ptr<const GravityMap> makeTestMap() {
   MapMetadata metadata;
   metadata.device_model = "sim:omni";
   return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+}
+
+/// A map made on an explored workspace (an ellipsoid of semi-axes 70, 55, 40 mm about the
+/// centre of makeTestMap's cube) with the same field: vertices measured at the vertex, inside the
+/// stops and solved (tests/support/explored_fixture_map.h).
+inline std::shared_ptr<const GravityMap> makeExploredTestMap() {
+  const Eigen::Vector3d center_m(0.0, 0.0, 0.02);
+  const auto field = [center_m](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d p = x - center_m;
+    return Eigen::Vector3d(0.8 * p.y(), -0.6 * p.x(), 1.4 + 5.0 * p.x() - 3.0 * p.z());
+  };
+  const auto reachable = [center_m](const Eigen::Vector3d& x) {
+    return (x - center_m).cwiseQuotient(Eigen::Vector3d(0.070, 0.055, 0.040)).squaredNorm() <= 1.0;
+  };
+  autograv::testing::ExploredFixtureSpec spec;
+  spec.center_m = center_m;
+  spec.model = "sim:omni";
+  return std::make_shared<const GravityMap>(
+      autograv::testing::makeExploredFixtureMap(field, reachable, spec));
 }
 
 /// The fixed scene of the screenshot tests: the map, a held cursor with its trail and hand

@@ -61,6 +61,55 @@ TEST_F(RendererTest, MissingArrowsAreCaughtByTheComparison) {
   EXPECT_GT(difference.fraction_differing, 4 * kMaxFractionDiffering);
 }
 
+// The explored workspace's wire hull and stops, and the points measured inside the stops.
+Scene exploredScene() {
+  Scene scene = makeTestScene();
+  scene.map = testing::makeExploredTestMap();
+  scene.camera = OrbitCamera::framing(scene.map->grid());
+  scene.force_n = scene.map->gravityAt(scene.cursor_m);
+  return scene;
+}
+
+TEST_F(RendererTest, ExploredWorkspaceSceneMatchesGolden) {
+  const ImageDifference difference = compareWithGolden(draw(exploredScene()), "gl_workspace.png");
+  EXPECT_LE(difference.fraction_differing, kMaxFractionDiffering)
+      << difference.pixels_differing << " pixels differ; see tests/gl_output/ in the build folder";
+}
+
+TEST_F(RendererTest, DrawsTheWorkspaceAndTheOffVertexPointsOnlyWhenAsked) {
+  const Image whole = draw(exploredScene());
+  Scene scene = exploredScene();
+  scene.show_workspace = false;
+  const Image no_workspace = draw(scene);
+  scene = exploredScene();
+  scene.show_measurements = false;
+  const Image no_measurements = draw(scene);
+  EXPECT_GT(compareImages(no_workspace, whole, kPixelThreshold).fraction_differing,
+            kMaxFractionDiffering);
+  EXPECT_GT(compareImages(no_measurements, whole, kPixelThreshold).fraction_differing,
+            kMaxFractionDiffering);
+  // Pink beads of the off-vertex points (1.0, 0.55, 0.80), shaded: only with the measurements.
+  const auto pink = [](const Image& image) {
+    int count = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const int r = image.at(x, y, 0);
+        const int g = image.at(x, y, 1);
+        const int b = image.at(x, y, 2);
+        if (r > 150 && b > 100 && r > g + 50 && b > g + 15) ++count;
+      }
+    }
+    return count;
+  };
+  EXPECT_GT(pink(whole), pink(no_measurements) + 30);
+  // A map without a workspace draws the same with or without the flags.
+  Scene plain = makeTestScene();
+  const Image plain_shown = draw(plain);
+  plain.show_workspace = false;
+  plain.show_measurements = false;
+  EXPECT_EQ(compareImages(draw(plain), plain_shown, 0).pixels_differing, 0);
+}
+
 TEST_F(RendererTest, MissingCursorIsCaughtByTheComparison) {
   Scene scene = makeTestScene();
   scene.show_cursor = false;

@@ -13,6 +13,12 @@
 #   omni_map.json: made by the test itself (AUTOGRAV_UPDATE_FIXTURES=1) from the omni's true
 #     field with a small estimation error and a few failed and unvisited vertices, so that the
 #     pictures show every kind of marker.
+#   falcon_explored_map.json: made by the test too, in milliseconds: the falcon's workspace
+#     probed along 26 directions (to the simulator's reach), the grid fitted around it, the measurement
+#     plan and the solve, so that the pictures show the explored workspace and every kind of
+#     value (measured at the vertex, inside the stops, solved).
+#
+# The shader renderer's goldens (gl_*.png, tests/gl) are rewritten too when it is built.
 #
 # Look at the new pictures (and `git diff --stat tests/visual/golden`) before committing them.
 set -eu
@@ -25,7 +31,7 @@ build=""
 for argument in "$@"; do
   case "$argument" in
     --maps) maps=1 ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     *) build="$argument" ;;
   esac
 done
@@ -54,4 +60,11 @@ AUTOGRAV_UPDATE_FIXTURES=$fixtures AUTOGRAV_UPDATE_GOLDENS=1 xvfb-run -a -s "$xv
   --gtest_filter='VisualRegressionTest.RendersMatchTheGoldens'
 # The fresh goldens must pass their own test, broken renders included.
 xvfb-run -a -s "$xvfb_args" "$build/tests/visual_regression_test"
+
+# The shader renderer draws through OSMesa, no display needed. Rewriting a golden counts as a
+# failure of that run (so that it is never left on by mistake); the second run must pass.
+if cmake --build "$build" --target renderer_test -j 2 >/dev/null 2>&1; then
+  AUTOGRAV_UPDATE_GOLDEN=1 "$build/tests/renderer_test" --gtest_filter='*MatchesGolden*' || true
+  "$build/tests/renderer_test"
+fi
 echo "regenerate_goldens: new goldens in $golden; review them before committing"

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
+#include "autograv/map/measurement_plan.h"
 #include "autograv/viz/image.h"
 #include "autograv/viz/image_compare.h"
 #include "viz_test_support.h"
@@ -17,6 +18,7 @@ namespace {
 using testing::analyticGravity;
 using testing::countPixels;
 using testing::FixtureSpec;
+using testing::makeExploredFixtureMap;
 using testing::makeFixtureMap;
 
 constexpr int kWidth = 400;
@@ -89,6 +91,66 @@ TEST(SceneSummaryTest, UnvisitedVerticesLeaveNoResidual) {
   spec.not_visited = {0, 62};
   const GravityMap map = makeFixtureMap(analyticGravity, spec);
   EXPECT_LE(summarizeScene(map, analyticGravity).max_residual_n, 0.002 + 1e-9);
+}
+
+// An ellipsoidal workspace (semi-axes 60, 45, 35 mm about the origin) for the explored maps.
+bool insideEllipsoid(const Eigen::Vector3d& x) {
+  return (x.cwiseQuotient(Eigen::Vector3d(0.060, 0.045, 0.035))).squaredNorm() <= 1.0;
+}
+
+GravityMap exploredMap() { return makeExploredFixtureMap(analyticGravity, insideEllipsoid); }
+
+TEST(SceneSummaryTest, CountsEachKindOfValueAsThePlanMadeIt) {
+  const GravityMap map = exploredMap();
+  const MeasurementPlan plan = planMeasurements(map.grid(), map.metadata().workspace);
+  const SceneSummary summary = summarizeScene(map);
+  EXPECT_EQ(summary.vertices, 125);
+  EXPECT_EQ(summary.workspace_directions, 26);
+  EXPECT_GT(plan.off_vertex, 0);
+  EXPECT_GT(plan.skipped, 0);
+  EXPECT_EQ(summary.measured_at_vertex, plan.at_vertex);
+  EXPECT_EQ(summary.measured_off_vertex, plan.off_vertex);
+  EXPECT_EQ(summary.solved, plan.skipped);
+  EXPECT_EQ(summary.filled, plan.off_vertex + plan.skipped);
+  EXPECT_EQ(summary.failed, 0);
+  EXPECT_EQ(summary.not_visited, 0);
+  // A map without an exploration: every value measured at its vertex.
+  const SceneSummary plain = summarizeScene(makeFixtureMap(analyticGravity));
+  EXPECT_EQ(plain.measured_at_vertex, 125);
+  EXPECT_EQ(plain.measured_off_vertex + plain.solved + plain.workspace_directions, 0);
+}
+
+bool isOffVertexPink(int r, int g, int b) {
+  // paletteFor(kWhite).off_vertex = (0.80, 0.40, 0.65), lit and seen through the workspace.
+  return r > 150 && g > 60 && g < 140 && b > 110 && b < 200 && r > b + 15 && b > g + 25;
+}
+
+TEST(SceneTest, ShowsThePointsMeasuredInsideTheStops) {
+  AUTOGRAV_REQUIRE_DISPLAY();
+  const int plain =
+      countPixels(renderScene(makeFixtureMap(analyticGravity), smallScene()), isOffVertexPink);
+  const int explored = countPixels(renderScene(exploredMap(), smallScene()), isOffVertexPink);
+  EXPECT_EQ(plain, 0);
+  // Beads at every off-vertex point, the lines to their vertices and the legend symbol.
+  EXPECT_GT(explored, 60);
+}
+
+TEST(SceneTest, DrawsTheExploredWorkspaceInPlaceOfTheSphere) {
+  AUTOGRAV_REQUIRE_DISPLAY();
+  const GravityMap map = exploredMap();
+  SceneOptions options = smallScene();
+  options.workspace_radius_m = 0.07;
+  const RgbImage with_workspace = renderScene(map, options);
+  options.show_explored_workspace = false;
+  const RgbImage sphere = renderScene(map, options);
+  // The sphere is 70 mm round, the explored workspace an ellipsoid: the pictures differ, and a
+  // map without a workspace is drawn the same either way.
+  EXPECT_GT(compareImages(with_workspace, sphere).differing_fraction, 0.01);
+  const GravityMap plain = makeFixtureMap(analyticGravity);
+  options.show_explored_workspace = true;
+  const RgbImage plain_shown = renderScene(plain, options);
+  options.show_explored_workspace = false;
+  EXPECT_EQ(renderScene(plain, options).rgb, plain_shown.rgb);
 }
 
 TEST(SceneTest, FailsClearlyWithoutADisplay) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,6 +89,27 @@ void writeOmniFixture() {
   std::printf("  wrote %s\n", goldenPath("omni_map.json").c_str());
 }
 
+// A map of sim:falcon made as a calibration on its explored workspace makes one (every kind of
+// value: measured at the vertex, inside the stops, solved), in milliseconds: the probes' stops
+// from the simulator's reach, the plan, the solve (tests/support/explored_fixture_map.h).
+// Written with the omni fixture. The falcon's workspace is the least round (52-81 mm of reach).
+void writeFalconExploredFixture() {
+  const Device falcon = openDevice("sim:falcon");
+  auto device = falcon.device;
+  autograv::testing::ExploredFixtureSpec spec;
+  spec.center_m = device->workspaceCenter_m();
+  spec.model = "sim:falcon";
+  const GravityMap map = autograv::testing::makeExploredFixtureMap(
+      falcon.truth(), [device](const Eigen::Vector3d& x) { return device->isReachable(x); }, spec);
+  saveMap(map, goldenPath("falcon_explored_map.json"));
+  std::printf("  wrote %s\n", goldenPath("falcon_explored_map.json").c_str());
+}
+
+const GravityMap& falconExploredMap() {
+  static const GravityMap map = loadMap(goldenPath("falcon_explored_map.json"));
+  return map;
+}
+
 const GravityMap& omniMap() {
   static const GravityMap map = loadMap(goldenPath("omni_map.json"));
   return map;
@@ -133,6 +155,24 @@ std::vector<GoldenCase> goldenCases() {
          options.ground_truth = omega.truth();
          return renderScene(omegaMap(), options);
        }},
+      {"falcon_explored_iso.png",
+       [] {
+         SceneOptions options;
+         options.width_px = kGoldenWidth;
+         options.height_px = kGoldenHeight;
+         return renderScene(falconExploredMap(), options);
+       }},
+      {"falcon_explored_front_dark_residual.png",
+       [] {
+         const Device falcon = openDevice("sim:falcon");
+         auto device = falcon.device;
+         SceneOptions options = goldenScene(falcon);
+         options.view = CameraView::kFront;
+         options.background = Background::kDark;
+         options.ground_truth = falcon.truth();
+         options.reachable = [device](const Eigen::Vector3d& x) { return device->isReachable(x); };
+         return renderScene(falconExploredMap(), options);
+       }},
       {"omega_convergence.png",
        [] {
          const Device omega = openDevice("sim:omega");
@@ -175,7 +215,10 @@ class VisualRegressionTest : public ::testing::Test {
 };
 
 TEST_F(VisualRegressionTest, RendersMatchTheGoldens) {
-  if (envIsOne("AUTOGRAV_UPDATE_FIXTURES")) writeOmniFixture();
+  if (envIsOne("AUTOGRAV_UPDATE_FIXTURES")) {
+    writeOmniFixture();
+    writeFalconExploredFixture();
+  }
   for (const GoldenCase& golden : goldenCases()) {
     SCOPED_TRACE(golden.file);
     const RgbImage image = golden.render();
@@ -241,6 +284,38 @@ TEST_F(VisualRegressionTest, MovedCameraFails) {
   if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
   const RgbImage image = omegaIso([](SceneOptions& o) { o.camera_azimuth_deg = 2.0; });
   EXPECT_FALSE(compareWithGolden(image, "omega_iso.png").passed);
+}
+
+// The broken renders below start from the falcon_explored_iso golden case.
+RgbImage falconExploredIso(const std::function<void(SceneOptions&)>& change,
+                           const std::function<void(std::vector<VertexEstimate>&)>& edit) {
+  SceneOptions options;
+  options.width_px = kGoldenWidth;
+  options.height_px = kGoldenHeight;
+  if (change) change(options);
+  if (!edit) return renderScene(falconExploredMap(), options);
+  std::vector<VertexEstimate> vertices = falconExploredMap().vertices();
+  edit(vertices);
+  const GravityMap edited(falconExploredMap().grid(), vertices, falconExploredMap().metadata());
+  return renderScene(edited, options);
+}
+
+TEST_F(VisualRegressionTest, MissingExploredWorkspaceFails) {
+  if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
+  const RgbImage image =
+      falconExploredIso([](SceneOptions& o) { o.show_explored_workspace = false; }, nullptr);
+  EXPECT_FALSE(compareWithGolden(image, "falcon_explored_iso.png").passed);
+}
+
+TEST_F(VisualRegressionTest, MissingOffVertexPointsFail) {
+  if (updatingGoldens()) GTEST_SKIP() << "updating goldens";
+  // The same values, but as if every one had been measured at its vertex: no beads, no lines.
+  const RgbImage image = falconExploredIso(nullptr, [](std::vector<VertexEstimate>& vertices) {
+    for (VertexEstimate& v : vertices) {
+      v.measured_at_m.setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+  });
+  EXPECT_FALSE(compareWithGolden(image, "falcon_explored_iso.png").passed);
 }
 
 }  // namespace

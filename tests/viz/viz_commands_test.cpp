@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/map/map_io.h"
 #include "autograv/viz/image.h"
 #include "viz_test_support.h"
 
@@ -89,6 +91,72 @@ TEST_F(VizCommandsTest, RenderWritesThePictureAndCompareCatchesAnotherCamera) {
   // The stand-alone comparison says the same.
   EXPECT_EQ(autograv("compare " + file("again.png") + " " + file("iso.png")).exit_code, 0);
   EXPECT_NE(autograv("compare " + file("top.png") + " " + file("iso.png")).exit_code, 0);
+}
+
+TEST_F(VizCommandsTest, InspectShowsTheWorkspaceAndEachKindOfValue) {
+  // An ellipsoidal workspace of semi-axes 60, 45, 35 mm: 396 cm^3.
+  const auto inside = [](const Eigen::Vector3d& x) {
+    return x.cwiseQuotient(Eigen::Vector3d(0.060, 0.045, 0.035)).squaredNorm() <= 1.0;
+  };
+  const GravityMap map = testing::makeExploredFixtureMap(testing::analyticGravity, inside);
+  saveMap(map, file("explored.json"));
+  int at_vertex = 0;
+  int off_vertex = 0;
+  int solved = 0;
+  for (const VertexEstimate& v : map.vertices()) {
+    if (v.measuredOffVertex()) {
+      ++off_vertex;
+    } else if (v.provenance == VertexProvenance::kFilled) {
+      ++solved;
+    } else if (v.outcome == VertexOutcome::kConverged) {
+      ++at_vertex;
+    }
+  }
+  ASSERT_GT(off_vertex, 0);
+  ASSERT_GT(solved, 0);
+  const CommandRun run = autograv("inspect " + file("explored.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string values = std::to_string(at_vertex) + " measured at the vertex, " +
+                             std::to_string(off_vertex) +
+                             " measured inside the stops (off vertex), " + std::to_string(solved) +
+                             " solved from the measurements";
+  EXPECT_NE(run.output.find(values), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("explored along 26 probe directions"), std::string::npos) << run.output;
+  const ExploredWorkspace& workspace = map.metadata().workspace;
+  char reach[96];
+  std::snprintf(reach, sizeof reach, "reach %.1f min,", workspace.minRadius_m() * 1e3);
+  EXPECT_NE(run.output.find(reach), std::string::npos) << run.output;
+  std::snprintf(reach, sizeof reach, "%.1f max mm", workspace.maxRadius_m() * 1e3);
+  EXPECT_NE(run.output.find(reach), std::string::npos) << run.output;
+  // The volume inside the probes' stops: the boundary model through 26 stops lies inside the
+  // ellipsoid, and the volume is the one counted on a 2 mm lattice of points it contains.
+  const auto at = run.output.find("volume about ");
+  ASSERT_NE(at, std::string::npos) << run.output;
+  const double volume_cm3 = std::stod(run.output.substr(at + 13));
+  constexpr double kStep_m = 0.002;
+  long inside_points = 0;
+  for (double x = -0.061; x < 0.061; x += kStep_m) {
+    for (double y = -0.046; y < 0.046; y += kStep_m) {
+      for (double z = -0.036; z < 0.036; z += kStep_m) {
+        if (workspace.contains(Eigen::Vector3d(x, y, z))) ++inside_points;
+      }
+    }
+  }
+  const double counted_cm3 = inside_points * kStep_m * kStep_m * kStep_m * 1e6;
+  EXPECT_NEAR(volume_cm3, counted_cm3, 0.03 * counted_cm3);
+  EXPECT_LT(volume_cm3, 396.0);
+  EXPECT_NE(run.output.find("refinement 2: trilinear on a 9x9x9 grid"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("filled"), std::string::npos) << run.output;
+
+  // A map made without an exploration says so, in the same words.
+  const CommandRun plain = autograv("inspect " + kMap);
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_NE(plain.output.find("not explored"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find(" 0 measured inside the stops (off vertex), 32 solved from the "
+                              "measurements"),
+            std::string::npos)
+      << plain.output;
 }
 
 TEST_F(VizCommandsTest, PlotDrawsAVertexAndTheSummary) {

@@ -15,6 +15,7 @@
 #include "autograv/map/gravity_map.h"
 #include "autograv/viz/common.h"
 #include "autograv/viz/image.h"
+#include "explored_fixture_map.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <dlfcn.h>
@@ -97,6 +98,9 @@ inline GravityMap makeFixtureMap(const GroundTruth& truth, const FixtureSpec& sp
   metadata.created_utc = "2026-01-01T00:00:00Z";
   return GravityMap(grid, std::move(vertices), metadata);
 }
+
+using autograv::testing::ExploredFixtureSpec;
+using autograv::testing::makeExploredFixtureMap;
 
 }  // namespace autograv::viz::testing
 

@@ -5,11 +5,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
+#include "autograv/map/value_kind.h"
 #include "gl/embedded_shaders.h"
 #include "gl/font.h"
 #include "gl/gl_functions.h"
@@ -60,7 +64,11 @@ constexpr Rgba kLatticeColor{0.52f, 0.58f, 0.68f, 0.30f};
 constexpr Rgba kEdgeColor{0.70f, 0.76f, 0.86f, 0.75f};
 constexpr Rgba kTrailColor{1.00f, 0.86f, 0.35f, 0.95f};
 constexpr Rgba kSpringColor{0.55f, 0.95f, 0.55f, 0.90f};
-constexpr Rgba kFilledVertexColor{0.78f, 0.45f, 0.98f, 1.0f};
+constexpr Rgba kSolvedVertexColor{0.78f, 0.45f, 0.98f, 1.0f};
+constexpr Rgba kOffVertexColor{1.00f, 0.55f, 0.80f, 1.0f};
+constexpr Rgba kOffVertexLinkColor{1.00f, 0.55f, 0.80f, 0.70f};
+constexpr Rgba kWorkspaceWireColor{0.45f, 0.65f, 1.00f, 0.40f};
+constexpr Rgba kWorkspaceStopColor{0.45f, 0.65f, 1.00f, 1.0f};
 constexpr Rgba kCursorFree{1.00f, 0.84f, 0.25f, 1.0f};
 constexpr Rgba kCursorHeld{0.40f, 0.95f, 0.45f, 1.0f};
 constexpr Rgba kForceColor{0.95f, 0.35f, 0.95f, 1.0f};
@@ -110,6 +118,38 @@ MeshInstance makeInstance(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
 
 Eigen::Matrix4f toFloat(const Eigen::Matrix4d& m) { return m.cast<float>(); }
 
+// The boundary model of an explored workspace (what the measurement plan keeps inside), drawn as
+// meridians and parallels: a wire hull through the probes' stops.
+void appendWorkspaceWire(const ExploredWorkspace& workspace, std::vector<LineVertex>& lines) {
+  constexpr int kMeridians = 16;
+  constexpr int kParallels = 7;
+  constexpr int kSegments = 48;
+  constexpr double kPi = 3.14159265358979323846;
+  const auto boundary = [&](double polar, double azimuth) {
+    const Eigen::Vector3d u(std::sin(polar) * std::cos(azimuth),
+                            std::sin(polar) * std::sin(azimuth), std::cos(polar));
+    return Eigen::Vector3d(workspace.center_m() + u * workspace.boundaryDistance_m(u));
+  };
+  for (int m = 0; m < kMeridians; ++m) {
+    const double azimuth = 2.0 * kPi * m / kMeridians;
+    Eigen::Vector3d previous = boundary(0.0, azimuth);
+    for (int k = 1; k <= kSegments / 2; ++k) {
+      const Eigen::Vector3d next = boundary(kPi * k / (kSegments / 2), azimuth);
+      pushLine(lines, previous, next, kWorkspaceWireColor, kWorkspaceWireColor);
+      previous = next;
+    }
+  }
+  for (int p = 1; p <= kParallels; ++p) {
+    const double polar = kPi * p / (kParallels + 1);
+    Eigen::Vector3d previous = boundary(polar, 0.0);
+    for (int k = 1; k <= kSegments; ++k) {
+      const Eigen::Vector3d next = boundary(polar, 2.0 * kPi * k / kSegments);
+      pushLine(lines, previous, next, kWorkspaceWireColor, kWorkspaceWireColor);
+      previous = next;
+    }
+  }
+}
+
 std::string formatNewtons(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.2f N", value);
@@ -145,6 +185,10 @@ struct Renderer::State {
   std::vector<MeshInstance> colormap_arrow_instances;
   std::vector<MeshInstance> sphere_instances;
   std::vector<OverlayQuad> overlay_quads;
+  // The workspace wire of `wire_map`, made once per map: the boundary model costs a search per
+  // point, too much to redo every frame.
+  std::shared_ptr<const GravityMap> wire_map;
+  std::vector<LineVertex> wire_lines;
 
   void createLineBuffers();
   void createMesh(InstancedMesh& mesh, const MeshData& data);
@@ -393,6 +437,10 @@ void Renderer::render(const Scene& scene) {
   double min_magnitude = 0.0;
   double max_magnitude = 0.0;
   double scale_m_per_n = scene.arrow_scale_m_per_n;
+  int at_vertex_count = 0;
+  int solved_count = 0;
+  int off_vertex_count = 0;
+  int workspace_stops = 0;
   const GravityMap* map = scene.map.get();
   const WorkspaceGrid* lattice = map != nullptr ? &map->grid()
                                  : scene.grid   ? &*scene.grid
@@ -419,12 +467,52 @@ void Renderer::render(const Scene& scene) {
                                                           static_cast<float>(value)));
       }
     }
-    // Vertices out of reach, filled from their measured neighbours: a purple bead, so that a
-    // filled value is never mistaken for a measured one.
+    // Vertices out of reach, solved from the measurements: a purple bead, so that a solved value
+    // is never mistaken for a measured one.
     for (int i = 0; i < grid.vertexCount(); ++i) {
-      if (map->vertices()[static_cast<std::size_t>(i)].provenance == VertexProvenance::kFilled) {
+      const VertexEstimate& vertex = map->vertices()[static_cast<std::size_t>(i)];
+      const ValueKind kind = valueKind(vertex);
+      if (kind == ValueKind::kAtVertex) ++at_vertex_count;
+      if (kind == ValueKind::kSolved) {
         s.sphere_instances.push_back(makeInstance(grid.vertexPosition(i), Eigen::Vector3d::Zero(),
-                                                  0.06 * cell_m, kFilledVertexColor, 0.0f));
+                                                  0.06 * cell_m, kSolvedVertexColor, 0.0f));
+        ++solved_count;
+      }
+    }
+    // Points measured inside the stops for vertices beyond them: a pink bead with the measured
+    // arrow (thinner than the vertex arrows) and a line to the vertex.
+    for (int i = 0; i < grid.vertexCount(); ++i) {
+      const VertexEstimate& vertex = map->vertices()[static_cast<std::size_t>(i)];
+      if (valueKind(vertex) != ValueKind::kOffVertex) continue;
+      ++off_vertex_count;
+      if (!scene.show_measurements) continue;
+      s.sphere_instances.push_back(makeInstance(vertex.measured_at_m, Eigen::Vector3d::Zero(),
+                                                0.05 * cell_m, kOffVertexColor, 0.0f));
+      pushLine(s.line_vertices, vertex.measured_at_m, grid.vertexPosition(i), kOffVertexLinkColor,
+               kOffVertexLinkColor);
+      if (scene.show_arrows) {
+        const Eigen::Vector3d& g = vertex.measured_gravity_n;
+        const double value =
+            span > 1e-12 ? std::clamp((g.norm() - min_magnitude) / span, 0.0, 1.0) : 0.5;
+        s.colormap_arrow_instances.push_back(makeInstance(vertex.measured_at_m, g * scale_m_per_n,
+                                                          0.025 * cell_m, Rgba{0, 0, 0, 1},
+                                                          static_cast<float>(value)));
+      }
+    }
+    const ExploredWorkspace& workspace = map->metadata().workspace;
+    workspace_stops = static_cast<int>(workspace.directions().size());
+    if (scene.show_workspace && !workspace.empty()) {
+      if (s.wire_map != scene.map) {
+        s.wire_lines.clear();
+        appendWorkspaceWire(workspace, s.wire_lines);
+        s.wire_map = scene.map;
+      }
+      s.line_vertices.insert(s.line_vertices.end(), s.wire_lines.begin(), s.wire_lines.end());
+      for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
+        const Eigen::Vector3d stop =
+            workspace.center_m() + workspace.directions()[i] * workspace.radii_m()[i];
+        s.sphere_instances.push_back(
+            makeInstance(stop, Eigen::Vector3d::Zero(), 0.035 * cell_m, kWorkspaceStopColor, 0.0f));
       }
     }
   }
@@ -512,9 +600,33 @@ void Renderer::render(const Scene& scene) {
   const std::string legend_low = "|G| " + formatNewtons(min_magnitude);
   const std::string legend_high = formatNewtons(max_magnitude);
   if (legend) longest = std::max<std::size_t>(longest, legend_low.size() + legend_high.size() + 12);
+  // The key of the kinds of value, in the colours of their marks; only the kinds present.
+  struct KeyLine {
+    std::string text;
+    Rgba color;
+  };
+  std::vector<KeyLine> key;
+  if (legend) {
+    if (off_vertex_count > 0 || solved_count > 0) {
+      key.push_back({"MEASURED AT THE VERTEX " + std::to_string(at_vertex_count), kTextColor});
+    }
+    if (off_vertex_count > 0 && scene.show_measurements) {
+      key.push_back(
+          {"MEASURED INSIDE THE STOPS " + std::to_string(off_vertex_count), kOffVertexColor});
+    }
+    if (solved_count > 0) {
+      key.push_back(
+          {"SOLVED FROM THE MEASUREMENTS " + std::to_string(solved_count), kSolvedVertexColor});
+    }
+    if (workspace_stops > 0 && scene.show_workspace) {
+      key.push_back({"EXPLORED WORKSPACE " + std::to_string(workspace_stops) + " STOPS",
+                     kWorkspaceStopColor});
+    }
+    for (const KeyLine& line : key) longest = std::max(longest, line.text.size());
+  }
   if (!scene.readout.empty() || legend) {
     panel_height = line_px * static_cast<double>(scene.readout.size()) + 2 * margin;
-    if (legend) panel_height += line_px * 2.0;
+    if (legend) panel_height += line_px * (2.0 + static_cast<double>(key.size()));
     s.addRect(0, 0, static_cast<double>(longest) * detail::kCellWidth * scale + 2 * margin,
               panel_height, kPanelColor);
   }
@@ -532,6 +644,10 @@ void Renderer::render(const Scene& scene) {
               {1, 1, 1, 1}, -2.0f);
     s.addText(margin + text_w + bar_w + 2.0 * detail::kCellWidth * scale, y, scale, legend_high,
               kTextColor);
+    for (const KeyLine& line : key) {
+      y += line_px;
+      s.addText(margin, y, scale, line.text, line.color);
+    }
   }
   if (!scene.status_line.empty()) {
     const double bar_h = line_px + 2 * margin;

@@ -31,7 +31,8 @@ struct Palette {
   Rgb not_visited;
   Rgb device;
   Rgb grid_lines;  ///< Chart grid.
-  Rgb filled;      ///< Vertices out of reach whose values were filled from their neighbours.
+  Rgb filled;      ///< Vertices out of reach whose values were solved from the measurements.
+  Rgb off_vertex;  ///< Points measured inside the stops for a vertex beyond them.
 };
 
 Palette paletteFor(Background background) noexcept;

@@ -21,6 +21,12 @@ struct Scene {
   std::optional<WorkspaceGrid> grid;
   bool show_grid = true;    ///< Draw the lattice of the map's grid (or of `grid`).
   bool show_arrows = true;  ///< Draw the map's arrows (coloured by |G|).
+  /// Draw the map's explored workspace (MapMetadata::workspace, when it has one) as a wire hull
+  /// through the probes' stops, with a dot at each stop.
+  bool show_workspace = true;
+  /// Draw the points measured off their vertex, inside the stops (VertexEstimate::measured_at_m):
+  /// a bead with the measured arrow and a thin line to the vertex their value went into.
+  bool show_measurements = true;
   /// Arrow length per newton, shared by the map arrows and the force vector; 0 picks one so that
   /// the longest map arrow is 0.8 grid cells. Unit: [m/N]
   double arrow_scale_m_per_n = 0.0;
@@ -41,7 +47,8 @@ struct Scene {
   std::vector<std::string> readout;
   /// One line drawn at the bottom (key help, messages).
   std::string status_line;
-  /// Draw the |G| colour bar under the readout when a map is shown.
+  /// Draw the |G| colour bar under the readout when a map is shown, and under it a key of the
+  /// kinds of value (measured at the vertex, inside the stops, solved) and the workspace.
   bool show_legend = true;
 
   /// Where the scene is seen from.

@@ -40,8 +40,13 @@ struct SceneOptions {
   Background background = Background::kWhite;
   /// Colour map of the gravity magnitude on the arrows.
   ColorMap color_map = ColorMap::kViridis;
+  /// Draw the workspace explored before the calibration (MapMetadata::workspace) as a translucent
+  /// surface through the probes' stops, in place of the sphere or box below. Maps made without
+  /// an exploration have none and show the sphere or box.
+  bool show_explored_workspace = true;
   /// Radius of the device's reachable workspace, drawn as a translucent sphere around the grid
-  /// centre (or workspace_center_m); 0 draws the grid's box instead. Unit: [m]
+  /// centre (or workspace_center_m) when the map has no explored workspace; 0 draws the grid's
+  /// box instead. Unit: [m]
   double workspace_radius_m = 0.0;
   /// Centre of that sphere; unset = the grid's centre. Unit: [m]
   std::optional<Eigen::Vector3d> workspace_center_m;
@@ -63,9 +68,19 @@ struct SceneSummary {
   int vertices = 0;
   /// Vertices that converged.
   int converged = 0;
-  int failed = 0;  ///< Visited, not converged and not filled (iteration cap, no steady state...).
-  int not_visited = 0;         ///< Outcome kPending.
-  int filled = 0;              ///< Out of reach; value filled from measured neighbours.
+  int failed = 0;  ///< Visited, not converged and not solved (iteration cap, no steady state...).
+  int not_visited = 0;  ///< Outcome kPending.
+  /// Converged where the vertex is: its value is that measurement.
+  int measured_at_vertex = 0;
+  /// Beyond the explored workspace, measured at a point just inside the stops
+  /// (VertexEstimate::measuredOffVertex); the vertex's value is solved from every measurement.
+  int measured_off_vertex = 0;
+  /// Not measured (out of reach): the value is solved from the measurements around it.
+  int solved = 0;
+  /// Values not measured at the vertex itself (provenance kFilled): measured_off_vertex + solved.
+  int filled = 0;
+  /// Probe directions of the explored workspace; 0 when the map has none.
+  int workspace_directions = 0;
   double min_gravity_n = 0.0;  ///< Smallest |G_hat| over vertices with an estimate. Unit: [N]
   double max_gravity_n = 0.0;  ///< Largest |G_hat|. Unit: [N]
   /// Largest |G_hat(X) - G_true(X)| over the sampled residual field; 0 without ground truth.
@@ -78,10 +93,11 @@ struct SceneSummary {
 SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth = {},
                             const Reachability& reachable = {});
 
-/// Renders the workspace, the grid lattice, one arrow per vertex estimate (length and colour by
-/// magnitude, scalar bar in N), axes in mm, marked failed, unvisited and filled (out of reach)
-/// vertices with a legend
-/// and, optionally, the device position and the residual against ground truth. Renders offscreen;
+/// Renders the workspace (the explored one when the map has it), the grid lattice, one arrow per
+/// vertex value (length and colour by magnitude, scalar bar in N), axes in mm, the points
+/// measured off their vertex (inside the stops) with their measured arrows and a line to their
+/// vertex, marked solved, failed and unvisited vertices with a legend that names each kind, and,
+/// optionally, the device position and the residual against ground truth. Renders offscreen;
 /// needs an X display (see requireDisplay). Throws autograv::Error on a bad size (16..8192 px),
 /// a non-finite option or when no display can be opened. Not real-time safe.
 RgbImage renderScene(const GravityMap& map, const SceneOptions& options = {});
