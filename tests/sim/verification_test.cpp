@@ -352,17 +352,18 @@ TEST(VerificationCarryTest, ABlockedPathStopsWithinAFewMillimetresOfTheStop) {
   const Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d beyond_m = center_m + (workspace.boundaryDistance_m(down) + 0.05) * down;
   CarryOptions carry;
+  carry.limit.max_effort_n = 0.3;
   const CarryOutcome outcome = carryTo(decorated, ticks, beyond_m, 0.05, carry);
   EXPECT_FALSE(outcome.reached);
   EXPECT_TRUE(outcome.read_ok);
   EXPECT_TRUE(device->endStopHit()) << "it went down to the stop";
   EXPECT_LT(outcome.seconds, 3.0) << "the stop is recognised, not pushed against";
-  // It ends held where the stop held it: the force beyond compensation is the hold's damping of
-  // a still end-effector, nothing that presses on.
+  // It ends held just off where the stop held it: the force beyond compensation is what holds a
+  // still end-effector against friction, nothing that presses on.
   Eigen::Vector3d at_m;
   ASSERT_TRUE(decorated.getPosition(at_m));
   const Eigen::Vector3d pressing_n = device->appliedForce_n() - map->gravityAt(at_m);
-  EXPECT_LT(pressing_n.norm(), 0.05) << pressing_n.transpose();
+  EXPECT_LT(pressing_n.norm(), 0.078) << "at most the breakaway force; " << pressing_n.transpose();
   EXPECT_EQ(decorated.clampCount(), 0u);
 }
 

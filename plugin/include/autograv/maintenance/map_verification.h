@@ -129,9 +129,9 @@ struct CarryOptions {
   double min_duration_s = 0.3;
   /// Hold at the point after the path ends, for the end-effector to come to rest. Unit: [s]
   double settle_s = 0.3;
-  /// What the PD may send: 0.3 N of its own by default, four times the breakaway force of every
-  /// device we model.
-  EffortLimit limit{0.3};
+  /// What the PD may send (verifyMap sets max_total_n and compensation_n from its force budget,
+  /// and max_effort_n to the budget when it is 0).
+  EffortLimit limit;
   /// A path the end-effector lags by more than this for blocked_s is blocked (a stop, or a
   /// point outside what the device reaches): the move ends where the end-effector is.
   /// Unit: [m]
@@ -250,8 +250,8 @@ struct VerificationOptions {
   /// Largest force sent on purpose, as a fraction of the device's continuous rating
   /// (continuousForceRating_n): the carry, the probe and the catch send at most this together
   /// with the map's value at the point (EffortLimit::max_total_n), and at most carry.limit's
-  /// max_effort_n of their own; where |G_hat| leaves less than min_effort_n under the budget,
-  /// |G_hat| + min_effort_n (friction must still be overcome).
+  /// max_effort_n of their own (0: the budget); where |G_hat| leaves less than min_effort_n
+  /// under the budget, |G_hat| + min_effort_n (friction must still be overcome).
   double force_budget_fraction = 0.8;
   /// Unit: [N]
   double min_effort_n = 0.15;

@@ -30,6 +30,9 @@ constexpr double kReadyTimeout_s = 5.0;
 // path's speed plus this speed (a stop holds it: it does not move at all). Units: [1], [m/s]
 constexpr double kStalledSpeedFraction = 0.3;
 constexpr double kStalledSpeed_m_per_s = 0.005;
+// How far a blocked carry backs off from where the stop held it (a stop gives a millimetre or
+// so under the push). Unit: [m]
+constexpr double kBlockedBackOff_m = 0.002;
 // A tick whose force is within this fraction of the device's maximum sent the force limit.
 constexpr double kForceLimitFraction = 0.999;
 
@@ -315,10 +318,10 @@ CarryOutcome carryTo(HapticDevice& device, TickSource& ticks, const Eigen::Vecto
                         ? lagging_s + servoPeriodsOf(sample, ticks.period_s()) * ticks.period_s()
                         : 0.0;
         if (lagging_s >= options.blocked_s) {
-          // A stop holds it: stay where it is, never push on.
+          // A stop holds it: back off from it and stay there, never push on.
           blocked = true;
           moving = false;
-          held_at_m = sample.position_m;
+          held_at_m = sample.position_m - kBlockedBackOff_m * lag_m / lag_norm_m;
           effort_n = -damping * sample.velocity_m_per_s;
           options.limit.apply(effort_n);
         }
@@ -500,6 +503,9 @@ VerificationReport verifyMap(const std::shared_ptr<HapticDevice>& device, TickSo
     EffortLimit limit = options.carry.limit;
     limit.compensation_n = gravity_n;
     limit.max_total_n = std::max(budget_n, gravity_n.norm() + options.min_effort_n);
+    // Where the map is far off, its own compensation pushes the end-effector away: the hold may
+    // answer with up to the whole budget (the total stays within it).
+    if (!(limit.max_effort_n > 0.0)) limit.max_effort_n = limit.max_total_n;
     return limit;
   };
   // Holds the end-effector still at `at_m` until compensation is fully in, at most the timeout.
