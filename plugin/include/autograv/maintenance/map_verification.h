@@ -63,7 +63,7 @@ struct ResidualProbeOptions {
   /// was held by friction, not by the hold: it is redone with the stiffness doubled, at most
   /// max_stiffness_doublings times.
   double min_slide_fraction = 0.25;
-  /// How often a held approach is redone with the stiffness doubled.
+  /// How often the stiffness may be doubled in all (over the three axes): at most 80 N/m.
   int max_stiffness_doublings = 2;
   /// Approaches from each side along each axis, averaged, toward targets spread evenly over
   /// target_spread_m along the axis around the point. The residual is smooth over millimetres;

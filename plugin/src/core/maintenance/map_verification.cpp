@@ -230,6 +230,8 @@ ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks
   const double start_s = ticks.now_s();
   const double mass_kg = std::max(apparent_mass_kg, 1e-3);
   double stiffness_n_per_m = options.stiffness_n_per_m;
+  const double max_stiffness_n_per_m =
+      options.stiffness_n_per_m * std::ldexp(1.0, std::max(0, options.max_stiffness_doublings));
   result.valid = true;
   double friction_sum_n = 0.0;
   const auto damping_n_s_per_m = [&] {
@@ -239,8 +241,12 @@ ResidualMeasurement measureResidualForce(HapticDevice& device, TickSource& ticks
     for (int attempt = 0;; ++attempt) {
       const AxisProbe probe =
           probeAxis(device, ticks, point_m, axis, stiffness_n_per_m, damping_n_s_per_m(), options);
-      if (probe.read_ok && !probe.slid && attempt < options.max_stiffness_doublings) {
-        stiffness_n_per_m *= 2.0;  // friction held it: pull harder, for every axis from now on
+      // Friction held it: pull harder, for every axis from now on, up to max_stiffness_doublings
+      // doublings in all (each count of the encoder reads as K counts of force: a stiffer hold
+      // reads coarser).
+      if (probe.read_ok && !probe.slid && attempt < options.max_stiffness_doublings &&
+          stiffness_n_per_m < max_stiffness_n_per_m) {
+        stiffness_n_per_m *= 2.0;
         continue;
       }
       result.valid = probe.read_ok && probe.slid;
