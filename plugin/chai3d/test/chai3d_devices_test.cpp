@@ -122,6 +122,34 @@ TEST_F(Chai3dDevicesTest, TheTerminalWizardCalibratesAChai3dDeviceWithTheSimulat
   fs::remove_all(dir);
 }
 
+// verify needs no hand: on chai3d:0 the device carries itself to every point through CHAI3D's
+// API, from the driver's data alone, gently (no clamp, nothing near the force limit).
+TEST_F(Chai3dDevicesTest, VerifyRunsOnAChai3dDeviceWithNoHand) {
+  const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+  if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  const fs::path dir =
+      fs::temp_directory_path() / ("autograv_chai3d_verify_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string map_path = (dir / "omni.json").string();
+  // The stand-in's device is sim:omni: a map of sim:omni, its workspace explored, fits it.
+  const auto calibrate =
+      testing::runCommand(binary + " calibrate --device sim:omni --seed 1 --out " + map_path);
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  const std::string report_path = (dir / "verify.json").string();
+  const auto verify =
+      testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary + " verify " + map_path +
+                          " --device chai3d:0 --points 3 --no-uncompensated"
+                          " --report " +
+                          report_path);
+  EXPECT_EQ(verify.exit_code, 0) << verify.output;
+  EXPECT_NE(verify.output.find("carries itself there (no hand)"), std::string::npos)
+      << verify.output;
+  EXPECT_NE(verify.output.find("3 of 3 reached"), std::string::npos) << verify.output;
+  EXPECT_NE(verify.output.find(", 0 clamps"), std::string::npos) << verify.output;
+  EXPECT_NE(verify.output.find("0 ticks at the limit"), std::string::npos) << verify.output;
+  fs::remove_all(dir);
+}
+
 TEST_F(Chai3dDevicesTest, TheBridgeFindsItsMapInTheLibraryAndChecksItAtStartUp) {
   const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
   if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
