@@ -269,8 +269,14 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
           inner == VertexEstimator::Status::kUpdated) {
         break;
       }
+      // A stop lies beyond the point, away from the workspace's middle: the pushing steps point
+      // outward. Steps that point inward held still come from a steep field, not a stop, and
+      // stepping "back" from them would walk out toward the real stops.
+      const bool outward_contact =
+          estimator_.contactDirection().dot(targets_[static_cast<std::size_t>(current_vertex_)] -
+                                            grid_.center_m()) > 0.0;
       if (inner == VertexEstimator::Status::kUnreachable && estimator_.stopContact() &&
-          !retreated_) {
+          outward_contact && !retreated_) {
         // A stop held the end-effector short of the point: measure it back from the stop.
         retreated_ = true;
         ++stop_retreats_;
