@@ -112,11 +112,15 @@ WorkspaceGrid DemoSession::calibrationGrid() const {
 
 std::string DemoSession::startCalibration() {
   if (wizard_ui_ != nullptr) return "a calibration is already running (press A to abort it)";
-  const WorkspaceGrid grid = calibrationGrid();
   WizardConfig config;
-  config.grid_center_m = grid.center_m();
-  config.grid_size_m = grid.size_m();
-  config.grid_resolution = grid.resolution();
+  // As `autograv calibrate` and `autograv wizard` do by default: after the initialization the
+  // wizard explores the workspace from the device's own data, fits the grid to it and measures
+  // only inside it. The user initializes at the centre of the published map's grid, else of the
+  // workspace.
+  config.explore = true;
+  config.grid_from_workspace = true;
+  config.grid_center_m = calibrationGrid().center_m();
+  config.grid_resolution = Eigen::Vector3i::Constant(options_.calibration_resolution);
   config.parameters = options_.estimation;
   config.map_path = options_.calibration_map_path;
   config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");

@@ -64,8 +64,8 @@ struct SessionOptions {
   double servo_period_s = 1.0e-3;                              ///< Unit: [s]
   CompensationOptions compensation;
   EstimationParameters estimation;
-  /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed
-  /// in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
+  /// Vertices per axis of a calibration's grid, fitted to the workspace it explores first (as
+  /// `autograv calibrate` does).
   int calibration_resolution = 5;
   /// Where a calibration saves its map; finished vertices are checkpointed to this path +
   /// ".partial" as they come, and a calibration started while that file exists resumes it.
@@ -122,7 +122,9 @@ class DemoSession {
   // the grid run, Review (the user confirms), Save, Verify. Its servo half runs in tick(), its
   // service half in updateCalibration().
 
-  /// Starts a calibration on the grid of calibrationGrid(). Returns a message for the user.
+  /// Starts a calibration: the user initializes at the centre of calibrationGrid(), the wizard
+  /// explores the workspace and calibrates a grid fitted to it (a checkpoint's grid and workspace
+  /// when it resumes one). Returns a message for the user.
   /// Throws autograv::Error for an unusable configuration. Not real-time safe.
   std::string startCalibration();
   /// Tells the running calibration what the user did (confirm, pause, redo...). Ignored when
@@ -166,8 +168,8 @@ class DemoSession {
   /// True when the process's memory is locked resident for the servo thread (mlockall).
   bool memoryLocked() const noexcept { return memory_locked_.load(); }
 
-  /// The grid a calibration would use now: the published map's, else the default grid.
-  /// Not real-time safe.
+  /// The published map's grid, else the default grid (the cube of 80 % of the cube inscribed in
+  /// the workspace sphere): where a calibration asks the user to initialize. Not real-time safe.
   WorkspaceGrid calibrationGrid() const;
 
   /// Latest published state. UI thread only (or the caller of runTicks). Real-time safe.
