@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -74,6 +75,20 @@ struct SessionOptions {
   int calibration_verify_points = 3;
   /// Raise the servo thread to SCHED_FIFO when the system allows it.
   bool realtime_priority = true;
+};
+
+/// The servo time of the demo's loop: the simulated time it has advanced its simulation by, one
+/// period per tick on simulated time and the time that really passed when the servo thread paces
+/// it on the wall clock. Read by the decorator and the wizard, advanced by the session, all on the
+/// servo thread. Real-time safe.
+class LoopClock final : public ServoClock {
+ public:
+  double now_s() noexcept override { return time_s_; }
+  /// Unit: [s]
+  void advance(double dt_s) noexcept { time_s_ += dt_s; }
+
+ private:
+  double time_s_ = 0.0;
 };
 
 /// A simulated device behind the GravityCompensatedDevice decorator, driven by one servo loop:
@@ -198,6 +213,12 @@ class DemoSession {
   Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
   void publishSnapshot(const ServoSample& sample) noexcept;
   void servoThreadMain();
+  void catchUpWithTheWallClock() noexcept;
+  void advanceSimulation(double dt_s) noexcept;
+
+  /// A tick of the servo thread advances the simulation by the time since the previous one, at
+  /// most this much: a longer stall is not simulated. Unit: [s]
+  static constexpr double kMaxCatchUp_s = 0.1;
 
   SessionOptions options_;
   std::shared_ptr<HapticDevice> device_;              // what the decorator and the wizard drive
@@ -216,6 +237,10 @@ class DemoSession {
   Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
   ServoTiming timing_;
   bool timing_valid_ = false;
+  std::shared_ptr<LoopClock> clock_;  // the decorator's and the wizard's servo time
+  // Paced on the wall clock (the servo thread): the simulation follows the time that passed.
+  bool paced_ = false;
+  std::chrono::steady_clock::time_point paced_last_tick_;
 
   // Calibration wizards: made on the UI thread, handed to the servo thread by a command, kept
   // until the session ends so that a late tick never sees one freed.
