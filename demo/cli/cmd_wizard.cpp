@@ -226,7 +226,8 @@ struct ForceWatch {
 /// The run's figures, as `autograv calibrate` prints them.
 void printResults(const WizardStatus& status, const ForceWatch& force,
                   const DeviceSpecifications& specifications,
-                  const std::optional<sim::FieldErrorReport>& field) {
+                  const std::optional<sim::FieldErrorReport>& field,
+                  const std::optional<sim::AccuracyReport>& accuracy) {
   std::printf("%-34s %s\n", "map", status.map_path.c_str());
   std::printf("%-34s %d / %d\n", "vertices converged", status.converged, status.vertex_count);
   if (!status.workspace.empty()) {
@@ -239,6 +240,11 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
                 status.workspace.minRadius_m() * 1e3, status.workspace.maxRadius_m() * 1e3);
   }
   std::printf("%-34s %.1f s\n", "device time", status.time_s);
+  if (accuracy) {
+    std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
+                100.0 * accuracy->max_error_rel, accuracy->worst_vertex,
+                accuracy->max_error_n * 1e3);
+  }
   if (field) {
     std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
                 "field error over the workspace", 100.0 * field->p50_rel, 100.0 * field->p90_rel,
@@ -547,8 +553,13 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   // On a simulation, the field where the hand can be against its ground truth (scoring only),
   // as `autograv calibrate` reports it.
   std::optional<sim::FieldErrorReport> field;
+  std::optional<sim::AccuracyReport> accuracy;
   if (simulation != nullptr && status.map_saved && wizard.savedMap()) {
     field = sim::measureFieldError(*wizard.savedMap(), *simulation, 4000, options.seed);
+    accuracy = sim::measureAccuracy(*wizard.savedMap(), *simulation, 1000, options.seed);
+    report["max_error_rel"] = accuracy->max_error_rel;
+    report["worst_vertex"] = accuracy->worst_vertex;
+    report["max_error_n"] = accuracy->max_error_n;
     report["field_samples"] = field->samples;
     report["field_error_p50_rel"] = field->p50_rel;
     report["field_error_p90_rel"] = field->p90_rel;
@@ -561,7 +572,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     report["shell_field_error_max_rel"] = field->shell_max_rel;
   }
   writeJsonReport(options.report_path, report);
-  if (status.map_saved) printResults(status, force_watch, specifications, field);
+  if (status.map_saved) printResults(status, force_watch, specifications, field, accuracy);
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +
                 wizard.checkpointPath() + " (resume with --resume)");

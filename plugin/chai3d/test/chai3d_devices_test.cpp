@@ -166,10 +166,15 @@ TEST_F(Chai3dDevicesTest, TheTerminalWizardExploresTheWorkspaceOfAChai3dDeviceAn
   }
   EXPECT_GT(measured_off_vertex, 0);
   EXPECT_GE(map.convergedCount(), 15);
-  // The map fits the device it was made on, through the same CHAI3D path.
+  // The map fits the device it was made on, through the same CHAI3D path, and `verify` runs
+  // on it with no hand: the device carries itself to each point.
   const auto check = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
                                          " check --device chai3d:0 --map " + map_path);
   EXPECT_EQ(check.exit_code, 0) << check.output;
+  const auto verify = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                          " verify --device chai3d:0 --points 4 " + map_path);
+  EXPECT_NE(verify.output.find("points held at full compensation"), std::string::npos)
+      << verify.output;
   fs::remove_all(dir);
 }
 
