@@ -23,6 +23,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "autograv/sim/end_stop_watch.h"
+#include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
@@ -206,6 +207,58 @@ class FrontEnd {
   bool redo_done_ = false;
 };
 
+/// What a real device would feel, on a simulation: servo time above the continuous force rating
+/// and ticks the driver clamped at its force limit.
+struct ForceWatch {
+  ForceWatch(const DeviceSpecifications& specifications, const sim::SimulatedDevice* simulation)
+      : continuous_n(continuousForceRating_n(specifications)),
+        saturations_before(simulation != nullptr ? simulation->saturationCount() : 0) {}
+  void record(const sim::SimulatedDevice& simulation, double interval_s) {
+    if (simulation.appliedForce_n().norm() > continuous_n) seconds_above_continuous += interval_s;
+    limit_ticks = simulation.saturationCount() - saturations_before;
+  }
+  double continuous_n;
+  std::uint64_t saturations_before;
+  double seconds_above_continuous = 0.0;
+  std::uint64_t limit_ticks = 0;
+};
+
+/// The run's figures, as `autograv calibrate` prints them.
+void printResults(const WizardStatus& status, const ForceWatch& force,
+                  const DeviceSpecifications& specifications,
+                  const std::optional<sim::FieldErrorReport>& field,
+                  const std::optional<sim::AccuracyReport>& accuracy) {
+  std::printf("%-34s %s\n", "map", status.map_path.c_str());
+  std::printf("%-34s %d / %d\n", "vertices converged", status.converged, status.vertex_count);
+  if (!status.workspace.empty()) {
+    std::printf("%-34s %d at the vertex, %d just inside the stops, %d beyond reach\n",
+                "measurement points", status.measured_at_vertex, status.measured_off_vertex,
+                status.beyond_reach);
+    std::printf("%-34s %.1f s, %d directions, reach %.1f to %.1f mm\n", "workspace exploration",
+                status.exploration_elapsed_s,
+                static_cast<int>(status.workspace.directions().size()),
+                status.workspace.minRadius_m() * 1e3, status.workspace.maxRadius_m() * 1e3);
+  }
+  std::printf("%-34s %.1f s\n", "device time", status.time_s);
+  if (accuracy) {
+    std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
+                100.0 * accuracy->max_error_rel, accuracy->worst_vertex,
+                accuracy->max_error_n * 1e3);
+  }
+  if (field) {
+    std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+                "field error over the workspace", 100.0 * field->p50_rel, 100.0 * field->p90_rel,
+                100.0 * field->p99_rel, 100.0 * field->max_rel, field->samples);
+    std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+                "  within 5 mm of the stops", 100.0 * field->shell_p50_rel,
+                100.0 * field->shell_p90_rel, 100.0 * field->shell_p99_rel,
+                100.0 * field->shell_max_rel, field->shell_samples);
+    std::printf("%-34s %.1f s above %.2f N, %llu ticks at the force limit\n", "force on the device",
+                force.seconds_above_continuous, continuousForceRating_n(specifications),
+                static_cast<unsigned long long>(force.limit_ticks));
+  }
+}
+
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json reportJson(const WizardOptions& options, const std::string& out_path,
@@ -239,6 +292,14 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
         {"center_m", vectorJson(grid.center_m())}}},
       {"vertices", status.vertex_count},
       {"converged", status.converged},
+      {"explored", !status.workspace.empty()},
+      {"exploration_seconds", status.exploration_elapsed_s},
+      {"exploration_directions", status.workspace.directions().size()},
+      {"workspace_reach_min_m", status.workspace.empty() ? 0.0 : status.workspace.minRadius_m()},
+      {"workspace_reach_max_m", status.workspace.empty() ? 0.0 : status.workspace.maxRadius_m()},
+      {"measured_at_vertex", status.measured_at_vertex},
+      {"measured_inside_stops", status.measured_off_vertex},
+      {"beyond_reach", status.beyond_reach},
       {"restored", status.review.restored},
       {"unreachable", status.review.unreachable},
       {"failed", failed},
@@ -338,12 +399,23 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
           : std::string();
 
   WizardConfig config;
-  // The default grid of `autograv calibrate`, so that either command resumes the other's run.
-  double workspace_coverage = 0.0;
-  const WorkspaceGrid grid = resolveGrid(options.grid, *device, simulation, workspace_coverage);
-  config.grid_center_m = grid.center_m();
-  config.grid_size_m = grid.size_m();
-  config.grid_resolution = grid.resolution();
+  // The grid of `autograv calibrate`, so that either command resumes the other's run: by
+  // default the box around the workspace the device explores first, the user initializing near
+  // the workspace's centre (a simulation's, or the origin where CHAI3D centres its positions);
+  // with --box-mm or --side-mm that box, measured inside the explored workspace.
+  config.explore = true;
+  config.grid_from_workspace = gridFromWorkspace(options.grid);
+  if (config.grid_from_workspace) {
+    config.grid_center_m =
+        simulation != nullptr ? simulation->workspaceCenter_m() : Eigen::Vector3d::Zero();
+    config.grid_resolution = gridResolution(options.grid);
+  } else {
+    double workspace_coverage = 0.0;
+    const WorkspaceGrid grid = resolveGrid(options.grid, *device, simulation, workspace_coverage);
+    config.grid_center_m = grid.center_m();
+    config.grid_size_m = grid.size_m();
+    config.grid_resolution = grid.resolution();
+  }
   config.parameters = options.parameters;
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
@@ -401,6 +473,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   // moment the field comes on until G_hat_0 is taken.
   bool initialization_end_stop_hit = false;
   sim::InitializationEndStopWatch end_stop_watch;
+  ForceWatch force_watch(specifications, simulation);
   while (true) {
     const Clock::time_point frame_start = Clock::now();
     const int interrupts = g_interrupts.load();
@@ -425,12 +498,14 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
       for (int i = 0; i < ticks_per_frame; ++i) {
         wizard.servoTick();
         simulation->advance(timing.nextInterval_s());
+        force_watch.record(*simulation, timing.lastInterval_s());
       }
     } else if (simulation != nullptr) {
       const double frame_end_s = timing.now_s() + frame_s;
       while (timing.now_s() < frame_end_s) {
         wizard.servoTick();
         simulation->advance(timing.nextInterval_s());
+        force_watch.record(*simulation, timing.lastInterval_s());
       }
     }
     wizard.service();
@@ -470,8 +545,34 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   servo.stop();
   terminal.reset();  // back to the normal screen before the last words
 
-  writeJsonReport(options.report_path,
-                  reportJson(options, out_path, wizard, status, initialization_end_stop_hit));
+  nlohmann::json report =
+      reportJson(options, out_path, wizard, status, initialization_end_stop_hit);
+  report["continuous_force_n"] = continuousForceRating_n(specifications);
+  report["seconds_above_continuous_force"] = force_watch.seconds_above_continuous;
+  report["force_limit_ticks"] = force_watch.limit_ticks;
+  // On a simulation, the field where the hand can be against its ground truth (scoring only),
+  // as `autograv calibrate` reports it.
+  std::optional<sim::FieldErrorReport> field;
+  std::optional<sim::AccuracyReport> accuracy;
+  if (simulation != nullptr && status.map_saved && wizard.savedMap()) {
+    field = sim::measureFieldError(*wizard.savedMap(), *simulation, 4000, options.seed);
+    accuracy = sim::measureAccuracy(*wizard.savedMap(), *simulation, 1000, options.seed);
+    report["max_error_rel"] = accuracy->max_error_rel;
+    report["worst_vertex"] = accuracy->worst_vertex;
+    report["max_error_n"] = accuracy->max_error_n;
+    report["field_samples"] = field->samples;
+    report["field_error_p50_rel"] = field->p50_rel;
+    report["field_error_p90_rel"] = field->p90_rel;
+    report["field_error_p99_rel"] = field->p99_rel;
+    report["field_error_max_rel"] = field->max_rel;
+    report["shell_field_samples"] = field->shell_samples;
+    report["shell_field_error_p50_rel"] = field->shell_p50_rel;
+    report["shell_field_error_p90_rel"] = field->shell_p90_rel;
+    report["shell_field_error_p99_rel"] = field->shell_p99_rel;
+    report["shell_field_error_max_rel"] = field->shell_max_rel;
+  }
+  writeJsonReport(options.report_path, report);
+  if (status.map_saved) printResults(status, force_watch, specifications, field, accuracy);
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +
                 wizard.checkpointPath() + " (resume with --resume)");

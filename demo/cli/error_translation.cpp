@@ -10,6 +10,8 @@ const std::vector<FlagTranslation>& flagTranslations() {
       {"the WizardConfig::grid_size_m, WizardConfig::grid_resolution and "
        "WizardConfig::grid_center_m of that run",
        "the same --grid and --box-mm (or --side-mm) as that run"},
+      {"Fit the grid to the workspace instead (WizardConfig::grid_from_workspace = true)",
+       "Drop --box-mm and --side-mm: the grid is then fitted to the explored workspace"},
       {"WizardConfig::resume = true", "--resume"},
       {"WizardConfig::resume = false", "no --resume"},
       {"WizardConfig::map_path", "--out"},

@@ -45,6 +45,21 @@ std::string gaugeLine(const WizardStatus& status, int columns) {
            << fixed(status.speed_m_per_s * 1e3, 2) << " mm/s, "
            << fixed(status.release_elapsed_s, 1) << " s";
       break;
+    case WizardStep::kExplore: {
+      // The explored volume growing: directions done, and the box of what was reached.
+      const int total = std::max(status.direction_count, 1);
+      if (bar) {
+        line << progressBar(static_cast<double>(status.directions_probed) / total, bar_width)
+             << ' ';
+      }
+      line << status.directions_probed << '/' << status.direction_count << " directions";
+      if (status.directions_probed > 0) {
+        const Eigen::Vector3d extent_m = status.explored_high_m - status.explored_low_m;
+        line << ", box " << fixed(extent_m.x() * 1e3, 0) << "x" << fixed(extent_m.y() * 1e3, 0)
+             << "x" << fixed(extent_m.z() * 1e3, 0) << " mm";
+      }
+      break;
+    }
     case WizardStep::kAutoCalibration: {
       const int total = std::max(status.vertices_to_visit, 1);
       const int done = std::clamp(status.vertex_ordinal - 1, 0, total);
@@ -260,6 +275,18 @@ void PlainLog::print(const std::string& text, const std::string& indent) {
 }
 
 void PlainLog::update(const WizardStatus& status) {
+  if (explore_progress_ && status.step != WizardStep::kExplore) {
+    explore_progress_->update(status.direction_count, status.direction_count, "explored");
+    explore_progress_->finish();
+    explore_progress_.reset();
+    if (!status.workspace.empty()) {
+      std::fprintf(out_,
+                   "      explored: reach %.1f to %.1f mm; %d vertices measured at the vertex, %d "
+                   "just inside the stops, %d beyond reach\n",
+                   status.workspace.minRadius_m() * 1e3, status.workspace.maxRadius_m() * 1e3,
+                   status.measured_at_vertex, status.measured_off_vertex, status.beyond_reach);
+    }
+  }
   if (progress_ && status.step != WizardStep::kAutoCalibration) {
     if (status.step == WizardStep::kReview) {
       progress_->update(progress_total_, progress_total_, "finished");
@@ -297,6 +324,17 @@ void PlainLog::update(const WizardStatus& status) {
   if (status.step == WizardStep::kRelease && status.initial_gravity_valid && message_.empty()) {
     message_ = status.message;
     print(status.message, "      ");
+  }
+  if (status.step == WizardStep::kExplore) {
+    std::fflush(out_);  // the bar goes to stderr: keep the order of the lines
+    if (!explore_progress_) explore_progress_ = std::make_unique<ProgressBar>("direction");
+    char detail[128];
+    const Eigen::Vector3d extent_m = status.explored_high_m - status.explored_low_m;
+    std::snprintf(detail, sizeof detail, "%s, reach %.0f-%.0f mm, box %.0fx%.0fx%.0f mm",
+                  toString(status.explorer_state), status.reach_min_m * 1e3,
+                  status.reach_max_m * 1e3, extent_m.x() * 1e3, extent_m.y() * 1e3,
+                  extent_m.z() * 1e3);
+    explore_progress_->update(status.directions_probed, status.direction_count, detail);
   }
   if (status.step == WizardStep::kAutoCalibration) {
     std::fflush(out_);  // the bar goes to stderr: keep the order of the lines

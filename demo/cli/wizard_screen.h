@@ -68,6 +68,7 @@ class PlainLog {
   std::string prompt_;
   std::string message_;
   std::unique_ptr<ProgressBar> progress_;
+  std::unique_ptr<ProgressBar> explore_progress_;
   int progress_total_ = 0;
   int verify_reported_ = 0;
   bool review_reported_ = false;

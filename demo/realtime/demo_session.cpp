@@ -1,6 +1,7 @@
 #include "demo_session.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -49,8 +50,10 @@ DemoSession::DemoSession(const SessionOptions& options)
   // in (over ramp_duration_s) while the hand carries the weight, not while the end-effector falls.
   simulation_->hand().grab(simulation_->workspaceCenter_m());
   CompensationOptions compensation = options.compensation;
-  // The simulation advances one servo period per tick, also when it runs faster than real time.
-  compensation.clock = std::make_shared<FixedPeriodServoClock>(options.servo_period_s);
+  // The servo loop's time is the simulation's: one period per tick on simulated time
+  // (runTicks), the time that really passed on the wall clock (the servo thread).
+  clock_ = std::make_shared<LoopClock>();
+  compensation.clock = clock_;
   decorator_ = std::make_shared<GravityCompensatedDevice>(device_, compensation);
   if (!decorator_->open()) throw Error(options.device + ": open() through the decorator failed");
   options_.estimation.servo_period_s = options.servo_period_s;
@@ -112,15 +115,20 @@ WorkspaceGrid DemoSession::calibrationGrid() const {
 
 std::string DemoSession::startCalibration() {
   if (wizard_ui_ != nullptr) return "a calibration is already running (press A to abort it)";
-  const WorkspaceGrid grid = calibrationGrid();
   WizardConfig config;
-  config.grid_center_m = grid.center_m();
-  config.grid_size_m = grid.size_m();
-  config.grid_resolution = grid.resolution();
+  // As `autograv calibrate` and `autograv wizard` do by default: after the initialization the
+  // wizard explores the workspace from the device's own data, fits the grid to it and measures
+  // only inside it. The user initializes at the centre of the published map's grid, else of the
+  // workspace.
+  config.explore = true;
+  config.grid_from_workspace = true;
+  config.grid_center_m = calibrationGrid().center_m();
+  config.grid_resolution = Eigen::Vector3i::Constant(options_.calibration_resolution);
   config.parameters = options_.estimation;
   config.map_path = options_.calibration_map_path;
   config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");
   config.verify_points = options_.calibration_verify_points;
+  config.clock = clock_;  // servo time as the loop keeps it (LoopClock)
   // Opened and homed in the constructor, and ticked by the servo thread until the wizard's
   // servo half takes over: its Check must not open or home it again from this thread.
   config.device_already_open = true;
@@ -267,7 +275,23 @@ Eigen::Vector3d DemoSession::holdForce(const ServoSample& sample) const noexcept
   return force_n;
 }
 
+void DemoSession::catchUpWithTheWallClock() noexcept {
+  // The device moved for as long as really passed since the previous tick, under the force that
+  // tick sent (a zero-order hold, as a real device's while its loop is late or early); a stall
+  // longer than kMaxCatchUp_s (a debugger, a suspended process) is not simulated whole.
+  const auto now = std::chrono::steady_clock::now();
+  const double interval_s = std::chrono::duration<double>(now - paced_last_tick_).count();
+  paced_last_tick_ = now;
+  if (interval_s > 0.0) advanceSimulation(std::min(interval_s, kMaxCatchUp_s));
+}
+
+void DemoSession::advanceSimulation(double dt_s) noexcept {
+  simulation_->advance(dt_s);
+  clock_->advance(dt_s);
+}
+
 void DemoSession::tick() noexcept {
+  if (paced_) catchUpWithTheWallClock();
   Command command;
   while (commands_.pop(command)) handleCommand(command);
   const double time_s = static_cast<double>(ticks_) * options_.servo_period_s;
@@ -296,7 +320,9 @@ void DemoSession::tick() noexcept {
       break;
     }
   }
-  simulation_->advance(options_.servo_period_s);
+  // On simulated time the next tick comes one period later; a paced loop advances the
+  // simulation at the start of each tick by the time that really passed.
+  if (!paced_) advanceSimulation(options_.servo_period_s);
   if (mode_ == ServoMode::kCalibrating &&
       end_stop_watch_.update(wizard_->step() == WizardStep::kRelease, *simulation_)) {
     initialization_end_stop_hit_.store(true);
@@ -349,6 +375,7 @@ void DemoSession::stopRealTime() {
   if (!thread_.joinable()) return;
   stop_.store(true);
   thread_.join();
+  paced_ = false;  // runTicks steps simulated time again
   // The servo loop no longer runs: leave the device without force.
   device_->setForce(Eigen::Vector3d::Zero());
 }
@@ -362,6 +389,9 @@ void DemoSession::servoThreadMain() {
   const auto period_ns = std::llround(options_.servo_period_s * 1e9);
   timing_ = ServoTiming(period_ns);
   timing_valid_ = true;
+  // Servo time starts at the first deadline (runPaced: one period from now).
+  paced_last_tick_ = std::chrono::steady_clock::now() + std::chrono::nanoseconds(period_ns);
+  paced_ = true;
   runPaced(period_ns, stop_, timing_, [this] { tick(); });
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -64,8 +65,8 @@ struct SessionOptions {
   double servo_period_s = 1.0e-3;                              ///< Unit: [s]
   CompensationOptions compensation;
   EstimationParameters estimation;
-  /// Grid of a calibration started without a map: 5 vertices per axis over the cube inscribed
-  /// in the workspace sphere shrunk to 80 %, as `autograv calibrate` does.
+  /// Vertices per axis of a calibration's grid, fitted to the workspace it explores first (as
+  /// `autograv calibrate` does).
   int calibration_resolution = 5;
   /// Where a calibration saves its map; finished vertices are checkpointed to this path +
   /// ".partial" as they come, and a calibration started while that file exists resumes it.
@@ -74,6 +75,20 @@ struct SessionOptions {
   int calibration_verify_points = 3;
   /// Raise the servo thread to SCHED_FIFO when the system allows it.
   bool realtime_priority = true;
+};
+
+/// The servo time of the demo's loop: the simulated time it has advanced its simulation by, one
+/// period per tick on simulated time and the time that really passed when the servo thread paces
+/// it on the wall clock. Read by the decorator and the wizard, advanced by the session, all on the
+/// servo thread. Real-time safe.
+class LoopClock final : public ServoClock {
+ public:
+  double now_s() noexcept override { return time_s_; }
+  /// Unit: [s]
+  void advance(double dt_s) noexcept { time_s_ += dt_s; }
+
+ private:
+  double time_s_ = 0.0;
 };
 
 /// A simulated device behind the GravityCompensatedDevice decorator, driven by one servo loop:
@@ -122,7 +137,9 @@ class DemoSession {
   // the grid run, Review (the user confirms), Save, Verify. Its servo half runs in tick(), its
   // service half in updateCalibration().
 
-  /// Starts a calibration on the grid of calibrationGrid(). Returns a message for the user.
+  /// Starts a calibration: the user initializes at the centre of calibrationGrid(), the wizard
+  /// explores the workspace and calibrates a grid fitted to it (a checkpoint's grid and workspace
+  /// when it resumes one). Returns a message for the user.
   /// Throws autograv::Error for an unusable configuration. Not real-time safe.
   std::string startCalibration();
   /// Tells the running calibration what the user did (confirm, pause, redo...). Ignored when
@@ -166,8 +183,8 @@ class DemoSession {
   /// True when the process's memory is locked resident for the servo thread (mlockall).
   bool memoryLocked() const noexcept { return memory_locked_.load(); }
 
-  /// The grid a calibration would use now: the published map's, else the default grid.
-  /// Not real-time safe.
+  /// The published map's grid, else the default grid (the cube of 80 % of the cube inscribed in
+  /// the workspace sphere): where a calibration asks the user to initialize. Not real-time safe.
   WorkspaceGrid calibrationGrid() const;
 
   /// Latest published state. UI thread only (or the caller of runTicks). Real-time safe.
@@ -196,6 +213,12 @@ class DemoSession {
   Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
   void publishSnapshot(const ServoSample& sample) noexcept;
   void servoThreadMain();
+  void catchUpWithTheWallClock() noexcept;
+  void advanceSimulation(double dt_s) noexcept;
+
+  /// A tick of the servo thread advances the simulation by the time since the previous one, at
+  /// most this much: a longer stall is not simulated. Unit: [s]
+  static constexpr double kMaxCatchUp_s = 0.1;
 
   SessionOptions options_;
   std::shared_ptr<HapticDevice> device_;              // what the decorator and the wizard drive
@@ -214,6 +237,10 @@ class DemoSession {
   Eigen::Vector3d hold_gravity_n_ = Eigen::Vector3d::Zero();
   ServoTiming timing_;
   bool timing_valid_ = false;
+  std::shared_ptr<LoopClock> clock_;  // the decorator's and the wizard's servo time
+  // Paced on the wall clock (the servo thread): the simulation follows the time that passed.
+  bool paced_ = false;
+  std::chrono::steady_clock::time_point paced_last_tick_;
 
   // Calibration wizards: made on the UI thread, handed to the servo thread by a command, kept
   // until the session ends so that a late tick never sees one freed.

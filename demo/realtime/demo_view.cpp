@@ -36,6 +36,15 @@ void calibrationLines(const WizardStatus& c, std::vector<std::string>& lines) {
       lines.push_back(format("SAG %.1f MM  SPEED %.1f MM/S%s", c.sag_m * 1e3, c.speed_m_per_s * 1e3,
                              c.still_held ? "  STILL HELD: LET GO" : ""));
       break;
+    case WizardStep::kExplore: {
+      // The explored volume growing.
+      const Eigen::Vector3d extent_m = c.explored_high_m - c.explored_low_m;
+      lines.push_back(format("DIRECTION %d OF %d  REACH %.0f-%.0f MM  BOX %.0fX%.0fX%.0f MM",
+                             c.directions_probed, c.direction_count, c.reach_min_m * 1e3,
+                             c.reach_max_m * 1e3, extent_m.x() * 1e3, extent_m.y() * 1e3,
+                             extent_m.z() * 1e3));
+      break;
+    }
     case WizardStep::kAutoCalibration:
       lines.push_back(format("VERTEX %d OF %d  ITERATION %d  CONVERGED %d%s", c.vertex_ordinal,
                              c.vertices_to_visit, c.iteration, c.converged,

@@ -2,6 +2,7 @@
 // simulated hand scripted as a user (the same script `autograv wizard --auto-hand` uses).
 #include "autograv/wizard/calibration_wizard.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,8 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/measurement_plan.h"
+#include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv {
@@ -155,6 +158,7 @@ WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double
   config.grid_resolution = Eigen::Vector3i::Constant(resolution);
   config.map_path = map_path;
   config.verify_points = 1;  // one release test keeps the runs short; the full run tests three
+  config.explore = false;    // this box, every vertex where it is (the exploring runs below)
   return config;
 }
 
@@ -261,8 +265,13 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path);
   config.parameters.max_iterations = 5;  // some vertices fail: Review offers a redo
+  // Every step, the exploration included (on this box: its vertices lie inside the workspace).
+  config.explore = true;
+  config.grid_from_workspace = false;
   Rig rig("sim:omega", config);
-  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 30.0))
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kExplore, 30.0))
+      << toString(rig.wizard->step()) << ": " << rig.wizard->status().message;
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kAutoCalibration, 200.0))
       << toString(rig.wizard->step()) << ": " << rig.wizard->status().message;
   for (int i = 0; i < 60; ++i) rig.frame();
   rig.wizard->post(WizardEvent::kPause);
@@ -288,6 +297,7 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   rig.wizard->post(WizardEvent::kSkipRedo);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
   for (int i = 0; i < 20; ++i) rig.frame();
+  EXPECT_EQ(rig.wizard->workspace().directions().size(), 26u);
   EXPECT_GT(rig.servo_ticks, 10000);
   EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
   RecordProperty("servo_ticks", std::to_string(rig.servo_ticks));
@@ -706,6 +716,191 @@ TEST(CalibrationWizardTest, ResumingWithoutACheckpointOrOnAnotherGridSaysWhatToD
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
   EXPECT_NE(rig.wizard->status().message.find("another grid"), std::string::npos)
       << rig.wizard->status().message;
+}
+
+// --- Exploring the workspace -----------------------------------------------------------------
+
+/// The library's defaults (explore, grid fitted to the workspace) on a small grid.
+WizardConfig exploringConfig(const std::string& map_path, int resolution) {
+  WizardConfig config;
+  config.grid_resolution = Eigen::Vector3i::Constant(resolution);
+  config.map_path = map_path;
+  config.verify_points = 1;
+  return config;
+}
+
+TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAndSavesBoth) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omni", exploringConfig(path, 3));
+  rig.wizard->service();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+  EXPECT_NE(rig.wizard->status().summary.find("3x3x3 vertices around the workspace explored"),
+            std::string::npos)
+      << rig.wizard->status().summary;
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kExplore, 30.0)) << rig.wizard->status().message;
+
+  // The explored volume grows direction by direction, and the screen says so.
+  int last_probed = 0;
+  double last_volume_m3 = 0.0;
+  int growth_seen = 0;
+  bool monotonic = true;
+  std::string message;
+  ASSERT_TRUE(rig.runUntil(
+      [&] {
+        const WizardStatus now = rig.wizard->status();
+        if (now.step != WizardStep::kExplore) return true;
+        EXPECT_EQ(now.direction_count, 26);
+        const Eigen::Vector3d extent_m = now.explored_high_m - now.explored_low_m;
+        const double volume_m3 = extent_m.prod();
+        monotonic = monotonic && now.directions_probed >= last_probed &&
+                    volume_m3 >= last_volume_m3 - 1e-12;
+        if (volume_m3 > last_volume_m3 + 1e-9) ++growth_seen;
+        last_probed = now.directions_probed;
+        last_volume_m3 = volume_m3;
+        if (now.directions_probed >= 5 && message.empty()) message = now.message;
+        return false;
+      },
+      120.0));
+  EXPECT_TRUE(monotonic);
+  EXPECT_GE(growth_seen, 5);
+  EXPECT_NE(message.find("Explored so far: reach"), std::string::npos) << message;
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kAutoCalibration) << rig.wizard->status().message;
+
+  // The grid is the box around the explored workspace, measured inside it.
+  const ExploredWorkspace workspace = rig.wizard->workspace();
+  ASSERT_EQ(workspace.directions().size(), 26u);
+  const WorkspaceGrid expected_grid = gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(3));
+  EXPECT_TRUE(rig.wizard->grid().sameGeometry(expected_grid)) << rig.wizard->grid().describe();
+  WizardStatus status = rig.wizard->status();
+  EXPECT_EQ(status.measured_at_vertex + status.measured_off_vertex + status.beyond_reach, 27);
+  EXPECT_GT(status.measured_off_vertex, 0);
+  EXPECT_EQ(status.vertices_to_visit, status.measured_at_vertex + status.measured_off_vertex);
+  // The probe found sim:omni's stops (judged by the simulation's truth, scoring only): just
+  // inside each boundary point the device reaches, a few millimetres beyond it it does not.
+  int stops_found = 0;
+  for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
+    const Eigen::Vector3d& u = workspace.directions()[i];
+    const double r_m = workspace.radii_m()[i];
+    stops_found += rig.device->isReachable(workspace.center_m() + (r_m - 0.003) * u) &&
+                   !rig.device->isReachable(workspace.center_m() + (r_m + 0.008) * u);
+  }
+  EXPECT_GE(stops_found, 24) << "of 26 directions";
+
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 400.0)) << rig.wizard->status().message;
+  rig.frame();
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0)) << rig.wizard->status().message;
+  const std::vector<WizardStep> expected = {
+      WizardStep::kCentre, WizardStep::kRelease, WizardStep::kExplore, WizardStep::kAutoCalibration,
+      WizardStep::kReview, WizardStep::kSave,    WizardStep::kVerify,  WizardStep::kDone};
+  EXPECT_EQ(rig.steps_seen, expected);
+  EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
+
+  // The map (schema 3) carries the workspace; every measurement lies inside it.
+  const GravityMap map = loadMap(path);
+  ASSERT_EQ(map.metadata().workspace.directions().size(), 26u);
+  EXPECT_EQ(map.metadata().workspace.radii_m(), workspace.radii_m());
+  EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
+  int measured = 0;
+  for (int i = 0; i < map.grid().vertexCount(); ++i) {
+    const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    ++measured;
+    const Eigen::Vector3d at_m =
+        vertex.measuredOffVertex() ? vertex.measured_at_m : map.grid().vertexPosition(i);
+    EXPECT_TRUE(workspace.contains(at_m, 0.5 * kBoundaryMargin_m)) << "vertex " << i;
+    const Eigen::Vector3d truth = rig.device->trueGravity(at_m);
+    const Eigen::Vector3d measured_n =
+        vertex.measuredOffVertex() ? vertex.measured_gravity_n : vertex.gravity_n;
+    EXPECT_LT((measured_n - truth).norm(), 0.03 * truth.norm()) << "vertex " << i;
+  }
+  EXPECT_GE(measured, status.measured_at_vertex + status.measured_off_vertex - 1);
+  // The field where the hand can be (ground truth, scoring only): a coarse 3x3x3 grid.
+  const sim::FieldErrorReport field = sim::measureFieldError(map, *rig.device, 2000, 1);
+  RecordProperty("field_p50_rel", std::to_string(field.p50_rel));
+  RecordProperty("field_p90_rel", std::to_string(field.p90_rel));
+  RecordProperty("field_max_rel", std::to_string(field.max_rel));
+  EXPECT_LT(field.p50_rel, 0.03);
+  EXPECT_LT(field.p90_rel, 0.08);
+}
+
+TEST(CalibrationWizardTest, AResumedRunKeepsTheExploredWorkspaceAndDoesNotExploreAgain) {
+  const std::string path = temporaryPath("map.json");
+  ExploredWorkspace explored;
+  WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.01, 2);
+  std::vector<VertexEstimate> before;
+  {
+    Rig rig("sim:omega", exploringConfig(path, 2));
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 2; }, 300.0))
+        << rig.wizard->status().message;
+    explored = rig.wizard->workspace();
+    grid = rig.wizard->grid();
+    rig.wizard->post(WizardEvent::kAbort);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->finished(); }, 2.0));
+    before = rig.wizard->vertices();
+  }
+  ASSERT_FALSE(explored.empty());
+  EXPECT_EQ(loadMap(path + ".partial").metadata().workspace.radii_m(), explored.radii_m());
+
+  WizardConfig config = exploringConfig(path, 2);
+  config.resume = true;
+  Rig rig("sim:omega", config, 2);
+  rig.frame();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+  EXPECT_NE(rig.wizard->status().summary.find("workspace from the checkpoint"), std::string::npos)
+      << rig.wizard->status().summary;
+  EXPECT_TRUE(rig.wizard->grid().sameGeometry(grid));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0)) << rig.wizard->status().message;
+  rig.frame();
+  EXPECT_GE(rig.wizard->status().review.restored, 2);
+  rig.wizard->post(WizardEvent::kConfirm);
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
+  // No exploration the second time; the workspace and the finished vertices are kept.
+  EXPECT_EQ(std::count(rig.steps_seen.begin(), rig.steps_seen.end(), WizardStep::kExplore), 0);
+  const GravityMap map = loadMap(path);
+  EXPECT_EQ(map.metadata().workspace.radii_m(), explored.radii_m());
+  EXPECT_EQ(map.metadata().workspace.center_m(), explored.center_m());
+  // The measurements of the first run are kept bit for bit (the vertex values of a grid
+  // measured off its vertices are solved from all measurements, the new ones included).
+  int kept = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    if (before[i].outcome != VertexOutcome::kConverged) continue;
+    const VertexEstimate& after = map.vertices()[i];
+    ++kept;
+    EXPECT_EQ(after.outcome, VertexOutcome::kConverged) << i;
+    EXPECT_EQ(after.iterations, before[i].iterations) << i;
+    ASSERT_EQ(after.measuredOffVertex(), before[i].measuredOffVertex()) << i;
+    if (after.measuredOffVertex()) {
+      EXPECT_TRUE(bitwiseEqual(after.measured_at_m, before[i].measured_at_m)) << i;
+      EXPECT_TRUE(bitwiseEqual(after.measured_gravity_n, before[i].measured_gravity_n)) << i;
+    } else {
+      EXPECT_TRUE(bitwiseEqual(after.gravity_n, before[i].gravity_n)) << i;
+    }
+  }
+  EXPECT_GE(kept, 2);
+}
+
+TEST(CalibrationWizardTest, AWorkspaceTooSmallIsRefusedBeforeTheGridRun) {
+  const std::string path = temporaryPath("map.json");
+  Rig rig("sim:omega", exploringConfig(path, 3));
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kExplore, 30.0)) << rig.wizard->status().message;
+  // The user takes the stylus again while the probe runs: nothing moves, every direction ends
+  // at a "stop" at once.
+  rig.device->hand().grab(rig.device->truePosition_m());
+  rig.auto_hand = false;
+  ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 120.0)) << rig.wizard->status().message;
+  const WizardStatus status = rig.wizard->status();
+  EXPECT_NE(status.message.find("explored workspace is too small"), std::string::npos)
+      << status.message;
+  EXPECT_NE(status.message.find("let go of it"), std::string::npos) << status.message;
+  EXPECT_NE(status.fault.find("at least 20.0 mm"), std::string::npos) << status.fault;
+  // Refused before the grid run: nothing was measured, nothing written.
+  EXPECT_EQ(status.converged, 0);
+  EXPECT_FALSE(std::filesystem::exists(rig.wizard->checkpointPath()));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  rig.frame();
+  EXPECT_TRUE(rig.wizard->finished());
+  EXPECT_EQ(rig.servo_allocations, 0u);
 }
 
 TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {

@@ -63,6 +63,7 @@ WizardConfig smallConfig(const std::string& name) {
   config.grid_size_m = Eigen::Vector3d::Constant(0.04);
   config.grid_resolution = Eigen::Vector3i::Constant(2);
   config.map_path = (folder() / (name + ".json")).string();
+  config.explore = false;  // the box as given: its own refusals
   return config;
 }
 
@@ -168,6 +169,10 @@ std::vector<Refusal> everyRefusal() {
        constructing([](WizardConfig& c) { c.grid_size_m.z() = 0.0; })},
       {"grid resolution", "WizardConfig::grid_resolution",
        constructing([](WizardConfig& c) { c.grid_resolution.y() = 1; })},
+      {"smallest workspace", "WizardConfig::min_workspace_extent_m",
+       constructing([](WizardConfig& c) { c.min_workspace_extent_m = 0.0; })},
+      {"lookup refinement", "WizardConfig::lookup_refinement",
+       constructing([](WizardConfig& c) { c.lookup_refinement = 0; })},
       // WizardConfig, refused by the Check step against the device.
       {"grid beyond the workspace", "WizardConfig::grid_size_m",
        checking([](WizardConfig& c) { c.grid_size_m = Eigen::Vector3d(0.16, 0.12, 0.07); })},

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "../../demo/cli/error_translation.h"
+#include "autograv/map/map_io.h"
 #include "run_command.h"
 
 namespace autograv {
@@ -49,13 +50,28 @@ TEST(CliErrorFlagsTest, ABetaThatCannotConvergeIsRefusedWithTheFlagThatChangesIt
   expectRefusalInFlags(run, "--beta");
 }
 
-TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsRefusedWithBoxMm) {
+TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsMeasuredInsideTheExploredWorkspace) {
   SKIP_WITHOUT_PROGRAM();
+  // Once refused (its faces would have been holes); the wizard now explores the workspace first
+  // and measures each vertex beyond the stops just inside them.
+  const std::string path = scratch("big.json");
   const auto run = runCommand(kBinary +
                               " wizard --device sim:omega --auto-hand --grid 2 --box-mm "
-                              "200x180x190 --out " +
-                              scratch("big.json"));
-  expectRefusalInFlags(run, "--box-mm");
+                              "200x180x190 --verify-points 0 --out " +
+                              path);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const GravityMap map = loadMap(path);
+  const ExploredWorkspace& workspace = map.metadata().workspace;
+  ASSERT_FALSE(workspace.empty());
+  EXPECT_NEAR(map.grid().size_m().x(), 0.200, 1e-9);
+  int measured = 0;
+  for (const VertexEstimate& vertex : map.vertices()) {
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    ++measured;
+    EXPECT_TRUE(vertex.measuredOffVertex());  // every corner lies beyond the stops
+    EXPECT_TRUE(workspace.contains(vertex.measured_at_m, 0.002));
+  }
+  EXPECT_GE(measured, 4);
 }
 
 TEST(CliErrorFlagsTest, ResumingWithNoCheckpointSaysToStartWithoutResume) {

@@ -135,8 +135,8 @@ TEST_F(WizardTerminalTest, AutoHandRunInATerminalWaitsForEnterAtReviewAndSavesTh
   std::string screen;
   ASSERT_TRUE(session.waitFor("Press Enter to save the map", screen)) << screen;
   EXPECT_NE(screen.find("autograv wizard - sim:omni"), std::string::npos) << screen;
-  EXPECT_NE(screen.find("step 5/7"), std::string::npos) << screen;
-  EXPECT_NE(screen.find("Step 5 of 7: Review the result"), std::string::npos) << screen;
+  EXPECT_NE(screen.find("step 6/8"), std::string::npos) << screen;
+  EXPECT_NE(screen.find("Step 6 of 8: Review the result"), std::string::npos) << screen;
   EXPECT_NE(screen.find("Converged: 8 of 8 vertices."), std::string::npos) << screen;
   EXPECT_NE(screen.find("Keys: Enter save | q quit"), std::string::npos) << screen;
   // Nothing is saved before the user says so; the checkpoint holds the vertices meanwhile.
@@ -178,7 +178,7 @@ TEST_F(WizardTerminalTest, CtrlCCheckpointsRestoresTheTerminalAndResumeFinishesT
     ASSERT_TRUE(session.started());
     std::string screen;
     ASSERT_TRUE(session.waitFor("Checkpoint: 2 vertices", screen)) << screen;
-    EXPECT_NE(screen.find("Step 4 of 7: Automatic calibration"), std::string::npos) << screen;
+    EXPECT_NE(screen.find("Step 5 of 8: Automatic calibration"), std::string::npos) << screen;
     EXPECT_NE(screen.find("ETA"), std::string::npos) << screen;
     session.sendKeys("C-c");
     ASSERT_TRUE(session.waitFor("TTY_", screen)) << screen;
@@ -201,7 +201,7 @@ TEST_F(WizardTerminalTest, CtrlCCheckpointsRestoresTheTerminalAndResumeFinishesT
                                 " converged vertices"),
             std::string::npos)
       << resumed.output;
-  EXPECT_NE(resumed.output.find("[7/7] Done"), std::string::npos) << resumed.output;
+  EXPECT_NE(resumed.output.find("[8/8] Done"), std::string::npos) << resumed.output;
   EXPECT_EQ(resumed.output.find("\033["), std::string::npos) << "escape codes in plain output";
   const GravityMap map = loadMap(map_path);
   EXPECT_TRUE(map.isComplete());
@@ -309,12 +309,12 @@ TEST_F(WizardTerminalTest, TheUserCarriesTheEndEffectorWithTheKeysAndLetsGo) {
   ASSERT_NE(screen.find(close_enough), std::string::npos) << screen;
   // Enter is refused while the hand still glides to its goal ("it was moving"): press it again
   // until the wizard takes it, as a user would.
-  for (int attempt = 0; attempt < 20 && screen.find("Step 3 of 7") == std::string::npos;
+  for (int attempt = 0; attempt < 20 && screen.find("Step 3 of 8") == std::string::npos;
        ++attempt) {
     session.sendKeys("Enter");
-    session.waitFor("Step 3 of 7", screen, 1.0);
+    session.waitFor("Step 3 of 8", screen, 1.0);
   }
-  ASSERT_NE(screen.find("Step 3 of 7: Let go in the spring field"), std::string::npos) << screen;
+  ASSERT_NE(screen.find("Step 3 of 8: Let go in the spring field"), std::string::npos) << screen;
   // Still holding once the field is on: the wizard asks to let go and waits.
   ASSERT_TRUE(session.waitFor("Let go of it completely", screen)) << screen;
   session.sendKeys("g");
@@ -374,9 +374,10 @@ TEST_F(WizardTerminalTest, WithoutATerminalItNeedsTheAutoHand) {
   // One line per step, in order.
   std::size_t at = 0;
   for (const char* step :
-       {"[1/7] Check", "[2/7] Bring the end-effector to the centre", "[3/7] Let go",
-        "Initial estimate (eq. 7)", "[4/7] Automatic calibration", "[5/7] Review the result",
-        "[6/7] Save the map", "[7/7] Verify", "[7/7] Done"}) {
+       {"[1/8] Check", "[2/8] Bring the end-effector to the centre", "[3/8] Let go",
+        "Initial estimate (eq. 7)", "[4/8] Explore the workspace", "explored: reach",
+        "[5/8] Automatic calibration", "[6/8] Review the result", "[7/8] Save the map",
+        "[8/8] Verify", "[8/8] Done"}) {
     const std::size_t found = run.output.find(step, at);
     ASSERT_NE(found, std::string::npos) << "'" << step << "' missing or out of order:\n"
                                         << run.output;

@@ -13,6 +13,7 @@
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
+#include "autograv/map/measurement_plan.h"
 #include "chai3d.h"
 #include "run_command.h"
 #include "simulated_haptic_device.h"
@@ -147,6 +148,61 @@ TEST_F(Chai3dDevicesTest, VerifyRunsOnAChai3dDeviceWithNoHand) {
   EXPECT_NE(verify.output.find("3 of 3 reached"), std::string::npos) << verify.output;
   EXPECT_NE(verify.output.find(", 0 clamps"), std::string::npos) << verify.output;
   EXPECT_NE(verify.output.find("0 ticks at the limit"), std::string::npos) << verify.output;
+  fs::remove_all(dir);
+}
+
+TEST_F(Chai3dDevicesTest, TheTerminalWizardExploresTheWorkspaceOfAChai3dDeviceAndSavesIt) {
+  const std::string binary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+  if (!fs::exists(binary)) GTEST_SKIP() << binary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  const fs::path dir =
+      fs::temp_directory_path() / ("autograv_chai3d_explore_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string map_path = (dir / "omni.json").string();
+  const std::string report_path = (dir / "report.json").string();
+  // The default grid: the box around the workspace the wizard explores, through CHAI3D's API
+  // (a 3x3x3 grid keeps the run short).
+  const auto wizard = testing::runCommand(
+      "AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+      " wizard --device chai3d:0 --auto-hand --grid 3 --verify-points 1 --seed 1 --out " +
+      map_path + " --report " + report_path);
+  ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+  EXPECT_NE(wizard.output.find("[4/8] Explore the workspace"), std::string::npos) << wizard.output;
+  EXPECT_NE(wizard.output.find("workspace exploration"), std::string::npos) << wizard.output;
+  const GravityMap map = loadMap(map_path);
+  EXPECT_EQ(map.metadata().device_model, "sim:omni");
+  const ExploredWorkspace& workspace = map.metadata().workspace;
+  ASSERT_EQ(workspace.directions().size(), 26u);
+  EXPECT_TRUE(map.grid().sameGeometry(gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(3))))
+      << map.grid().describe();
+  // Through CHAI3D's API exactly what the wizard finds on the simulation directly.
+  const std::string direct_path = (dir / "direct.json").string();
+  const auto direct = testing::runCommand(binary +
+                                          " wizard --device sim:omni --auto-hand --grid 3 "
+                                          "--verify-points 1 --seed 1 --out " +
+                                          direct_path);
+  ASSERT_EQ(direct.exit_code, 0) << direct.output;
+  const GravityMap direct_map = loadMap(direct_path);
+  EXPECT_EQ(workspace.radii_m(), direct_map.metadata().workspace.radii_m());
+  ASSERT_EQ(map.vertices().size(), direct_map.vertices().size());
+  for (std::size_t i = 0; i < map.vertices().size(); ++i) {
+    EXPECT_EQ(map.vertices()[i].gravity_n, direct_map.vertices()[i].gravity_n) << i;
+  }
+  int measured_off_vertex = 0;
+  for (const VertexEstimate& vertex : map.vertices()) {
+    measured_off_vertex +=
+        vertex.outcome == VertexOutcome::kConverged && vertex.measuredOffVertex();
+  }
+  EXPECT_GT(measured_off_vertex, 0);
+  EXPECT_GE(map.convergedCount(), 15);
+  // The map fits the device it was made on, through the same CHAI3D path, and `verify` runs
+  // on it with no hand: the device carries itself to each point.
+  const auto check = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                         " check --device chai3d:0 --map " + map_path);
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  const auto verify = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
+                                          " verify --device chai3d:0 --points 4 " + map_path);
+  EXPECT_NE(verify.output.find("points held at full compensation"), std::string::npos)
+      << verify.output;
   fs::remove_all(dir);
 }
 

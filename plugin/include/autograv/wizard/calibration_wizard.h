@@ -17,7 +17,10 @@
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/estimation/workspace_explorer.h"
+#include "autograv/map/explored_workspace.h"
 #include "autograv/map/gravity_map.h"
+#include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_grid.h"
 
 namespace autograv {
@@ -31,6 +34,7 @@ enum class WizardStep : std::uint8_t {
   kCheck,            ///< Device opens and is homed, specifications and parameters are sane.
   kCentre,           ///< The user brings the end-effector near the workspace centre.
   kRelease,          ///< The k0 field ramps in, the user lets go: G_hat_0 (paper eq. 7).
+  kExplore,          ///< A soft probe finds the workspace from the device's own data.
   kAutoCalibration,  ///< The device visits the grid by itself (paper Sec. III-B).
   kReview,           ///< Results; the failed vertices can be redone.
   kSave,             ///< The map is written atomically.
@@ -65,10 +69,29 @@ enum class CheckIssue : std::uint8_t {
 
 /// Settings of one wizard run. Set-up only.
 struct WizardConfig {
-  /// Calibration grid (paper Sec. I). Units: [m]
+  /// Where the user brings the end-effector for the initialization (Centre), and the centre of
+  /// the box grid when the grid is not fitted to the explored workspace. Unit: [m]
   Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);   ///< Box extents x, y, z.
+  /// Box extents x, y, z of the grid when it is not fitted to the explored workspace
+  /// (grid_from_workspace false, or explore false). Unit: [m]
+  Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
   Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(5);  ///< Vertices along x, y, z.
+  /// After the initialization, explore the workspace from the device's own data
+  /// (WorkspaceExplorer: a soft probe that backs off from every stop) and measure only inside
+  /// what it reached (planMeasurements): no move and no hold targets a point beyond the stops.
+  /// False: every vertex of the box is visited where it is, as before exploration existed.
+  bool explore = true;
+  /// With explore: the grid is the box around the explored workspace (gridAroundWorkspace with
+  /// grid_resolution), as `autograv calibrate` makes it by default. False: the box
+  /// grid_center_m, grid_size_m, measured inside the explored workspace.
+  bool grid_from_workspace = true;
+  /// How the exploration probes.
+  WorkspaceExplorer::Options explorer;
+  /// An explored workspace is refused (Fault, before the grid run) when it is thinner than this
+  /// along an axis: something held the end-effector (a hand, an object, a wall). Unit: [m]
+  double min_workspace_extent_m = 0.02;
+  /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement).
+  int lookup_refinement = kDefaultLookupRefinement;
   /// The estimation (paper Secs. II-III); the wizard checks them against the device at Check.
   EstimationParameters parameters;
   /// How the device travels between vertices.
@@ -178,10 +201,11 @@ struct WizardReview {
 struct WizardStatus {
   /// The current step.
   WizardStep step = WizardStep::kCheck;
-  /// 1-based number of the step among the seven of a normal run (0 for Aborted and Fault).
+  /// 1-based number of the step among the eight of a normal run (0 for Aborted and Fault); a run
+  /// that does not explore skips number 4.
   int step_number = 1;
   /// Steps of a normal run (Check to Done).
-  static constexpr int kStepCount = 7;
+  static constexpr int kStepCount = 8;
   std::string title;    ///< e.g. "Centre the end-effector".
   std::string message;  ///< What is happening, with the live numbers; may span lines.
   std::string prompt;   ///< What the user should do now; empty when nothing.
@@ -219,6 +243,29 @@ struct WizardStatus {
   Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
   /// True once G_hat_0 is known.
   bool initial_gravity_valid = false;
+
+  // Explore.
+  /// What the exploration does now.
+  WorkspaceExplorer::Status explorer_state = WorkspaceExplorer::Status::kIdle;
+  int directions_probed = 0;  ///< Probe directions finished so far.
+  int direction_count = 0;    ///< Probe directions in all.
+  /// Shortest and longest reach found so far from the initialization's centre. Unit: [m]
+  double reach_min_m = 0.0;
+  double reach_max_m = 0.0;  ///< Unit: [m]
+  /// Box around the boundary points found so far: the explored volume as it grows. Unit: [m]
+  Eigen::Vector3d explored_low_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d explored_high_m = Eigen::Vector3d::Zero();  ///< Unit: [m]
+  /// Where the probe target is now. Unit: [m]
+  Eigen::Vector3d probe_target_m = Eigen::Vector3d::Zero();
+  double exploration_elapsed_s = 0.0;  ///< Servo time of the exploration so far. Unit: [s]
+  /// The explored workspace once known (explored now or restored from the checkpoint); empty
+  /// before, and in a run that does not explore.
+  ExploredWorkspace workspace;
+  /// Where the grid's vertices are measured (once the workspace is known): at the vertex, just
+  /// inside the stops, or not at all (beyond reach, solved from the others).
+  int measured_at_vertex = 0;
+  int measured_off_vertex = 0;  ///< Pulled inside the explored workspace.
+  int beyond_reach = 0;         ///< Not measured; solved from the measured ones.
 
   // AutoCalibration.
   /// What the auto-calibration does now.
@@ -276,7 +323,10 @@ struct WizardStatus {
 std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_s);
 
 /// The guided calibration (paper Sec. III-A then III-B) as a state machine with no UI code:
-/// Check -> Centre -> Release -> AutoCalibration -> Review -> Save -> Verify -> Done.
+/// Check -> Centre -> Release -> Explore -> AutoCalibration -> Review -> Save -> Verify -> Done.
+/// Explore (WizardConfig::explore) finds the workspace from the device's own data; the grid is
+/// then fitted to it and measured inside it. A resumed run takes the grid and the workspace
+/// from its checkpoint and does not explore again.
 ///
 /// Two sides, so that the servo loop never blocks, allocates or touches a file:
 ///  - servoTick(), on the servo thread once per period: reads the device, steps the current
@@ -328,10 +378,14 @@ class CalibrationWizard {
   /// The saved map, null before Save succeeded. Same thread as service(). Not real-time safe.
   std::shared_ptr<const GravityMap> savedMap() const { return saved_map_; }
 
-  /// The configuration and grid of this run. Real-time safe.
+  /// The configuration of this run. Real-time safe.
   const WizardConfig& config() const noexcept { return config_; }
-  /// The grid of this run. Real-time safe.
+  /// The grid of this run: when it is fitted to the explored workspace, known once Explore has
+  /// ended (or Check has read the checkpoint of a resumed run); the configured box before. Same
+  /// thread as service(). Not real-time safe.
   const WorkspaceGrid& grid() const noexcept { return grid_; }
+  /// The explored workspace (empty until known). Same thread as service(). Not real-time safe.
+  const ExploredWorkspace& workspace() const noexcept { return workspace_; }
   /// The device as the wizard drives it (compensation decorator around the one passed in), e.g.
   /// for its fault counters. Real-time safe.
   GravityCompensatedDevice& device() noexcept { return *device_; }
@@ -340,7 +394,7 @@ class CalibrationWizard {
 
  private:
   // Sub-states the servo side keeps between ticks.
-  enum class HoldMode : std::uint8_t { kNone, kField, kCalibrator, kPd };
+  enum class HoldMode : std::uint8_t { kNone, kField, kExplorer, kCalibrator, kPd };
   enum class VerifyStage : std::uint8_t { kWaitMap, kMove, kSettle, kRelease };
 
   // Servo side (servo thread only).
@@ -348,6 +402,9 @@ class CalibrationWizard {
                   Eigen::Vector3d& force_n) noexcept;
   void tickRelease(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
                    Eigen::Vector3d& force_n) noexcept;
+  void tickExplore(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
+                   Eigen::Vector3d& force_n) noexcept;
+  void startCalibrator(const ServoSample& sample) noexcept;
   void tickCalibration(const ServoSample& sample, std::uint32_t events,
                        Eigen::Vector3d& force_n) noexcept;
   void tickReview(const ServoSample& sample, std::uint32_t events, std::uint32_t replies,
@@ -368,6 +425,10 @@ class CalibrationWizard {
 
   // Service side (non-real-time thread only).
   void runCheck(bool retry);
+  void restoreCheckpoint(const std::string& device_model);
+  void acceptWorkspace();
+  void useGrid(const WorkspaceGrid& grid, const std::vector<VertexEstimate>* restored);
+  void summarize();
   void writeCheckpoint();
   void buildReview();
   void prepareRedo();
@@ -383,6 +444,9 @@ class CalibrationWizard {
 
   // Built by Check on the service side, then used by the servo side.
   std::unique_ptr<InitializationEstimator> initialization_;
+  std::unique_ptr<WorkspaceExplorer> explorer_;  // null when the run does not explore
+  // Built by Check, or by service() once the exploration is accepted (the servo side holds the
+  // device with the explorer meanwhile and touches neither).
   std::unique_ptr<AutoCalibrator> calibrator_;
   double max_force_n_ = 0.0;
 
@@ -399,8 +463,17 @@ class CalibrationWizard {
   std::unique_ptr<wizard::Live> live_shared_;  // guarded by live_busy_
   // Written by service before the reply that hands them over, read by the servo side after it.
   std::vector<int> verify_vertices_;
+  std::vector<Eigen::Vector3d> verify_targets_m_;  // where each verify vertex was measured
   std::shared_ptr<const GravityMap> saved_map_;
   Eigen::Vector3d plan_gravity_n_ = Eigen::Vector3d::Zero();  // G_hat_0 for the plan check
+
+  // Written by Check, read by the servo side: where Centre asks for the end-effector, the probe
+  // directions (the explorer's), and the reach the servo side copies out once it finished.
+  Eigen::Vector3d centre_m_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> probe_directions_;
+  std::vector<double> explored_reach_m_;
+  Eigen::Vector3d explored_center_m_ = Eigen::Vector3d::Zero();
+  bool explore_now_ = false;  // Release goes on to Explore (else straight to the grid run)
 
   // Servo side only.
   std::unique_ptr<wizard::Live> live_;
@@ -415,6 +488,7 @@ class CalibrationWizard {
   int failed_writes_ = 0;
   bool last_switch_ = false;
   bool awaiting_plan_ = false;
+  bool awaiting_workspace_ = false;
   bool awaiting_redo_ = false;
   bool awaiting_save_ = false;
   double waiting_since_periods_ = 0.0;
@@ -440,6 +514,12 @@ class CalibrationWizard {
   CheckIssue check_issue_ = CheckIssue::kNone;
   std::string summary_;
   std::string plan_message_;
+  std::string workspace_message_;  // why the explored workspace was refused
+  ExploredWorkspace workspace_;
+  MeasurementPlan plan_;
+  bool grid_fixed_ = false;  // the grid is the box (or the checkpoint's), not fitted
+  std::vector<VertexEstimate> resumed_vertices_;  // of the checkpoint, when resuming
+  std::string device_model_;
   std::uint64_t checkpoint_version_ = 0;
   bool checkpoint_written_ = false;
   int checkpointed_converged_ = 0;

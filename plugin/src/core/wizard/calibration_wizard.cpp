@@ -68,6 +68,8 @@ const char* toString(WizardStep step) noexcept {
       return "centre";
     case WizardStep::kRelease:
       return "release";
+    case WizardStep::kExplore:
+      return "explore";
     case WizardStep::kAutoCalibration:
       return "auto_calibration";
     case WizardStep::kReview:
@@ -103,6 +105,11 @@ CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, Wizar
   requirePositive(config_.verify_settle_s, "verify_settle_s", "s");
   requirePositive(config_.verify_release_s, "verify_release_s", "s");
   requirePositive(config_.verify_drift_limit_m, "verify_drift_limit_m", "m");
+  requirePositive(config_.min_workspace_extent_m, "min_workspace_extent_m", "m");
+  if (config_.lookup_refinement < 1) {
+    throw Error("calibration wizard: WizardConfig::lookup_refinement must be at least 1, got " +
+                std::to_string(config_.lookup_refinement));
+  }
   requirePositive(config_.parameters.servo_period_s,
                   "parameters.servo_period_s (EstimationParameters::servo_period_s)", "s");
   if (!(config_.field_ramp_s >= 0.0) || !(config_.compensation_ramp_s >= 0.0)) {
@@ -133,6 +140,8 @@ CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, Wizar
   copy_pending_.assign(count, 0);
   restored_.assign(count, 0);
   verify_vertices_.reserve(kMaxVerifyPoints);
+  verify_targets_m_.reserve(kMaxVerifyPoints);
+  centre_m_ = config_.grid_center_m;
 }
 
 CalibrationWizard::~CalibrationWizard() {
@@ -184,6 +193,9 @@ WizardStep CalibrationWizard::servoTick() noexcept {
       break;
     case WizardStep::kRelease:
       tickRelease(sample, events, replies, force_n);
+      break;
+    case WizardStep::kExplore:
+      tickExplore(sample, events, replies, force_n);
       break;
     case WizardStep::kAutoCalibration:
       tickCalibration(sample, events, force_n);
@@ -261,7 +273,7 @@ void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std:
     return;
   }
   if (sampleLost(sample)) return;
-  const bool within = (grid_.center_m() - sample.position_m).norm() <= config_.centre_tolerance_m;
+  const bool within = (centre_m_ - sample.position_m).norm() <= config_.centre_tolerance_m;
   const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
   if (!confirm) return;
   if (!within) {
@@ -339,15 +351,90 @@ void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t eve
   if ((replies & wizard::kReplyPlanAccepted) != 0) {
     awaiting_plan_ = false;
     live_->awaiting_service = false;
-    calibrator_->start(sample.valid ? sample.position_m : initialization_->center_m(),
-                       live_->initial_gravity_n);
-    hold_mode_ = HoldMode::kCalibrator;
-    enter(WizardStep::kAutoCalibration);
+    if (!explore_now_) {  // the workspace is known (a resumed run) or not explored at all
+      startCalibrator(sample);
+      return;
+    }
+    // The probe starts where the end-effector settled in the field, with G_hat_0.
+    explored_center_m_ = sample.valid ? sample.position_m : initialization_->center_m();
+    explorer_->start(explored_center_m_, live_->initial_gravity_n);
+    live_->directions_probed = 0;
+    live_->explorer_state = explorer_->state();
+    hold_mode_ = HoldMode::kExplorer;
+    enter(WizardStep::kExplore);
   } else if ((replies & wizard::kReplyPlanRefused) != 0) {
     awaiting_plan_ = false;
     live_->awaiting_service = false;
     fail(wizard::kFaultPlanRefused, HoldMode::kField);  // the field keeps holding it
   }
+}
+
+// --- Explore ---------------------------------------------------------------------------------
+
+void CalibrationWizard::tickExplore(const ServoSample& sample, std::uint32_t events,
+                                    std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
+  if (has(events, WizardEvent::kAbort)) explorer_->abort();
+  const WorkspaceExplorer::Status status = explorer_->step(sample, force_n);
+  const WorkspaceExplorer& explorer = *explorer_;
+  live_->explorer_state = status;
+  live_->exploration_elapsed_s = explorer.elapsed_s();
+  live_->probe_target_m = explorer.target_m();
+  // The explored volume as it grows: the box around the boundary points found so far.
+  const int probed = std::min(explorer.probedCount(), static_cast<int>(probe_directions_.size()));
+  for (int i = live_->directions_probed; i < probed; ++i) {
+    const double reach_m = explorer.reach_m()[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d point_m =
+        explored_center_m_ + reach_m * probe_directions_[static_cast<std::size_t>(i)];
+    if (i == 0) {
+      live_->explored_low_m = live_->explored_high_m = point_m;
+      live_->reach_min_m = live_->reach_max_m = reach_m;
+    } else {
+      live_->explored_low_m = live_->explored_low_m.cwiseMin(point_m);
+      live_->explored_high_m = live_->explored_high_m.cwiseMax(point_m);
+      live_->reach_min_m = std::min(live_->reach_min_m, reach_m);
+      live_->reach_max_m = std::max(live_->reach_max_m, reach_m);
+    }
+  }
+  live_->directions_probed = probed;
+  switch (status) {
+    case WorkspaceExplorer::Status::kDeviceFault:
+      force_n.setZero();
+      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
+      return;
+    case WorkspaceExplorer::Status::kAborted:
+      hold_mode_ = HoldMode::kExplorer;  // it keeps holding the end-effector where it is
+      enter(WizardStep::kAborted);
+      return;
+    case WorkspaceExplorer::Status::kFinished:
+      if (!awaiting_workspace_) {
+        // Handed to service() with the request (release/acquire on requests_): it plans the
+        // grid while the explorer keeps holding the end-effector.
+        std::copy(explorer.reach_m().begin(), explorer.reach_m().end(), explored_reach_m_.begin());
+        awaiting_workspace_ = true;
+        live_->awaiting_service = true;
+        requests_.fetch_or(wizard::kRequestWorkspace, std::memory_order_acq_rel);
+      }
+      break;
+    default:
+      break;
+  }
+  if (!awaiting_workspace_) return;
+  if ((replies & wizard::kReplyWorkspaceAccepted) != 0) {
+    awaiting_workspace_ = false;
+    live_->awaiting_service = false;
+    startCalibrator(sample);
+  } else if ((replies & wizard::kReplyWorkspaceRefused) != 0) {
+    awaiting_workspace_ = false;
+    live_->awaiting_service = false;
+    fail(wizard::kFaultWorkspaceRefused, HoldMode::kExplorer);  // the probe keeps holding it
+  }
+}
+
+void CalibrationWizard::startCalibrator(const ServoSample& sample) noexcept {
+  calibrator_->start(sample.valid ? sample.position_m : initialization_->center_m(),
+                     live_->initial_gravity_n);
+  hold_mode_ = HoldMode::kCalibrator;
+  enter(WizardStep::kAutoCalibration);
 }
 
 // --- AutoCalibration -------------------------------------------------------------------------
@@ -399,7 +486,8 @@ void CalibrationWizard::tickCalibration(const ServoSample& sample, std::uint32_t
       break;
     case AutoCalibrator::Status::kFinished: {
       const int last = calibrator.lastFinishedVertex();
-      hold_m_ = last >= 0 ? grid_.vertexPosition(last) : sample.position_m;
+      // Where it was measured: a vertex beyond the stops is measured inside them.
+      hold_m_ = last >= 0 ? calibrator.measurementPoint_m(last) : sample.position_m;
       hold_gravity_n_ = last_good_gravity_n_;
       hold_mode_ = HoldMode::kPd;
       enter(WizardStep::kReview);
@@ -493,8 +581,8 @@ void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events
 // --- Verify ----------------------------------------------------------------------------------
 
 void CalibrationWizard::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept {
-  const int vertex = live_->verify[static_cast<std::size_t>(live_->verify_index)].vertex;
-  const Eigen::Vector3d target_m = grid_.vertexPosition(vertex);
+  // Where the vertex was measured, inside the explored workspace.
+  const Eigen::Vector3d target_m = verify_targets_m_[static_cast<std::size_t>(live_->verify_index)];
   verify_move_.start(from_m, target_m,
                      MinimumJerkMove::durationFor((target_m - from_m).norm(),
                                                   config_.calibrator.max_move_acceleration_m_per_s2,
@@ -609,6 +697,9 @@ void CalibrationWizard::heldForce(const ServoSample& sample, Eigen::Vector3d& fo
       break;
     case HoldMode::kField:
       initialization_->step(sample, force_n);
+      break;
+    case HoldMode::kExplorer:
+      explorer_->step(sample, force_n);
       break;
     case HoldMode::kCalibrator:
       calibrator_->step(sample, force_n);

@@ -13,6 +13,7 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/initialization_estimator.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/wizard/calibration_wizard.h"
 
 namespace autograv::wizard {
@@ -25,6 +26,7 @@ constexpr std::uint32_t kRequestPlanCheck = 1u << 0;
 constexpr std::uint32_t kRequestReview = 1u << 1;
 constexpr std::uint32_t kRequestRedo = 1u << 2;
 constexpr std::uint32_t kRequestSave = 1u << 3;
+constexpr std::uint32_t kRequestWorkspace = 1u << 4;  // the exploration finished: plan the grid
 
 // Replies from service() to the servo side.
 constexpr std::uint32_t kReplyPlanAccepted = 1u << 0;
@@ -33,12 +35,15 @@ constexpr std::uint32_t kReplyRedoReady = 1u << 2;
 constexpr std::uint32_t kReplyNothingToRedo = 1u << 3;
 constexpr std::uint32_t kReplySaved = 1u << 4;
 constexpr std::uint32_t kReplySaveFailed = 1u << 5;
+constexpr std::uint32_t kReplyWorkspaceAccepted = 1u << 6;  // the calibrator is ready
+constexpr std::uint32_t kReplyWorkspaceRefused = 1u << 7;
 
 // Why the servo side entered Fault (WizardStatus::fault is written from it by status()).
 constexpr int kFaultNone = 0;
 constexpr int kFaultDeviceStopped = 1;
 constexpr int kFaultPlanRefused = 2;
 constexpr int kFaultWritesFailed = 3;
+constexpr int kFaultWorkspaceRefused = 4;
 
 /// The servo side refreshes the loop summary it publishes every this many ticks (and on every
 /// step change): reading the histograms is cheap, but not per tick.
@@ -69,6 +74,15 @@ struct Live {
   Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();
   bool initial_gravity_valid = false;
   bool awaiting_service = false;
+  WorkspaceExplorer::Status explorer_state = WorkspaceExplorer::Status::kIdle;
+  int directions_probed = 0;
+  int direction_count = 0;
+  double reach_min_m = 0.0;
+  double reach_max_m = 0.0;
+  Eigen::Vector3d explored_low_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d explored_high_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d probe_target_m = Eigen::Vector3d::Zero();
+  double exploration_elapsed_s = 0.0;
   AutoCalibrator::Status calibrator_state = AutoCalibrator::Status::kIdle;
   bool paused = false;
   int vertex = -1;

@@ -22,6 +22,9 @@ using wizard::eventBit;
 
 namespace {
 
+/// Fewest measurement points inside the explored workspace that make a map.
+constexpr int kMinMeasurementPoints = 4;
+
 /// Damping of the k0 field on a device that renders it stably. Unit: [N s/m]
 constexpr double kFieldDamping_n_s_per_m = 5.0;
 
@@ -57,8 +60,11 @@ std::vector<std::string> refusalForAnyGravity(const EstimationParameters& parame
 
 }  // namespace
 
-std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const WorkspaceGrid& grid,
-                                           const std::string& device_model) {
+namespace {
+
+/// The checkpoint at `path` of a run with a device of model `device_model`, or an error that says
+/// what to do.
+GravityMap loadCheckpointMap(const std::string& path, const std::string& device_model) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) {
     throw Error("no checkpoint " + path +
@@ -67,7 +73,14 @@ std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const Worksp
   }
   MapLoadOptions options;
   options.expected_device_model = device_model;
-  const GravityMap partial = loadMap(path, options);
+  return loadMap(path, options);
+}
+
+}  // namespace
+
+std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const WorkspaceGrid& grid,
+                                           const std::string& device_model) {
+  const GravityMap partial = loadCheckpointMap(path, device_model);
   if (!partial.grid().sameGeometry(grid)) {
     std::ostringstream message;
     message << "checkpoint " << path << " was made for another grid (" << partial.grid().describe()
@@ -116,10 +129,11 @@ void CalibrationWizard::runCheck(bool retry) {
     max_force_n_ = specifications.max_linear_force_n;
 
     const EstimationParameters& parameters = config_.parameters;
-    // A box fitted to the workspace has corners beyond it (found unreachable and filled), but
-    // the middle of each face must lie inside the workspace sphere, or whole faces are holes.
+    // Without exploration a box fitted to the workspace has corners beyond it (found unreachable
+    // and filled), but the middle of each face must lie inside the workspace sphere, or whole
+    // faces are holes. An explored run measures only inside what the probe reached.
     const double half_extent_m = 0.5 * grid_.size_m().maxCoeff();
-    if (half_extent_m > specifications.workspace_radius_m) {
+    if (!config_.explore && half_extent_m > specifications.workspace_radius_m) {
       std::ostringstream message;
       message << "The grid does not fit in the workspace: it reaches " << millimetres(half_extent_m)
               << " from the centre along an axis, the workspace radius is "
@@ -155,8 +169,13 @@ void CalibrationWizard::runCheck(bool retry) {
         std::min(kFieldDamping_n_s_per_m, 0.5 * specifications.max_linear_damping_n_s_per_m);
     initialization_ = std::make_unique<InitializationEstimator>(
         parameters, max_force_n_, config_.field_ramp_s, field_damping_n_s_per_m);
-    calibrator_ =
-        std::make_unique<AutoCalibrator>(grid_, parameters, max_force_n_, config_.calibrator);
+    if (config_.explore) {
+      explorer_ = std::make_unique<WorkspaceExplorer>(parameters, specifications, config_.explorer);
+      probe_directions_ = ExploredWorkspace::probeDirections(explorer_->directionCount());
+      explored_reach_m_.assign(probe_directions_.size(), 0.0);
+      live_->direction_count = explorer_->directionCount();
+    }
+    grid_fixed_ = !config_.explore || !config_.grid_from_workspace;
 
     const std::filesystem::path folder = std::filesystem::path(config_.map_path).parent_path();
     std::error_code error;
@@ -166,15 +185,7 @@ void CalibrationWizard::runCheck(bool retry) {
     }
 
     if (config_.resume) {
-      const std::vector<VertexEstimate> vertices =
-          loadCheckpoint(checkpoint_path_, grid_, specifications.model_name);
-      calibrator_->restore(vertices);
-      wizard::ScopedLock lock(mirror_busy_);
-      for (std::size_t i = 0; i < vertices.size(); ++i) {
-        mirror_[i] = vertices[i];
-        mirror_[i].history.reserve(static_cast<std::size_t>(parameters.max_iterations));
-        restored_[i] = vertices[i].outcome == VertexOutcome::kConverged ? 1 : 0;
-      }
+      restoreCheckpoint(specifications.model_name);
     } else if (!retry && std::filesystem::exists(checkpoint_path_, error)) {
       check_message_ = "A checkpoint of an earlier, unfinished run exists: " + checkpoint_path_ +
                        ". Starting afresh replaces it at the first finished vertex.";
@@ -184,14 +195,15 @@ void CalibrationWizard::runCheck(bool retry) {
       check_issue_ = CheckIssue::kEarlierCheckpoint;
       return;
     }
-    std::ostringstream summary;
-    summary << specifications.model_name << ", max force " << max_force_n_ << " N; grid "
-            << grid_.describe();
-    if (config_.resume) {
-      summary << "; resuming " << std::count(restored_.begin(), restored_.end(), 1)
-              << " converged vertices from " << checkpoint_path_;
+    // The workspace of a resumed run is kept: it is not explored again.
+    explore_now_ = config_.explore && workspace_.empty();
+    if (!explore_now_) {
+      useGrid(grid_, config_.resume ? &resumed_vertices_ : nullptr);
+    } else {
+      calibrator_.reset();  // built once the workspace is known
     }
-    summary_ = summary.str();
+    device_model_ = specifications.model_name;
+    summarize();
     check_passed_ = true;
   } catch (const Error& error) {
     check_message_ = error.what();
@@ -201,6 +213,124 @@ void CalibrationWizard::runCheck(bool retry) {
     check_message_ = std::string("Unexpected error: ") + error.what();
     check_prompt_ = "q quits, Enter checks again.";
     check_issue_ = CheckIssue::kSettings;
+  }
+}
+
+void CalibrationWizard::restoreCheckpoint(const std::string& device_model) {
+  const GravityMap partial = loadCheckpointMap(checkpoint_path_, device_model);
+  if (config_.explore && config_.grid_from_workspace) {
+    // The grid was fitted to the workspace the interrupted run explored: keep both.
+    grid_ = partial.grid();
+  } else if (!partial.grid().sameGeometry(grid_)) {
+    loadCheckpoint(checkpoint_path_, grid_, device_model);  // throws, saying what to change
+  }
+  grid_fixed_ = true;
+  workspace_ = partial.metadata().workspace;
+  resumed_vertices_ = partial.vertices();
+}
+
+void CalibrationWizard::useGrid(const WorkspaceGrid& grid,
+                                const std::vector<VertexEstimate>* restored) {
+  auto calibrator =
+      std::make_unique<AutoCalibrator>(grid, config_.parameters, max_force_n_, config_.calibrator);
+  if (restored != nullptr) calibrator->restore(*restored);
+  MeasurementPlan plan = planMeasurements(grid, workspace_);
+  calibrator->setPlan(plan);
+  const auto count = static_cast<std::size_t>(grid.vertexCount());
+  // The mirror starts as the calibrator does: restored vertices, and those the plan skips marked
+  // unreachable. Its histories have room for every iteration, so that the servo side's copies
+  // into it allocate nothing.
+  std::vector<VertexEstimate> mirror = calibrator->vertices();
+  for (auto& vertex : mirror) {
+    vertex.history.reserve(static_cast<std::size_t>(config_.parameters.max_iterations));
+  }
+  restored_.assign(count, 0);
+  if (restored != nullptr) {
+    for (std::size_t i = 0; i < count; ++i) {
+      restored_[i] = (*restored)[i].outcome == VertexOutcome::kConverged ? 1 : 0;
+    }
+  }
+  copy_pending_.assign(count, 0);
+  {
+    wizard::ScopedLock lock(mirror_busy_);
+    mirror_ = std::move(mirror);
+  }
+  grid_ = grid;
+  plan_ = std::move(plan);
+  calibrator_ = std::move(calibrator);
+}
+
+void CalibrationWizard::summarize() {
+  std::ostringstream summary;
+  summary << device_model_ << ", max force " << max_force_n_ << " N; grid ";
+  if (calibrator_) {
+    summary << grid_.describe();
+  } else {
+    summary << config_.grid_resolution.x() << "x" << config_.grid_resolution.y() << "x"
+            << config_.grid_resolution.z() << " vertices around the workspace explored first";
+  }
+  if (!workspace_.empty()) {
+    summary << "; workspace "
+            << (config_.resume && !explore_now_ ? "from the checkpoint" : "explored") << ": reach "
+            << millimetres(workspace_.minRadius_m()) << " to "
+            << millimetres(workspace_.maxRadius_m()) << ", measured " << plan_.at_vertex
+            << " at vertices, " << plan_.off_vertex << " just inside the stops, " << plan_.skipped
+            << " beyond reach";
+  }
+  if (config_.resume) {
+    summary << "; resuming " << std::count(restored_.begin(), restored_.end(), 1)
+            << " converged vertices from " << checkpoint_path_;
+  }
+  summary_ = summary.str();
+}
+
+void CalibrationWizard::acceptWorkspace() {
+  workspace_message_.clear();
+  try {
+    ExploredWorkspace workspace(explored_center_m_, probe_directions_, explored_reach_m_);
+    // Its box, found as gridAroundWorkspace finds it.
+    const Eigen::Vector3d extent_m =
+        gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(2)).size_m();
+    Eigen::Index thinnest = 0;
+    if (extent_m.minCoeff(&thinnest) < config_.min_workspace_extent_m) {
+      static const char* const kAxes[3] = {"x (toward you)", "y (left-right)", "z (up-down)"};
+      std::ostringstream message;
+      message << "The explored workspace is too small to calibrate: the probe reached only "
+              << millimetres(extent_m[thinnest]) << " along " << kAxes[thinnest] << " (box "
+              << millimetres(extent_m.x()) << " x " << millimetres(extent_m.y()) << " x "
+              << millimetres(extent_m.z()) << "; reach " << millimetres(workspace.minRadius_m())
+              << " to " << millimetres(workspace.maxRadius_m()) << " from the centre), at least "
+              << millimetres(config_.min_workspace_extent_m)
+              << " is needed along every axis. Something held the end-effector: let go of it, "
+                 "clear the space around the device (nothing may touch the arm), and start "
+                 "again.";
+      throw Error(message.str());
+    }
+    workspace_ = std::move(workspace);
+    const WorkspaceGrid grid =
+        grid_fixed_ ? grid_ : gridAroundWorkspace(workspace_, config_.grid_resolution);
+    useGrid(grid, resumed_vertices_.empty() ? nullptr : &resumed_vertices_);
+    const int measured = plan_.at_vertex + plan_.off_vertex;
+    if (measured < kMinMeasurementPoints) {
+      std::ostringstream message;
+      message << "The grid " << grid.describe() << " has only " << measured
+              << " measurement points inside the explored workspace: it lies mostly beyond "
+                 "the stops. Fit the grid to the workspace instead "
+                 "(WizardConfig::grid_from_workspace = true).";
+      calibrator_.reset();
+      throw Error(message.str());
+    }
+    summarize();
+    // A checkpoint now keeps the workspace and the grid, so that a run stopped before its first
+    // vertex resumes without exploring again.
+    {
+      wizard::ScopedLock lock(mirror_busy_);
+      ++mirror_version_;
+    }
+    replies_.fetch_or(wizard::kReplyWorkspaceAccepted, std::memory_order_acq_rel);
+  } catch (const Error& error) {
+    workspace_message_ = error.what();
+    replies_.fetch_or(wizard::kReplyWorkspaceRefused, std::memory_order_acq_rel);
   }
 }
 
@@ -237,6 +367,7 @@ void CalibrationWizard::service() {
     replies_.fetch_or(problems.empty() ? wizard::kReplyPlanAccepted : wizard::kReplyPlanRefused,
                       std::memory_order_acq_rel);
   }
+  if ((requests & wizard::kRequestWorkspace) != 0) acceptWorkspace();
   writeCheckpoint();
   // Review, redo and save read the mirror: wait until the servo side has flushed it.
   std::uint32_t deferred = 0;
@@ -290,6 +421,8 @@ MapMetadata CalibrationWizard::metadata() const {
   metadata.device_serial = config_.device_serial.empty() ? device_->specifications().serial_number
                                                          : config_.device_serial;
   metadata.parameters = config_.parameters;
+  metadata.workspace = workspace_;
+  metadata.lookup_refinement = config_.lookup_refinement;
   return metadata;  // created_utc is filled in by saveMap
 }
 
@@ -391,11 +524,15 @@ std::vector<int> CalibrationWizard::chooseVerifyVertices(
   }
   std::vector<int> chosen;
   if (converged.empty() || config_.verify_points == 0) return chosen;
+  // Where each was measured: a vertex beyond the stops is tested where it was measured.
+  const auto point = [&](int vertex) {
+    const VertexEstimate& estimate = vertices[static_cast<std::size_t>(vertex)];
+    return estimate.measuredOffVertex() ? estimate.measured_at_m : grid_.vertexPosition(vertex);
+  };
   // The vertex nearest the centre, then each time the one farthest from those chosen: a few
   // tests that still span the grid.
   const auto nearest = std::min_element(converged.begin(), converged.end(), [&](int a, int b) {
-    return (grid_.vertexPosition(a) - grid_.center_m()).norm() <
-           (grid_.vertexPosition(b) - grid_.center_m()).norm();
+    return (point(a) - grid_.center_m()).norm() < (point(b) - grid_.center_m()).norm();
   });
   chosen.push_back(*nearest);
   const auto wanted =
@@ -406,8 +543,7 @@ std::vector<int> CalibrationWizard::chooseVerifyVertices(
     for (int candidate : converged) {
       double distance = std::numeric_limits<double>::infinity();
       for (int taken : chosen) {
-        distance = std::min(distance,
-                            (grid_.vertexPosition(candidate) - grid_.vertexPosition(taken)).norm());
+        distance = std::min(distance, (point(candidate) - point(taken)).norm());
       }
       if (distance > best_distance) {
         best_distance = distance;
@@ -436,6 +572,12 @@ void CalibrationWizard::saveAndPrepareVerify() {
   std::error_code ignored;
   std::filesystem::remove(checkpoint_path_, ignored);  // the map supersedes it
   verify_vertices_ = chooseVerifyVertices(vertices);
+  verify_targets_m_.clear();
+  for (int vertex : verify_vertices_) {
+    const VertexEstimate& estimate = vertices[static_cast<std::size_t>(vertex)];
+    verify_targets_m_.push_back(estimate.measuredOffVertex() ? estimate.measured_at_m
+                                                             : grid_.vertexPosition(vertex));
+  }
   if (!verify_vertices_.empty()) {
     try {
       device_->publishMap(map);

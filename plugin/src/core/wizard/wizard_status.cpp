@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -59,15 +60,17 @@ int stepNumber(WizardStep step) {
       return 2;
     case WizardStep::kRelease:
       return 3;
-    case WizardStep::kAutoCalibration:
+    case WizardStep::kExplore:
       return 4;
-    case WizardStep::kReview:
+    case WizardStep::kAutoCalibration:
       return 5;
-    case WizardStep::kSave:
+    case WizardStep::kReview:
       return 6;
+    case WizardStep::kSave:
+      return 7;
     case WizardStep::kVerify:
     case WizardStep::kDone:
-      return 7;
+      return 8;
     case WizardStep::kAborted:
     case WizardStep::kFault:
       return 0;
@@ -116,8 +119,8 @@ WizardStatus CalibrationWizard::status() const {
   s.time_s = live.time_s;
   s.servo_loop = live.servo_loop;
   s.servo_warning = servoLoopWarning(live.servo_loop, config_.parameters.servo_period_s);
-  s.centre_m = grid_.center_m();
-  s.to_centre_m = grid_.center_m() - live.position_m;
+  s.centre_m = centre_m_;
+  s.to_centre_m = centre_m_ - live.position_m;
   s.centre_distance_m = s.to_centre_m.norm();
   s.centre_tolerance_m = config_.centre_tolerance_m;
   s.within_tolerance = live.position_valid && s.centre_distance_m <= config_.centre_tolerance_m;
@@ -129,6 +132,19 @@ WizardStatus CalibrationWizard::status() const {
   s.release_elapsed_s = live.release_elapsed_s;
   s.initial_gravity_n = live.initial_gravity_n;
   s.initial_gravity_valid = live.initial_gravity_valid;
+  s.explorer_state = live.explorer_state;
+  s.directions_probed = live.directions_probed;
+  s.direction_count = live.direction_count;
+  s.reach_min_m = live.reach_min_m;
+  s.reach_max_m = live.reach_max_m;
+  s.explored_low_m = live.explored_low_m;
+  s.explored_high_m = live.explored_high_m;
+  s.probe_target_m = live.probe_target_m;
+  s.exploration_elapsed_s = live.exploration_elapsed_s;
+  s.workspace = workspace_;
+  s.measured_at_vertex = plan_.at_vertex;
+  s.measured_off_vertex = plan_.off_vertex;
+  s.beyond_reach = plan_.skipped;
   s.calibrator_state = live.calibrator_state;
   s.paused = live.paused && s.step == WizardStep::kAutoCalibration;
   s.vertex = live.vertex;
@@ -233,6 +249,30 @@ WizardStatus CalibrationWizard::status() const {
       }
       break;
 
+    case WizardStep::kExplore: {
+      s.title = "Explore the workspace";
+      message << "Direction " << std::min(s.directions_probed + 1, std::max(s.direction_count, 1))
+              << " of " << s.direction_count << ": " << toString(live.explorer_state);
+      if (s.directions_probed > 0) {
+        const Eigen::Vector3d extent_m = s.explored_high_m - s.explored_low_m;
+        message << ".\nExplored so far: reach " << mm(s.reach_min_m) << " to " << mm(s.reach_max_m)
+                << " from the centre, a box of " << format("%.0f", extent_m.x() * 1e3) << " x "
+                << format("%.0f", extent_m.y() * 1e3) << " x "
+                << format("%.0f mm", extent_m.z() * 1e3);
+      }
+      const double eta_s = s.directions_probed > 0 ? s.exploration_elapsed_s / s.directions_probed *
+                                                         (s.direction_count - s.directions_probed)
+                                                   : std::numeric_limits<double>::quiet_NaN();
+      message << ".\nElapsed " << seconds(s.exploration_elapsed_s) << ", ETA " << seconds(eta_s)
+              << ".";
+      s.eta_s = eta_s;
+      if (live.awaiting_service) message << "\nPlanning the measurements inside it...";
+      message << "\nA soft probe pushes the end-effector outward and backs off from every stop: "
+                 "the grid is then measured only where it can go.";
+      s.prompt = "The device moves by itself: keep clear. q stops.";
+      break;
+    }
+
     case WizardStep::kAutoCalibration: {
       s.title = "Automatic calibration";
       message << "Vertex " << s.vertex_ordinal << " of " << s.vertices_to_visit;
@@ -272,7 +312,12 @@ WizardStatus CalibrationWizard::status() const {
       if (r.restored > 0) message << " (" << r.restored << " from the checkpoint)";
       if (r.unreachable > 0) {
         message << "; " << r.unreachable
-                << " out of the device's reach, filled from their neighbours";
+                << " out of the device's reach, solved from the measured ones";
+      }
+      if (!workspace_.empty()) {
+        message << ".\nInside the explored workspace: " << plan_.at_vertex
+                << " measured at their vertex, " << plan_.off_vertex << " just inside the stops; "
+                << plan_.skipped << " beyond reach";
       }
       message << ".\nIterations per vertex: median " << format("%.1f", r.iterations_median)
               << ", min " << r.iterations_min << ", max " << r.iterations_max << ".\n"
@@ -384,6 +429,10 @@ WizardStatus CalibrationWizard::status() const {
                   << " failed writes in a row; decorator fault: " << toString(device_->lastFault())
                   << ").";
           break;
+        case wizard::kFaultWorkspaceRefused:
+          message << workspace_message_
+                  << "\nThe probe still holds the end-effector: take it, then start again.";
+          break;
         case wizard::kFaultPlanRefused:
           message << "The calibration was refused before the device moves by itself, with "
                      "G_hat_0 = "
@@ -397,7 +446,8 @@ WizardStatus CalibrationWizard::status() const {
       }
       if (map_saved_) {
         message << "\nThe map had been saved to " << config_.map_path << " before that.";
-      } else if (live.fault_code != wizard::kFaultPlanRefused) {
+      } else if (live.fault_code != wizard::kFaultPlanRefused &&
+                 live.fault_code != wizard::kFaultWorkspaceRefused) {
         if (checkpoint_written_) {
           message << "\n"
                   << checkpointed_converged_ << " converged vertices are saved in "
