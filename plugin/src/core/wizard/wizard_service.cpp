@@ -11,6 +11,7 @@
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/vertex_fill.h"
 #include "autograv/wizard/calibration_wizard.h"
@@ -231,8 +232,12 @@ void CalibrationWizard::restoreCheckpoint(const std::string& device_model) {
 
 void CalibrationWizard::useGrid(const WorkspaceGrid& grid,
                                 const std::vector<VertexEstimate>* restored) {
+  AutoCalibrator::Options options = config_.calibrator;
+  if (!(options.continuous_force_n > 0.0)) {
+    options.continuous_force_n = continuousForceRating_n(device_->specifications());
+  }
   auto calibrator =
-      std::make_unique<AutoCalibrator>(grid, config_.parameters, max_force_n_, config_.calibrator);
+      std::make_unique<AutoCalibrator>(grid, config_.parameters, max_force_n_, options);
   if (restored != nullptr) calibrator->restore(*restored);
   MeasurementPlan plan = planMeasurements(grid, workspace_);
   calibrator->setPlan(plan);
@@ -305,6 +310,11 @@ void CalibrationWizard::acceptWorkspace() {
                  "clear the space around the device (nothing may touch the arm), and start "
                  "again.";
       throw Error(message.str());
+    }
+    // Where the initialization settled, from driver data: resting on a stop spoils G_hat_0.
+    const std::string clearance = initializationClearanceProblem(workspace, explored_center_m_);
+    if (!clearance.empty()) {
+      throw Error("The initialization is not to be trusted: " + clearance + ".");
     }
     workspace_ = std::move(workspace);
     const WorkspaceGrid grid =
