@@ -59,7 +59,7 @@ TEST(DemoViewTest, ReadoutFollowsHandAndCalibration) {
   s.mode = ServoMode::kCalibrating;
   WizardStatus calibration;
   calibration.step = WizardStep::kAutoCalibration;
-  calibration.step_number = 4;
+  calibration.step_number = 5;
   calibration.title = "Auto-calibration";
   calibration.vertex_ordinal = 4;
   calibration.vertices_to_visit = 27;
@@ -70,7 +70,7 @@ TEST(DemoViewTest, ReadoutFollowsHandAndCalibration) {
   const auto lines = DemoView("X").readout(s, nullptr, true, &calibration);
   EXPECT_TRUE(contains(lines, "HELD BY THE HAND"));
   EXPECT_FALSE(contains(lines, "DRIFT"));
-  EXPECT_TRUE(contains(lines, "CALIBRATION STEP 4 OF 7: AUTO-CALIBRATION"));
+  EXPECT_TRUE(contains(lines, "CALIBRATION STEP 5 OF 8: AUTO-CALIBRATION"));
   EXPECT_TRUE(contains(lines, "VERTEX 4 OF 27  ITERATION 2  CONVERGED 3  PAUSED (P)"));
   EXPECT_TRUE(contains(lines, "P RESUMES, Q ABORTS"));
   EXPECT_FALSE(contains(lines, "SECOND LINE"));  // one line of the prompt: the readout is short

@@ -35,7 +35,7 @@ if(EXAMPLE_DIR)
   run(${CMAKE_COMMAND} --build "${WORK_DIR}/own_device")
   run("${WORK_DIR}/own_device/own_device" --unattended --out "${WORK_DIR}/own_device_map.json")
   message(STATUS "own_device example:\n${run_output}")
-  if(NOT run_output MATCHES "\\[7/7\\] Done" OR
+  if(NOT run_output MATCHES "\\[8/8\\] Done" OR
      NOT run_output MATCHES "grid: median [0-9.]+ mN, max [0-9.]+ mN")
     message(FATAL_ERROR "the own_device example did not calibrate to the end:\n${run_output}")
   endif()

@@ -107,7 +107,9 @@ class VertexEstimator {
   /// while the steady state moves by less than this fraction of what the first step should have
   /// moved it (its length over K_P): the force grows, the position does not follow. A stop is
   /// a spring 30 or more times stiffer than the hold (1500-2000 N/m on the simulators, a rigid
-  /// body on hardware); a field that steep elsewhere (up to 9 K_P) still counts as free space. The
+  /// body on hardware); a field that steep elsewhere (up to 9 K_P) still counts as free space.
+  /// With the dither method only: without a dither, dry friction holds the end-effector still
+  /// too, until the force breaks it away. The
   /// vertex then ends kUnreachable with stopContact() set, after two updates instead of
   /// kStalledUpdates.
   static constexpr double kStopFollowFraction = 0.1;

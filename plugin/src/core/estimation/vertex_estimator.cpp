@@ -333,7 +333,10 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   // A stop: this step pushes the way the last one did, no shorter, and the last one moved the
   // steady state by far less than the hold's spring would have (kStopFollowFraction).
   const double expected_move_m = relaxation_ * last_update_n_ / stiffness_n_per_m_;
-  const bool pushed_again = both_large && step_ratio >= kStallRatio;
+  // Only with the dither: without it, dry friction holds the end-effector as a stop does until
+  // the force breaks it away, and the paper's method keeps its slower stall rule.
+  const bool pushed_again =
+      parameters_.method == EstimationMethod::kDither && both_large && step_ratio >= kStallRatio;
   if (pushed_again &&
       (settled_m - last_settled_m_).norm() < kStopFollowFraction * expected_move_m) {
     stop_contact_ = true;

@@ -9,6 +9,8 @@
 namespace autograv {
 
 namespace {
+/// Longest hold after a transfer for the end-effector to catch up with its end. Unit: [s]
+constexpr double kTransferSettleMax_s = 0.3;
 /// Floor on |G_hat| for the apparent mass of the probe's damping (eq. 6). Unit: [N]
 constexpr double kMinGravityN = 0.01;
 /// Time constant of the gravity estimate following the probe effort. Unit: [s]
@@ -166,6 +168,13 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
       move_.sample(phase_s, desired_m, desired_velocity, desired_acceleration);
       force_n = impedanceForce(sample, desired_m, desired_velocity, state_ == Status::kTransfer);
       if (phase_s < move_.duration_s()) break;
+      // A heavy arm may still lag the end of a quick transfer: a probe started then would read
+      // that lag as effort against a stop. Hold until it has caught up (briefly at most).
+      const bool caught_up = (desired_m - sample.position_m).norm() <= 0.5 * options_.contact_lag_m;
+      if (state_ == Status::kTransfer && !caught_up &&
+          phase_s < move_.duration_s() + kTransferSettleMax_s) {
+        break;
+      }
       if (state_ == Status::kBackingOff) {
         ++current_;
         beginTransfer(desired_m);
