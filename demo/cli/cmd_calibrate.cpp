@@ -15,6 +15,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/value_kind.h"
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/wizard/calibration_wizard.h"
@@ -200,8 +201,13 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   std::printf("\n%-34s %s\n", "map", options.out_path.c_str());
   std::printf("%-34s %d / %d\n", "vertices converged", map.convergedCount(), grid.vertexCount());
-  std::printf("%-34s %d (filled from measured neighbours: %d)\n", "vertices unreachable",
-              map.unreachableCount(), map.filledCount());
+  int kind_count[4] = {0, 0, 0, 0};
+  for (const VertexEstimate& vertex : map.vertices())
+    ++kind_count[static_cast<int>(valueKind(vertex))];
+  std::printf("%-34s %d %s, %d %s, %d %s\n", "values",
+              kind_count[static_cast<int>(ValueKind::kAtVertex)], toString(ValueKind::kAtVertex),
+              kind_count[static_cast<int>(ValueKind::kOffVertex)], toString(ValueKind::kOffVertex),
+              kind_count[static_cast<int>(ValueKind::kSolved)], toString(ValueKind::kSolved));
   std::printf("%-34s %.1f %%\n", "reachable workspace inside the grid", 100.0 * workspace_coverage);
   std::printf("%-34s %.1f / %d (paper: 14 at one vertex)\n", "iterations per vertex (median/max)",
               median(iterations), iterations_max);
