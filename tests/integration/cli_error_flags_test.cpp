@@ -19,11 +19,20 @@ using testing::runCommand;
 
 const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 
+// This process's scratch folder, removed when the process ends (ctest runs one test a process).
+struct ScratchFolder {
+  std::filesystem::path path = std::filesystem::temp_directory_path() /
+                               ("autograv_cli_error_flags_" + std::to_string(::getpid()));
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
 std::string scratch(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() /
-                      ("autograv_cli_error_flags_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  return (folder / name).string();
+  static const ScratchFolder folder;
+  std::filesystem::create_directories(folder.path);
+  return (folder.path / name).string();
 }
 
 /// The run failed, printed `flag`, and no library parameter name leaked through.
