@@ -142,7 +142,12 @@ TEST_F(Chai3dDevicesTest, VerifyRunsOnAChai3dDeviceWithNoHand) {
                           " --device chai3d:0 --points 3 --no-uncompensated"
                           " --report " +
                           report_path);
-  EXPECT_EQ(verify.exit_code, 0) << verify.output;
+  // A verdict (0 PASS, 1 FAIL), not an error: what PASS judges is VerificationTest's; here, that
+  // the device got to every point by itself, gently.
+  EXPECT_TRUE(verify.exit_code == 0 || verify.exit_code == 1) << verify.output;
+  EXPECT_TRUE(verify.output.find("\nPASS\n") != std::string::npos ||
+              verify.output.find("\nFAIL\n") != std::string::npos)
+      << verify.output;
   EXPECT_NE(verify.output.find("carries itself there (no hand)"), std::string::npos)
       << verify.output;
   EXPECT_NE(verify.output.find("3 of 3 reached"), std::string::npos) << verify.output;
@@ -201,7 +206,7 @@ TEST_F(Chai3dDevicesTest, TheTerminalWizardExploresTheWorkspaceOfAChai3dDeviceAn
   EXPECT_EQ(check.exit_code, 0) << check.output;
   const auto verify = testing::runCommand("AUTOGRAV_STANDIN_DEVICES=sim:omni " + binary +
                                           " verify --device chai3d:0 --points 4 " + map_path);
-  EXPECT_NE(verify.output.find("points held at full compensation"), std::string::npos)
+  EXPECT_NE(verify.output.find("4 of 4 reached, 4 held at full compensation"), std::string::npos)
       << verify.output;
   fs::remove_all(dir);
 }
