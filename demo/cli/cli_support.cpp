@@ -153,4 +153,27 @@ void ProgressBar::finish() {
   drawn_ = false;
 }
 
+void printFieldError(const sim::FieldErrorReport& field) {
+  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+              "field error over the workspace", 100.0 * field.p50_rel, 100.0 * field.p90_rel,
+              100.0 * field.p99_rel, 100.0 * field.max_rel, field.samples);
+  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
+              "  within 5 mm of the stops", 100.0 * field.shell_p50_rel,
+              100.0 * field.shell_p90_rel, 100.0 * field.shell_p99_rel, 100.0 * field.shell_max_rel,
+              field.shell_samples);
+}
+
+void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& field) {
+  report["field_samples"] = field.samples;
+  report["field_error_p50_rel"] = field.p50_rel;
+  report["field_error_p90_rel"] = field.p90_rel;
+  report["field_error_p99_rel"] = field.p99_rel;
+  report["field_error_max_rel"] = field.max_rel;
+  report["shell_field_samples"] = field.shell_samples;
+  report["shell_field_error_p50_rel"] = field.shell_p50_rel;
+  report["shell_field_error_p90_rel"] = field.shell_p90_rel;
+  report["shell_field_error_p99_rel"] = field.shell_p99_rel;
+  report["shell_field_error_max_rel"] = field.shell_max_rel;
+}
+
 }  // namespace autograv::cli

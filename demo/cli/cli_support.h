@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/devices/device_registry.h"
+#include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::cli {
@@ -71,5 +72,12 @@ class ProgressBar {
 
 /// "1m 05s", "42s", "0.3s".
 std::string formatDuration(double seconds);
+
+/// Prints the field error over the workspace and within 5 mm of the stops, two report lines.
+void printFieldError(const sim::FieldErrorReport& field);
+
+/// Adds the field error to a JSON report: field_samples, field_error_{p50,p90,p99,max}_rel and
+/// the same with shell_ for the points near the stops.
+void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& field);
 
 }  // namespace autograv::cli

@@ -215,13 +215,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
               result.simulated_seconds, vertex_seconds / grid.vertexCount(), wall_s);
   std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
               100.0 * accuracy.max_error_rel, accuracy.worst_vertex, accuracy.max_error_n * 1e3);
-  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
-              "field error over the workspace", 100.0 * field.p50_rel, 100.0 * field.p90_rel,
-              100.0 * field.p99_rel, 100.0 * field.max_rel, field.samples);
-  std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
-              "  within 5 mm of the stops", 100.0 * field.shell_p50_rel,
-              100.0 * field.shell_p90_rel, 100.0 * field.shell_p99_rel, 100.0 * field.shell_max_rel,
-              field.shell_samples);
+  printFieldError(field);
   std::printf("%-34s %d at the vertex, %d just inside the stops, %d beyond reach\n",
               "measurement points", result.plan.at_vertex, result.plan.off_vertex,
               result.plan.skipped);
@@ -292,19 +286,9 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
       {"worst_vertex", accuracy.worst_vertex},
       {"max_error_n", accuracy.max_error_n},
       {"rms_residual_rel", accuracy.rms_residual_rel},
-      {"field_samples", field.samples},
-      {"field_error_p50_rel", field.p50_rel},
-      {"field_error_p90_rel", field.p90_rel},
-      {"field_error_p99_rel", field.p99_rel},
-      {"field_error_max_rel", field.max_rel},
       {"field_error_max_n", field.max_n},
       {"field_worst_point_m",
        {field.worst_point_m.x(), field.worst_point_m.y(), field.worst_point_m.z()}},
-      {"shell_field_samples", field.shell_samples},
-      {"shell_field_error_p50_rel", field.shell_p50_rel},
-      {"shell_field_error_p90_rel", field.shell_p90_rel},
-      {"shell_field_error_p99_rel", field.shell_p99_rel},
-      {"shell_field_error_max_rel", field.shell_max_rel},
       {"measured_at_vertex", result.plan.at_vertex},
       {"measured_inside_stops", result.plan.off_vertex},
       {"beyond_reach", result.plan.skipped},
@@ -326,6 +310,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
         result.initialization.gravity_n.z()}},
       {"parameters", parametersJson(parameters)}};
   nlohmann::json full_report = report;
+  addFieldErrorJson(full_report, field);
   full_report["servo_timing"] = sim::toString(options.servo_timing);
   full_report["servo_loop"] = servoLoopJson(options.servo_timing, result.servo_loop);
   writeJsonReport(options.report_path, full_report);

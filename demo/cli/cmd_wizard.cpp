@@ -246,13 +246,7 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
                 accuracy->max_error_n * 1e3);
   }
   if (field) {
-    std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
-                "field error over the workspace", 100.0 * field->p50_rel, 100.0 * field->p90_rel,
-                100.0 * field->p99_rel, 100.0 * field->max_rel, field->samples);
-    std::printf("%-34s p50 %.2f %%, p90 %.2f %%, p99 %.2f %%, max %.2f %% (%d points)\n",
-                "  within 5 mm of the stops", 100.0 * field->shell_p50_rel,
-                100.0 * field->shell_p90_rel, 100.0 * field->shell_p99_rel,
-                100.0 * field->shell_max_rel, field->shell_samples);
+    printFieldError(*field);
     std::printf("%-34s %.1f s above %.2f N, %llu ticks at the force limit\n", "force on the device",
                 force.seconds_above_continuous, continuousForceRating_n(specifications),
                 static_cast<unsigned long long>(force.limit_ticks));
@@ -560,16 +554,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     report["max_error_rel"] = accuracy->max_error_rel;
     report["worst_vertex"] = accuracy->worst_vertex;
     report["max_error_n"] = accuracy->max_error_n;
-    report["field_samples"] = field->samples;
-    report["field_error_p50_rel"] = field->p50_rel;
-    report["field_error_p90_rel"] = field->p90_rel;
-    report["field_error_p99_rel"] = field->p99_rel;
-    report["field_error_max_rel"] = field->max_rel;
-    report["shell_field_samples"] = field->shell_samples;
-    report["shell_field_error_p50_rel"] = field->shell_p50_rel;
-    report["shell_field_error_p90_rel"] = field->shell_p90_rel;
-    report["shell_field_error_p99_rel"] = field->shell_p99_rel;
-    report["shell_field_error_max_rel"] = field->shell_max_rel;
+    addFieldErrorJson(report, *field);
   }
   writeJsonReport(options.report_path, report);
   if (status.map_saved) printResults(status, force_watch, specifications, field, accuracy);
