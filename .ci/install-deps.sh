@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config git
+  ccache                           # tests/run.sh: its builds share objects compiled alike
   libeigen3-dev                    # maths (autograv::core)
   nlohmann-json3-dev               # map files and reports
   libcli11-dev                     # command-line parsing
