@@ -3,6 +3,7 @@
 # Arguments: -DBINARY_DIR=<autograv build> -DSOURCE_DIR=<tests/install/consumer> -DWORK_DIR=<scratch>
 #            [-DCONSUMER_LINK_FLAGS=<flags the consumer links with, e.g. the sanitizers>]
 #            [-DWITH_CHAI3D=1: autograv was built with the CHAI3D bridge; build its consumer too]
+#            [-DWITH_VIZ=0|1 -DWITH_GL=0|1: whether autograv::viz and autograv::gl were built]
 #            [-DEXAMPLE_DIR=<demo/examples/own_device>: also build that example against the
 #             install, with warnings as errors, and run it unattended to the end]
 file(REMOVE_RECURSE "${WORK_DIR}")
@@ -15,6 +16,24 @@ function(run)
   set(run_output "${out}${err}" PARENT_SCOPE)
 endfunction()
 run(${CMAKE_COMMAND} --install "${BINARY_DIR}" --prefix "${WORK_DIR}/prefix" --component Unspecified)
+# Each component installs its own headers and no other's: none for a library that was not built,
+# and the device registry's header only with the registry.
+foreach(component viz gl)
+  string(TOUPPER ${component} upper)
+  if(DEFINED WITH_${upper})
+    set(headers "${WORK_DIR}/prefix/include/autograv/${component}")
+    if(WITH_${upper} AND NOT IS_DIRECTORY "${headers}")
+      message(FATAL_ERROR "autograv::${component} was built but installed no headers")
+    elseif(NOT WITH_${upper} AND EXISTS "${headers}")
+      message(FATAL_ERROR "autograv::${component} was not built, yet ${headers} was installed")
+    endif()
+  endif()
+endforeach()
+file(GLOB installed_registry "${WORK_DIR}/prefix/lib*/libautograv_devices.*"
+     "${WORK_DIR}/prefix/lib*/*/libautograv_devices.*")
+if(EXISTS "${WORK_DIR}/prefix/include/autograv/devices/device_registry.h" AND NOT installed_registry)
+  message(FATAL_ERROR "autograv/devices/device_registry.h was installed without its library")
+endif()
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}" "-DCONSUMER_WITH_CHAI3D=${WITH_CHAI3D}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
