@@ -17,12 +17,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "../../demo/cli/wizard_auto_hand.h"
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv {
@@ -96,7 +96,7 @@ int convergedCount(const std::vector<VertexEstimate>& vertices) {
 struct Rig {
   std::shared_ptr<sim::SimulatedDevice> device;
   std::unique_ptr<CalibrationWizard> wizard;
-  std::unique_ptr<cli::WizardAutoHand> hand;
+  std::unique_ptr<sim::ScriptedWizardUser> hand;
   std::vector<WizardStep> steps_seen;
   bool auto_hand = true;
   /// Allocations made inside servoTick() so far.
@@ -111,7 +111,7 @@ struct Rig {
     // Powered off, the end-effector rests away from the centre.
     device->resetState(device->workspaceCenter_m() + Eigen::Vector3d(0.01, -0.015, -0.02));
     wizard = std::make_unique<CalibrationWizard>(device, config);
-    hand = std::make_unique<cli::WizardAutoHand>(*device);
+    hand = std::make_unique<sim::ScriptedWizardUser>(*device);
   }
 
   /// One UI frame: the user reacts, the servo loop runs kTicksPerFrame ticks, the service runs.
