@@ -150,6 +150,18 @@ struct Rig {
   bool runUntilStep(WizardStep step, double max_s) {
     return runUntil([&] { return wizard->step() == step; }, max_s);
   }
+
+  /// The device stops answering: the wizard must fault within a second and, a frame later, be
+  /// finished and say why. Returns the status it shows then.
+  WizardStatus stopTheDevice() {
+    device->injectFault(sim::DeviceFault::kStopsAnswering);
+    EXPECT_TRUE(runUntilStep(WizardStep::kFault, 1.0));
+    frame();
+    EXPECT_TRUE(wizard->finished());
+    WizardStatus status = wizard->status();
+    EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+    return status;
+  }
 };
 
 WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double side_m = 0.04) {
@@ -563,12 +575,8 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
   {
     Rig rig("sim:omega", smallConfig(path));
     ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 3; }, 200.0));
-    rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
-    ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
-    rig.frame();
-    EXPECT_TRUE(rig.wizard->finished());
-    const WizardStatus status = rig.wizard->status();
-    EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+    const WizardStatus status = rig.stopTheDevice();
+    ASSERT_EQ(status.step, WizardStep::kFault);
     EXPECT_NE(status.message.find("WizardConfig::resume = true"), std::string::npos)
         << status.message;
     before = rig.wizard->vertices();
@@ -626,12 +634,8 @@ TEST(CalibrationWizardTest, ADeviceLostWhileTheUserReadsTheReviewIsAFault) {
   const std::string path = temporaryPath("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
-  rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
-  ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
-  rig.frame();
-  EXPECT_TRUE(rig.wizard->finished());
-  const WizardStatus status = rig.wizard->status();
-  EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+  const WizardStatus status = rig.stopTheDevice();
+  ASSERT_EQ(status.step, WizardStep::kFault);
   EXPECT_NE(status.message.find("8 converged vertices are saved in " + path + ".partial"),
             std::string::npos)
       << status.message;
