@@ -24,6 +24,7 @@
 #include "autograv/map/map_library.h"
 #include "autograv/sim/end_stop_watch.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "cli_support.h"
@@ -32,7 +33,6 @@
 #include "estimation_options.h"
 #include "friction_option.h"
 #include "servo_timing_option.h"
-#include "wizard_auto_hand.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
 
@@ -198,7 +198,7 @@ class FrontEnd {
   const WizardOptions& options_;
   CalibrationWizard& wizard_;
   sim::SimulatedDevice* device_;
-  std::optional<WizardAutoHand> auto_hand_;
+  std::optional<sim::ScriptedWizardUser> auto_hand_;
   bool answer_prompts_;
   Eigen::Vector3d hand_goal_m_ = Eigen::Vector3d::Zero();
   WizardStep last_step_ = WizardStep::kCheck;

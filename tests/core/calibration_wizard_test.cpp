@@ -17,12 +17,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "../../demo/cli/wizard_auto_hand.h"
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv {
@@ -96,7 +96,7 @@ int convergedCount(const std::vector<VertexEstimate>& vertices) {
 struct Rig {
   std::shared_ptr<sim::SimulatedDevice> device;
   std::unique_ptr<CalibrationWizard> wizard;
-  std::unique_ptr<cli::WizardAutoHand> hand;
+  std::unique_ptr<sim::ScriptedWizardUser> hand;
   std::vector<WizardStep> steps_seen;
   bool auto_hand = true;
   /// Allocations made inside servoTick() so far.
@@ -111,7 +111,7 @@ struct Rig {
     // Powered off, the end-effector rests away from the centre.
     device->resetState(device->workspaceCenter_m() + Eigen::Vector3d(0.01, -0.015, -0.02));
     wizard = std::make_unique<CalibrationWizard>(device, config);
-    hand = std::make_unique<cli::WizardAutoHand>(*device);
+    hand = std::make_unique<sim::ScriptedWizardUser>(*device);
   }
 
   /// One UI frame: the user reacts, the servo loop runs kTicksPerFrame ticks, the service runs.
@@ -149,6 +149,18 @@ struct Rig {
 
   bool runUntilStep(WizardStep step, double max_s) {
     return runUntil([&] { return wizard->step() == step; }, max_s);
+  }
+
+  /// The device stops answering: the wizard must fault within a second and, a frame later, be
+  /// finished and say why. Returns the status it shows then.
+  WizardStatus stopTheDevice() {
+    device->injectFault(sim::DeviceFault::kStopsAnswering);
+    EXPECT_TRUE(runUntilStep(WizardStep::kFault, 1.0));
+    frame();
+    EXPECT_TRUE(wizard->finished());
+    WizardStatus status = wizard->status();
+    EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+    return status;
   }
 };
 
@@ -563,12 +575,8 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
   {
     Rig rig("sim:omega", smallConfig(path));
     ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 3; }, 200.0));
-    rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
-    ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
-    rig.frame();
-    EXPECT_TRUE(rig.wizard->finished());
-    const WizardStatus status = rig.wizard->status();
-    EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+    const WizardStatus status = rig.stopTheDevice();
+    ASSERT_EQ(status.step, WizardStep::kFault);
     EXPECT_NE(status.message.find("WizardConfig::resume = true"), std::string::npos)
         << status.message;
     before = rig.wizard->vertices();
@@ -626,12 +634,8 @@ TEST(CalibrationWizardTest, ADeviceLostWhileTheUserReadsTheReviewIsAFault) {
   const std::string path = temporaryPath("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
-  rig.device->injectFault(sim::DeviceFault::kStopsAnswering);
-  ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 1.0));
-  rig.frame();
-  EXPECT_TRUE(rig.wizard->finished());
-  const WizardStatus status = rig.wizard->status();
-  EXPECT_NE(status.message.find("stopped answering"), std::string::npos) << status.message;
+  const WizardStatus status = rig.stopTheDevice();
+  ASSERT_EQ(status.step, WizardStep::kFault);
   EXPECT_NE(status.message.find("8 converged vertices are saved in " + path + ".partial"),
             std::string::npos)
       << status.message;

@@ -11,10 +11,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "../../demo/cli/wizard_auto_hand.h"
 #include "autograv/device/forwarding_device.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/procedures.h"
+#include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
 #include "fault_test_support.h"
@@ -206,7 +206,7 @@ struct WizardRun {
   std::shared_ptr<sim::SimulatedDevice> simulated = sim::makeSimulatedDevice("sim:omega", 1);
   std::shared_ptr<RefusingForces> device = std::make_shared<RefusingForces>(simulated);
   std::unique_ptr<CalibrationWizard> wizard;
-  cli::WizardAutoHand hand{*simulated};
+  sim::ScriptedWizardUser hand{*simulated};
 
   explicit WizardRun(const std::string& map_path) {
     WizardConfig config;

@@ -1,35 +1,24 @@
-// CalibrationWizard, servo side: everything servoTick() runs. Real-time safe throughout: the
-// objects it steps were built by the Check step (service side); it only fills preallocated state
-// and raises request flags that service() (wizard_service.cpp) answers.
+// CalibrationWizard: the public class, which hands every call to its Impl, and the Impl's
+// construction: the configuration check and the buffers the servo half fills (so that it never
+// allocates). The halves are wizard_servo.cpp and wizard_service.cpp.
 #include "autograv/wizard/calibration_wizard.h"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
+#include <cstddef>
+#include <iterator>
 #include <sstream>
 #include <utility>
 
-#include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
+#include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "wizard/wizard_internal.h"
+#include "wizard/wizard_impl.h"
 
 namespace autograv {
 
 using wizard::eventBit;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-bool has(std::uint32_t events, WizardEvent event) noexcept {
-  return (events & eventBit(static_cast<int>(event))) != 0;
-}
-
-/// Apparent mass |G|/g (paper Sec. II) with the floor of constraint (6). Unit: [kg]
-double apparentMass_kg(const Eigen::Vector3d& gravity_n) noexcept {
-  return std::max(gravity_n.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
-}
 
 void requirePositive(double value, const char* field, const char* unit) {
   if (std::isfinite(value) && value > 0.0) return;
@@ -61,39 +50,21 @@ WorkspaceGrid wizardGrid(const WizardConfig& config) {
 }  // namespace
 
 const char* toString(WizardStep step) noexcept {
-  switch (step) {
-    case WizardStep::kCheck:
-      return "check";
-    case WizardStep::kCentre:
-      return "centre";
-    case WizardStep::kRelease:
-      return "release";
-    case WizardStep::kExplore:
-      return "explore";
-    case WizardStep::kAutoCalibration:
-      return "auto_calibration";
-    case WizardStep::kReview:
-      return "review";
-    case WizardStep::kSave:
-      return "save";
-    case WizardStep::kVerify:
-      return "verify";
-    case WizardStep::kDone:
-      return "done";
-    case WizardStep::kAborted:
-      return "aborted";
-    case WizardStep::kFault:
-      return "fault";
-  }
-  return "unknown";
+  // In the order of WizardStep.
+  static constexpr const char* kNames[] = {
+      "check",  "centre", "release", "explore", "auto_calibration", "review", "save",
+      "verify", "done",   "aborted", "fault"};
+  static_assert(std::size(kNames) == static_cast<std::size_t>(WizardStep::kFault) + 1,
+                "one name per WizardStep");
+  const auto index = static_cast<std::size_t>(step);
+  return index < std::size(kNames) ? kNames[index] : "unknown";
 }
 
-CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
+CalibrationWizard::Impl::Impl(std::shared_ptr<HapticDevice> device, WizardConfig config)
     : config_(std::move(config)),
       grid_(wizardGrid(config_)),
       checkpoint_path_(config_.map_path + ".partial"),
-      live_shared_(std::make_unique<wizard::Live>()),
-      live_(std::make_unique<wizard::Live>()) {
+      hold_law_(ImpedanceHold::from(config_.parameters, VertexEstimator::kMinGravityN)) {
   if (!device) throw Error("calibration wizard: the device is null");
   if (config_.map_path.empty()) {
     throw Error(
@@ -144,594 +115,47 @@ CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, Wizar
   centre_m_ = config_.grid_center_m;
 }
 
-CalibrationWizard::~CalibrationWizard() {
+CalibrationWizard::Impl::~Impl() {
   if (opened_) device_->close();  // the inner device sends zero force first
 }
 
+// --- The public class: each call goes to the Impl ---------------------------------------------
+
+CalibrationWizard::CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config)
+    : impl_(std::make_unique<Impl>(std::move(device), std::move(config))) {}
+
+CalibrationWizard::~CalibrationWizard() = default;
+
 void CalibrationWizard::post(WizardEvent event) noexcept {
-  events_.fetch_or(eventBit(static_cast<int>(event)), std::memory_order_acq_rel);
+  impl_->events_.fetch_or(eventBit(static_cast<int>(event)), std::memory_order_acq_rel);
 }
 
-WizardStep CalibrationWizard::servoTick() noexcept {
-  const WizardStep phase = phase_.load(std::memory_order_acquire);
-  if (phase == WizardStep::kCheck) return phase;  // service() owns the device during Check
-  ++phase_ticks_;
-  const double period_s = config_.parameters.servo_period_s;
-  // Servo time since the previous tick, read once per tick (unknown without a clock: one period).
-  double interval_s = 0.0;
-  if (config_.clock) {
-    const double now_s = config_.clock->now_s();
-    if (clock_read_) interval_s = now_s - last_clock_s_;
-    last_clock_s_ = now_s;
-    clock_read_ = true;
-  }
-  const ServoSample sample = readServoSample(*device_, interval_s);
-  const double periods = servoPeriodsOf(sample, period_s);
-  servo_periods_ += periods;
-  phase_periods_ += periods;
-  loop_stats_.record(periods * period_s, std::max(0.0, (periods - 1.0) * period_s));
-  if (++loop_summary_countdown_ >= wizard::kLoopSummaryTicks) {
-    loop_summary_countdown_ = 0;
-    live_->servo_loop = loop_stats_.summary();
-  }
-  bool pressed = false;
-  if (!device_->getUserSwitch(0, pressed)) pressed = false;
-  const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
-  const std::uint32_t replies = replies_.exchange(0, std::memory_order_acq_rel);
+WizardStep CalibrationWizard::servoTick() noexcept { return impl_->servoTick(); }
 
-  live_->time_s = servo_periods_ * period_s;
-  live_->position_valid = sample.valid;
-  if (sample.valid) {
-    live_->position_m = sample.position_m;
-    live_->speed_m_per_s = sample.velocity_m_per_s.norm();
-  }
+void CalibrationWizard::service() { impl_->service(); }
 
-  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
-  switch (phase) {
-    case WizardStep::kCentre:
-      tickCentre(sample, pressed, events, force_n);
-      break;
-    case WizardStep::kRelease:
-      tickRelease(sample, events, replies, force_n);
-      break;
-    case WizardStep::kExplore:
-      tickExplore(sample, events, replies, force_n);
-      break;
-    case WizardStep::kAutoCalibration:
-      tickCalibration(sample, events, force_n);
-      break;
-    case WizardStep::kReview:
-      tickReview(sample, events, replies, force_n);
-      break;
-    case WizardStep::kSave:
-      tickSave(sample, events, replies, force_n);
-      break;
-    case WizardStep::kVerify:
-      tickVerify(sample, events, force_n);
-      break;
-    case WizardStep::kDone:
-    case WizardStep::kAborted:
-    case WizardStep::kFault:
-      heldForce(sample, force_n);
-      break;
-    case WizardStep::kCheck:
-      break;
-  }
-  last_switch_ = pressed;
+WizardStatus CalibrationWizard::status() const { return impl_->status(); }
 
-  if (!force_n.allFinite()) force_n.setZero();
-  if (device_->setForce(force_n)) {
-    failed_writes_ = 0;
-  } else if (++failed_writes_ > wizard::kMaxFailedWrites) {
-    const WizardStep now = phase_.load(std::memory_order_relaxed);
-    if (now != WizardStep::kFault && now != WizardStep::kAborted && now != WizardStep::kDone) {
-      fail(wizard::kFaultWritesFailed, HoldMode::kNone);
-    }
-  }
-  if (any_copy_pending_) flushMirror();
-  publishLive();
-  return phase_.load(std::memory_order_relaxed);
+WizardStep CalibrationWizard::step() const noexcept { return impl_->step(); }
+
+bool CalibrationWizard::finished() const { return impl_->finished(); }
+
+std::vector<VertexEstimate> CalibrationWizard::vertices() const {
+  return impl_->mirrorCopy(nullptr);
 }
 
-void CalibrationWizard::enter(WizardStep step) noexcept {
-  phase_ticks_ = 0;
-  phase_periods_ = 0.0;
-  live_->servo_loop = loop_stats_.summary();  // what the loop did up to here, for the texts
-  live_->step = step;
-  phase_.store(step, std::memory_order_release);
-}
+std::shared_ptr<const GravityMap> CalibrationWizard::savedMap() const { return impl_->saved_map_; }
 
-bool CalibrationWizard::sampleLost(const ServoSample& sample) noexcept {
-  if (sample.valid) {
-    invalid_periods_ = 0.0;
-    return false;
-  }
-  // A dropped frame now and then is ridden over; a device that stays silent is a fault.
-  invalid_periods_ += servoPeriodsOf(sample, config_.parameters.servo_period_s);
-  if (invalid_periods_ >
-      kMaxInvalidReadings_s / config_.parameters.servo_period_s + kServoTimeSlackPeriods) {
-    fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-  }
-  return true;
-}
+const WizardConfig& CalibrationWizard::config() const noexcept { return impl_->config_; }
 
-void CalibrationWizard::fail(int fault_code, HoldMode hold) noexcept {
-  live_->fault_code = fault_code;
-  hold_mode_ = hold;
-  enter(WizardStep::kFault);
-}
+const WorkspaceGrid& CalibrationWizard::grid() const noexcept { return impl_->grid_; }
 
-// --- Centre ----------------------------------------------------------------------------------
+const ExploredWorkspace& CalibrationWizard::workspace() const noexcept { return impl_->workspace_; }
 
-void CalibrationWizard::tickCentre(const ServoSample& sample, bool pressed, std::uint32_t events,
-                                   Eigen::Vector3d& force_n) noexcept {
-  force_n.setZero();                              // the user carries the end-effector
-  if (phase_ticks_ == 1) last_switch_ = pressed;  // a button already down is not a confirmation
-  if (has(events, WizardEvent::kAbort)) {
-    hold_mode_ = HoldMode::kNone;
-    enter(WizardStep::kAborted);
-    return;
-  }
-  if (sampleLost(sample)) return;
-  const bool within = (centre_m_ - sample.position_m).norm() <= config_.centre_tolerance_m;
-  const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
-  if (!confirm) return;
-  if (!within) {
-    live_->confirm_rejected = true;
-    live_->confirm_rejected_moving = false;
-    return;
-  }
-  // X0 must be a point where the user holds still: confirming on the move would centre the field
-  // on a point the hand is leaving, and the hand's pull would pass for gravity in eq. (7).
-  if (sample.velocity_m_per_s.norm() > wizard::kCentreStillSpeed_m_per_s) {
-    live_->confirm_rejected_moving = true;
-    return;
-  }
-  live_->confirm_rejected = false;
-  live_->confirm_rejected_moving = false;
-  // X0 is where the user chose to stop (paper Sec. III-A), not the exact centre.
-  initialization_->start(sample.position_m);
-  live_->release_status = InitializationEstimator::Status::kRampingIn;
-  live_->release_elapsed_s = 0.0;
-  live_->sag_m = 0.0;
-  live_->last_still_held_s = -1.0;
-  live_->not_settling = false;
-  live_->initial_gravity_valid = false;
-  waiting_since_periods_ =
-      servo_periods_ +
-      static_cast<double>(std::lround(config_.field_ramp_s / config_.parameters.servo_period_s));
-  hold_mode_ = HoldMode::kField;
-  enter(WizardStep::kRelease);
-}
+GravityCompensatedDevice& CalibrationWizard::device() noexcept { return *impl_->device_; }
 
-// --- Release ---------------------------------------------------------------------------------
-
-void CalibrationWizard::tickRelease(const ServoSample& sample, std::uint32_t events,
-                                    std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
-  using Status = InitializationEstimator::Status;
-  const double period_s = config_.parameters.servo_period_s;
-  const Status status = initialization_->step(sample, force_n);
-  live_->release_status = status;
-  live_->sag_m = initialization_->sag_m();
-  live_->release_elapsed_s = phase_periods_ * period_s;
-  if (has(events, WizardEvent::kAbort)) {
-    enter(WizardStep::kAborted);  // the field keeps holding until the front end closes
-    return;
-  }
-  switch (status) {
-    case Status::kRampingIn:
-      break;
-    case Status::kStillHeld:
-      live_->last_still_held_s = live_->time_s;
-      live_->not_settling = false;
-      waiting_since_periods_ = servo_periods_;  // patience restarts: the user was told to let go
-      break;
-    case Status::kWaiting:
-      if ((servo_periods_ - waiting_since_periods_) * period_s > config_.release_patience_s) {
-        live_->not_settling = true;
-      }
-      break;
-    case Status::kDone:
-      live_->not_settling = false;
-      if (!live_->initial_gravity_valid) {
-        live_->initial_gravity_n = initialization_->gravityEstimate_n();
-        live_->initial_gravity_valid = true;
-        last_good_gravity_n_ = live_->initial_gravity_n;
-        plan_gravity_n_ = live_->initial_gravity_n;
-        awaiting_plan_ = true;
-        live_->awaiting_service = true;
-        requests_.fetch_or(wizard::kRequestPlanCheck, std::memory_order_acq_rel);
-      }
-      break;
-    case Status::kDeviceFault:
-      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-      return;
-  }
-  if (!awaiting_plan_) return;
-  if ((replies & wizard::kReplyPlanAccepted) != 0) {
-    awaiting_plan_ = false;
-    live_->awaiting_service = false;
-    if (!explore_now_) {  // the workspace is known (a resumed run) or not explored at all
-      startCalibrator(sample);
-      return;
-    }
-    // The probe starts where the end-effector settled in the field, with G_hat_0.
-    explored_center_m_ = sample.valid ? sample.position_m : initialization_->center_m();
-    explorer_->start(explored_center_m_, live_->initial_gravity_n);
-    live_->directions_probed = 0;
-    live_->explorer_state = explorer_->state();
-    hold_mode_ = HoldMode::kExplorer;
-    enter(WizardStep::kExplore);
-  } else if ((replies & wizard::kReplyPlanRefused) != 0) {
-    awaiting_plan_ = false;
-    live_->awaiting_service = false;
-    fail(wizard::kFaultPlanRefused, HoldMode::kField);  // the field keeps holding it
-  }
-}
-
-// --- Explore ---------------------------------------------------------------------------------
-
-void CalibrationWizard::tickExplore(const ServoSample& sample, std::uint32_t events,
-                                    std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
-  if (has(events, WizardEvent::kAbort)) explorer_->abort();
-  const WorkspaceExplorer::Status status = explorer_->step(sample, force_n);
-  const WorkspaceExplorer& explorer = *explorer_;
-  live_->explorer_state = status;
-  live_->exploration_elapsed_s = explorer.elapsed_s();
-  live_->probe_target_m = explorer.target_m();
-  // The explored volume as it grows: the box around the boundary points found so far.
-  const int probed = std::min(explorer.probedCount(), static_cast<int>(probe_directions_.size()));
-  for (int i = live_->directions_probed; i < probed; ++i) {
-    const double reach_m = explorer.reach_m()[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d point_m =
-        explored_center_m_ + reach_m * probe_directions_[static_cast<std::size_t>(i)];
-    if (i == 0) {
-      live_->explored_low_m = live_->explored_high_m = point_m;
-      live_->reach_min_m = live_->reach_max_m = reach_m;
-    } else {
-      live_->explored_low_m = live_->explored_low_m.cwiseMin(point_m);
-      live_->explored_high_m = live_->explored_high_m.cwiseMax(point_m);
-      live_->reach_min_m = std::min(live_->reach_min_m, reach_m);
-      live_->reach_max_m = std::max(live_->reach_max_m, reach_m);
-    }
-  }
-  live_->directions_probed = probed;
-  switch (status) {
-    case WorkspaceExplorer::Status::kDeviceFault:
-      force_n.setZero();
-      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-      return;
-    case WorkspaceExplorer::Status::kAborted:
-      hold_mode_ = HoldMode::kExplorer;  // it keeps holding the end-effector where it is
-      enter(WizardStep::kAborted);
-      return;
-    case WorkspaceExplorer::Status::kFinished:
-      if (!awaiting_workspace_) {
-        // Handed to service() with the request (release/acquire on requests_): it plans the
-        // grid while the explorer keeps holding the end-effector.
-        std::copy(explorer.reach_m().begin(), explorer.reach_m().end(), explored_reach_m_.begin());
-        awaiting_workspace_ = true;
-        live_->awaiting_service = true;
-        requests_.fetch_or(wizard::kRequestWorkspace, std::memory_order_acq_rel);
-      }
-      break;
-    default:
-      break;
-  }
-  if (!awaiting_workspace_) return;
-  if ((replies & wizard::kReplyWorkspaceAccepted) != 0) {
-    awaiting_workspace_ = false;
-    live_->awaiting_service = false;
-    startCalibrator(sample);
-  } else if ((replies & wizard::kReplyWorkspaceRefused) != 0) {
-    awaiting_workspace_ = false;
-    live_->awaiting_service = false;
-    fail(wizard::kFaultWorkspaceRefused, HoldMode::kExplorer);  // the probe keeps holding it
-  }
-}
-
-void CalibrationWizard::startCalibrator(const ServoSample& sample) noexcept {
-  calibrator_->start(sample.valid ? sample.position_m : initialization_->center_m(),
-                     live_->initial_gravity_n);
-  hold_mode_ = HoldMode::kCalibrator;
-  enter(WizardStep::kAutoCalibration);
-}
-
-// --- AutoCalibration -------------------------------------------------------------------------
-
-void CalibrationWizard::tickCalibration(const ServoSample& sample, std::uint32_t events,
-                                        Eigen::Vector3d& force_n) noexcept {
-  if (has(events, WizardEvent::kPause)) calibrator_->pause();
-  if (has(events, WizardEvent::kResume)) calibrator_->resume();
-  if (has(events, WizardEvent::kAbort)) calibrator_->abort();
-  const AutoCalibrator::Status status = calibrator_->step(sample, force_n);
-  const AutoCalibrator& calibrator = *calibrator_;
-
-  live_->calibrator_state = calibrator.state();
-  live_->vertex = calibrator.currentVertex();
-  live_->visited = calibrator.visitedCount();
-  live_->to_visit = calibrator.toVisitCount();
-  live_->iteration = calibrator.estimator().iteration();
-  live_->delta_m =
-      calibrator.estimator().iteration() > 0 ? calibrator.estimator().lastPositionError_m() : kNaN;
-  live_->calibration_elapsed_s = calibrator.elapsed_s();
-  live_->eta_s = live_->visited > 0
-                     ? calibrator.elapsed_s() / live_->visited * (live_->to_visit - live_->visited)
-                     : kNaN;
-  live_->peak_force_n = calibrator.peakForce_n();
-  live_->lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
-
-  if (status == AutoCalibrator::Status::kVertexFinished ||
-      status == AutoCalibrator::Status::kDeviceFault) {
-    for (int vertex : {calibrator.lastFinishedVertex(), calibrator.currentVertex()}) {
-      if (vertex < 0) continue;
-      copy_pending_[static_cast<std::size_t>(vertex)] = 1;
-      any_copy_pending_ = true;
-      mirror_pending_.store(true, std::memory_order_release);
-    }
-    const int finished = calibrator.lastFinishedVertex();
-    if (finished >= 0 && calibrator.vertices()[static_cast<std::size_t>(finished)].outcome ==
-                             VertexOutcome::kConverged) {
-      last_good_gravity_n_ = calibrator.vertices()[static_cast<std::size_t>(finished)].gravity_n;
-    }
-  }
-  switch (calibrator.state()) {
-    case AutoCalibrator::Status::kDeviceFault:
-      fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
-      force_n.setZero();
-      break;
-    case AutoCalibrator::Status::kAborted:
-      hold_mode_ = HoldMode::kCalibrator;  // it keeps holding the end-effector where it is
-      enter(WizardStep::kAborted);
-      break;
-    case AutoCalibrator::Status::kFinished: {
-      const int last = calibrator.lastFinishedVertex();
-      // Where it was measured: a vertex beyond the stops is measured inside them.
-      hold_m_ = last >= 0 ? calibrator.measurementPoint_m(last) : sample.position_m;
-      hold_gravity_n_ = last_good_gravity_n_;
-      hold_mode_ = HoldMode::kPd;
-      enter(WizardStep::kReview);
-      requests_.fetch_or(wizard::kRequestReview, std::memory_order_acq_rel);
-      break;
-    }
-    default:
-      break;
-  }
-  live_->paused = calibrator.state() == AutoCalibrator::Status::kPaused;
-}
-
-// --- Review and Save -------------------------------------------------------------------------
-
-void CalibrationWizard::tickReview(const ServoSample& sample, std::uint32_t events,
-                                   std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
-  holdForce(sample, force_n);
-  if (has(events, WizardEvent::kAbort)) {
-    enter(WizardStep::kAborted);
-    return;
-  }
-  if (awaiting_redo_) {
-    if ((replies & wizard::kReplyRedoReady) != 0) {
-      awaiting_redo_ = false;
-      live_->awaiting_service = false;
-      calibrator_->start(sample.valid ? sample.position_m : hold_m_, hold_gravity_n_);
-      hold_mode_ = HoldMode::kCalibrator;
-      enter(WizardStep::kAutoCalibration);
-    } else if ((replies & wizard::kReplyNothingToRedo) != 0) {
-      awaiting_redo_ = false;
-      live_->awaiting_service = false;
-    }
-    return;
-  }
-  if (sampleLost(sample)) return;
-  if (has(events, WizardEvent::kRedoFailed)) {
-    awaiting_redo_ = true;
-    live_->awaiting_service = true;
-    requests_.fetch_or(wizard::kRequestRedo, std::memory_order_acq_rel);
-    return;
-  }
-  if (has(events, WizardEvent::kConfirm) || has(events, WizardEvent::kSkipRedo)) {
-    awaiting_save_ = true;
-    live_->awaiting_service = true;
-    enter(WizardStep::kSave);
-    requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
-  }
-}
-
-void CalibrationWizard::tickSave(const ServoSample& sample, std::uint32_t events,
-                                 std::uint32_t replies, Eigen::Vector3d& force_n) noexcept {
-  holdForce(sample, force_n);
-  if ((replies & wizard::kReplySaved) != 0) {
-    awaiting_save_ = false;
-    live_->awaiting_service = false;
-    verify_map_ = saved_map_.get();  // published with the reply (acquire above)
-    const int count = std::min(static_cast<int>(verify_vertices_.size()), kMaxVerifyPoints);
-    if (count == 0) {
-      enter(WizardStep::kDone);
-      return;
-    }
-    live_->verify_count = count;
-    live_->verify_index = 0;
-    live_->verify_cancelled = false;
-    for (int i = 0; i < kMaxVerifyPoints; ++i) {
-      live_->verify[static_cast<std::size_t>(i)] = VerifyResult{};
-      if (i < count) {
-        live_->verify[static_cast<std::size_t>(i)].vertex =
-            verify_vertices_[static_cast<std::size_t>(i)];
-      }
-    }
-    verify_stage_ = VerifyStage::kWaitMap;
-    verify_periods_ = 0.0;
-    enter(WizardStep::kVerify);
-    return;
-  }
-  if ((replies & wizard::kReplySaveFailed) != 0) {
-    awaiting_save_ = false;
-    live_->awaiting_service = false;
-  }
-  if (sampleLost(sample) || awaiting_save_) return;
-  if (has(events, WizardEvent::kAbort)) {
-    enter(WizardStep::kAborted);
-  } else if (has(events, WizardEvent::kConfirm)) {
-    awaiting_save_ = true;
-    live_->awaiting_service = true;
-    requests_.fetch_or(wizard::kRequestSave, std::memory_order_acq_rel);
-  }
-}
-
-// --- Verify ----------------------------------------------------------------------------------
-
-void CalibrationWizard::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept {
-  // Where the vertex was measured, inside the explored workspace.
-  const Eigen::Vector3d target_m = verify_targets_m_[static_cast<std::size_t>(live_->verify_index)];
-  verify_move_.start(from_m, target_m,
-                     MinimumJerkMove::durationFor((target_m - from_m).norm(),
-                                                  config_.calibrator.max_move_acceleration_m_per_s2,
-                                                  config_.calibrator.min_move_duration_s));
-  hold_gravity_n_ = verify_map_->gravityAt(target_m);
-  verify_stage_ = VerifyStage::kMove;
-  verify_periods_ = 0.0;
-}
-
-void CalibrationWizard::tickVerify(const ServoSample& sample, std::uint32_t events,
-                                   Eigen::Vector3d& force_n) noexcept {
-  const double period_s = config_.parameters.servo_period_s;
-  verify_periods_ += servoPeriodsOf(sample, period_s);
-  const double stage_s = verify_periods_ * period_s;
-  if (sampleLost(sample)) {
-    force_n.setZero();
-    return;
-  }
-  if (has(events, WizardEvent::kAbort)) {
-    live_->verify_cancelled = true;
-    hold_m_ = sample.position_m;  // catch it where it is
-    holdForce(sample, force_n);
-    enter(WizardStep::kDone);
-    return;
-  }
-  VerifyResult& result = live_->verify[static_cast<std::size_t>(live_->verify_index)];
-  live_->verify_stage = static_cast<int>(verify_stage_);
-  switch (verify_stage_) {
-    case VerifyStage::kWaitMap:
-      holdForce(sample, force_n);
-      // Switch compensation on only once the decorator has taken the map, so that its fade and
-      // the fade of our own feed-forward are the same ramp.
-      if (device_->latestMapInUse()) {
-        device_->setCompensationEnabled(true);
-        beginVerifyMove(sample.position_m);
-      }
-      break;
-    case VerifyStage::kMove: {
-      Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
-      verify_move_.sample(stage_s, desired_m, desired_velocity, desired_acceleration);
-      const double mass_kg = apparentMass_kg(hold_gravity_n_);
-      // eq. (10) along the path; the decorator adds G_hat(X) as its ramp allows.
-      force_n =
-          config_.parameters.beta_per_s2 * mass_kg * (desired_m - sample.position_m) +
-          config_.parameters.alpha_per_s * mass_kg * (desired_velocity - sample.velocity_m_per_s) +
-          mass_kg * desired_acceleration + feedforward_n(sample.position_m);
-      clampForce(force_n, max_force_n_);
-      hold_m_ = desired_m;
-      if (stage_s >= verify_move_.duration_s()) {
-        verify_stage_ = VerifyStage::kSettle;
-        verify_periods_ = 0.0;
-      }
-      break;
-    }
-    case VerifyStage::kSettle:
-      holdForce(sample, force_n);
-      if (stage_s >= config_.verify_settle_s && device_->compensationLevel() >= 1.0) {
-        release_start_m_ = sample.position_m;
-        verify_stage_ = VerifyStage::kRelease;
-        verify_periods_ = 0.0;
-      }
-      break;
-    case VerifyStage::kRelease: {
-      force_n.setZero();  // only the compensation acts: the release test
-      const double drift_m = (sample.position_m - release_start_m_).norm();
-      result.drift_m = drift_m;
-      result.duration_s = stage_s;
-      if (drift_m <= config_.verify_drift_limit_m && stage_s < config_.verify_release_s) break;
-      result.residual_force_n =
-          2.0 * apparentMass_kg(hold_gravity_n_) * drift_m / (stage_s * stage_s);
-      result.finished = true;
-      hold_m_ = sample.position_m;  // catch it where it drifted to
-      hold_gravity_n_ = verify_map_->gravityAt(hold_m_);
-      holdForce(sample, force_n);
-      if (live_->verify_index + 1 < live_->verify_count) {
-        ++live_->verify_index;
-        beginVerifyMove(sample.position_m);
-      } else {
-        enter(WizardStep::kDone);
-      }
-      break;
-    }
-  }
-}
-
-// --- Holding ---------------------------------------------------------------------------------
-
-Eigen::Vector3d CalibrationWizard::feedforward_n(const Eigen::Vector3d& position_m) const noexcept {
-  // Once compensation is on, the decorator adds level * G_hat(X): supply only the rest.
-  if (verify_map_ != nullptr) {
-    return (1.0 - device_->compensationLevel()) * verify_map_->gravityAt(position_m);
-  }
-  return hold_gravity_n_;
-}
-
-void CalibrationWizard::holdForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept {
-  if (!sample.valid) {
-    force_n.setZero();
-    return;
-  }
-  const double mass_kg = apparentMass_kg(hold_gravity_n_);
-  force_n = config_.parameters.beta_per_s2 * mass_kg * (hold_m_ - sample.position_m) -
-            config_.parameters.alpha_per_s * mass_kg * sample.velocity_m_per_s +
-            feedforward_n(sample.position_m);
-  clampForce(force_n, max_force_n_);
-}
-
-void CalibrationWizard::heldForce(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept {
-  switch (hold_mode_) {
-    case HoldMode::kNone:
-      force_n.setZero();
-      break;
-    case HoldMode::kField:
-      initialization_->step(sample, force_n);
-      break;
-    case HoldMode::kExplorer:
-      explorer_->step(sample, force_n);
-      break;
-    case HoldMode::kCalibrator:
-      calibrator_->step(sample, force_n);
-      break;
-    case HoldMode::kPd:
-      holdForce(sample, force_n);
-      break;
-  }
-}
-
-// --- Exchange with the service side ----------------------------------------------------------
-
-void CalibrationWizard::flushMirror() noexcept {
-  wizard::TryLock lock(mirror_busy_);
-  if (!lock.tryLock()) return;  // service() is reading it: next tick
-  const std::vector<VertexEstimate>& vertices = calibrator_->vertices();
-  for (std::size_t i = 0; i < copy_pending_.size(); ++i) {
-    if (copy_pending_[i] == 0) continue;
-    mirror_[i] = vertices[i];  // the mirror's history has the capacity: no allocation
-    copy_pending_[i] = 0;
-  }
-  ++mirror_version_;
-  lock.unlock();
-  any_copy_pending_ = false;
-  mirror_pending_.store(false, std::memory_order_release);
-}
-
-void CalibrationWizard::publishLive() noexcept {
-  wizard::TryLock lock(live_busy_);
-  if (!lock.tryLock()) return;  // status() is copying it: next tick
-  *live_shared_ = *live_;
-  lock.unlock();
+const std::string& CalibrationWizard::checkpointPath() const noexcept {
+  return impl_->checkpoint_path_;
 }
 
 }  // namespace autograv

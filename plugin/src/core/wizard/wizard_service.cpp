@@ -1,6 +1,6 @@
-// CalibrationWizard, service side: the non-real-time half (device set-up, checks, files, review).
-// It runs on one thread; it hands objects to the servo side through the atomics declared in the
-// class and never touches what the servo side is stepping.
+// CalibrationWizard, service half: the non-real-time side (device set-up, checks, the plan, the
+// review, redo, save and the verify set-up). It runs on one thread; it hands objects to the servo
+// half through the Impl's atomics and never touches what the servo half is stepping.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,12 +14,11 @@
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/vertex_fill.h"
-#include "autograv/wizard/calibration_wizard.h"
-#include "wizard/wizard_internal.h"
+#include "wizard/wizard_impl.h"
 
 namespace autograv {
 
-using wizard::eventBit;
+using wizard::has;
 
 namespace {
 
@@ -59,43 +58,53 @@ std::vector<std::string> refusalForAnyGravity(const EstimationParameters& parame
   return checkCalibrationPlan(parameters, cell_m, max_force_n, Eigen::Vector3d(0.0, 0.0, shown_n));
 }
 
-}  // namespace
-
-namespace {
-
-/// The checkpoint at `path` of a run with a device of model `device_model`, or an error that says
-/// what to do.
-GravityMap loadCheckpointMap(const std::string& path, const std::string& device_model) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) {
-    throw Error("no checkpoint " + path +
-                " to resume: it is written while a calibration runs and removed once the map is "
-                "saved; start afresh (WizardConfig::resume = false)");
+/// The review's per-vertex statistics of `vertices` on `grid` (`restored`: per vertex, converged
+/// in the loaded checkpoint): what converged, failed, is pending or unreachable, and the
+/// iteration and |G_hat| figures of the converged ones.
+WizardReview reviewOf(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
+                      const std::vector<char>& restored) {
+  WizardReview review;
+  review.vertex_count = grid.vertexCount();
+  std::vector<int> iterations;
+  for (int i = 0; i < review.vertex_count; ++i) {
+    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(i)];
+    if (vertex.outcome == VertexOutcome::kPending) {
+      ++review.pending;
+      continue;
+    }
+    if (vertex.outcome == VertexOutcome::kUnreachable) {
+      ++review.unreachable;
+      continue;
+    }
+    if (vertex.outcome != VertexOutcome::kConverged) {
+      review.failed.push_back(ReviewRow{i, grid.vertexPosition(i), vertex.outcome,
+                                        vertex.iterations, vertex.seconds, vertex.gravity_n});
+      continue;
+    }
+    const double norm_n = vertex.gravity_n.norm();
+    review.gravity_min_n = review.converged == 0 ? norm_n : std::min(review.gravity_min_n, norm_n);
+    review.gravity_max_n = std::max(review.gravity_max_n, norm_n);
+    ++review.converged;
+    iterations.push_back(vertex.iterations);
+    review.estimation_seconds += vertex.seconds;
+    if (restored[static_cast<std::size_t>(i)] != 0) ++review.restored;
   }
-  MapLoadOptions options;
-  options.expected_device_model = device_model;
-  return loadMap(path, options);
+  if (!iterations.empty()) {
+    std::sort(iterations.begin(), iterations.end());
+    const std::size_t n = iterations.size();
+    review.iterations_min = iterations.front();
+    review.iterations_max = iterations.back();
+    review.iterations_median =
+        n % 2 ? iterations[n / 2] : 0.5 * (iterations[n / 2 - 1] + iterations[n / 2]);
+  }
+  return review;
 }
 
 }  // namespace
-
-std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const WorkspaceGrid& grid,
-                                           const std::string& device_model) {
-  const GravityMap partial = loadCheckpointMap(path, device_model);
-  if (!partial.grid().sameGeometry(grid)) {
-    std::ostringstream message;
-    message << "checkpoint " << path << " was made for another grid (" << partial.grid().describe()
-            << "; this run " << grid.describe()
-            << "); use the WizardConfig::grid_size_m, WizardConfig::grid_resolution and "
-               "WizardConfig::grid_center_m of that run";
-    throw Error(message.str());
-  }
-  return partial.vertices();
-}
 
 // --- Check -----------------------------------------------------------------------------------
 
-void CalibrationWizard::runCheck(bool retry) {
+void CalibrationWizard::Impl::runCheck(bool retry) {
   check_attempted_ = true;
   check_message_.clear();
   check_prompt_.clear();
@@ -174,7 +183,7 @@ void CalibrationWizard::runCheck(bool retry) {
       explorer_ = std::make_unique<WorkspaceExplorer>(parameters, specifications, config_.explorer);
       probe_directions_ = ExploredWorkspace::probeDirections(explorer_->directionCount());
       explored_reach_m_.assign(probe_directions_.size(), 0.0);
-      live_->direction_count = explorer_->directionCount();
+      live_.direction_count = explorer_->directionCount();
     }
     grid_fixed_ = !config_.explore || !config_.grid_from_workspace;
 
@@ -217,21 +226,8 @@ void CalibrationWizard::runCheck(bool retry) {
   }
 }
 
-void CalibrationWizard::restoreCheckpoint(const std::string& device_model) {
-  const GravityMap partial = loadCheckpointMap(checkpoint_path_, device_model);
-  if (config_.explore && config_.grid_from_workspace) {
-    // The grid was fitted to the workspace the interrupted run explored: keep both.
-    grid_ = partial.grid();
-  } else if (!partial.grid().sameGeometry(grid_)) {
-    loadCheckpoint(checkpoint_path_, grid_, device_model);  // throws, saying what to change
-  }
-  grid_fixed_ = true;
-  workspace_ = partial.metadata().workspace;
-  resumed_vertices_ = partial.vertices();
-}
-
-void CalibrationWizard::useGrid(const WorkspaceGrid& grid,
-                                const std::vector<VertexEstimate>* restored) {
+void CalibrationWizard::Impl::useGrid(const WorkspaceGrid& grid,
+                                      const std::vector<VertexEstimate>* restored) {
   AutoCalibrator::Options options = config_.calibrator;
   if (!(options.continuous_force_n > 0.0)) {
     options.continuous_force_n = continuousForceRating_n(device_->specifications());
@@ -265,7 +261,7 @@ void CalibrationWizard::useGrid(const WorkspaceGrid& grid,
   calibrator_ = std::move(calibrator);
 }
 
-void CalibrationWizard::summarize() {
+void CalibrationWizard::Impl::summarize() {
   std::ostringstream summary;
   summary << device_model_ << ", max force " << max_force_n_ << " N; grid ";
   if (calibrator_) {
@@ -289,7 +285,7 @@ void CalibrationWizard::summarize() {
   summary_ = summary.str();
 }
 
-void CalibrationWizard::acceptWorkspace() {
+void CalibrationWizard::Impl::acceptWorkspace() {
   workspace_message_.clear();
   try {
     ExploredWorkspace workspace(explored_center_m_, probe_directions_, explored_reach_m_);
@@ -346,19 +342,19 @@ void CalibrationWizard::acceptWorkspace() {
 
 // --- The service loop ------------------------------------------------------------------------
 
-void CalibrationWizard::service() {
+void CalibrationWizard::Impl::service() {
   if (step() == WizardStep::kCheck) {
     const std::uint32_t events = events_.exchange(0, std::memory_order_acq_rel);
-    if ((events & eventBit(static_cast<int>(WizardEvent::kAbort))) != 0) {
+    if (has(events, WizardEvent::kAbort)) {
       phase_.store(WizardStep::kAborted, std::memory_order_release);
       return;
     }
-    const bool retry = (events & eventBit(static_cast<int>(WizardEvent::kConfirm))) != 0;
+    const bool retry = has(events, WizardEvent::kConfirm);
     if (!check_attempted_ || retry) runCheck(retry);
     if (check_passed_) {
       // The servo side is idle during Check: its state may be set here, published by the store.
       events_.store(0, std::memory_order_relaxed);
-      live_->step = WizardStep::kCentre;
+      live_.step = WizardStep::kCentre;
       phase_.store(WizardStep::kCentre, std::memory_order_release);
     }
     return;
@@ -404,106 +400,18 @@ void CalibrationWizard::service() {
   device_->reclaimRetiredMaps();
 }
 
-bool CalibrationWizard::finished() const {
-  const WizardStep now = step();
-  if (now != WizardStep::kDone && now != WizardStep::kAborted && now != WizardStep::kFault) {
-    return false;
-  }
-  if (mirror_pending_.load(std::memory_order_acquire)) return false;
-  if (map_saved_ || !calibrator_) return true;
-  wizard::ScopedLock lock(mirror_busy_);
-  return mirror_version_ == checkpoint_version_;
-}
-
-// --- Files -----------------------------------------------------------------------------------
-
-std::vector<VertexEstimate> CalibrationWizard::mirrorCopy(std::uint64_t* version) const {
-  wizard::ScopedLock lock(mirror_busy_);
-  if (version != nullptr) *version = mirror_version_;
-  return mirror_;
-}
-
-std::vector<VertexEstimate> CalibrationWizard::vertices() const { return mirrorCopy(nullptr); }
-
-MapMetadata CalibrationWizard::metadata() const {
-  MapMetadata metadata;
-  metadata.device_model = device_->specifications().model_name;
-  metadata.device_serial = config_.device_serial.empty() ? device_->specifications().serial_number
-                                                         : config_.device_serial;
-  metadata.parameters = config_.parameters;
-  metadata.workspace = workspace_;
-  metadata.lookup_refinement = config_.lookup_refinement;
-  return metadata;  // created_utc is filled in by saveMap
-}
-
-void CalibrationWizard::writeCheckpoint() {
-  if (map_saved_ || !calibrator_) return;
-  {
-    wizard::ScopedLock lock(mirror_busy_);
-    if (mirror_version_ == checkpoint_version_) return;
-  }
-  std::uint64_t version = 0;
-  std::vector<VertexEstimate> vertices = mirrorCopy(&version);
-  const int converged = static_cast<int>(std::count_if(
-      vertices.begin(), vertices.end(),
-      [](const VertexEstimate& vertex) { return vertex.outcome == VertexOutcome::kConverged; }));
-  try {
-    saveMap(GravityMap(grid_, std::move(vertices), metadata()), checkpoint_path_);
-    checkpoint_written_ = true;
-    checkpointed_converged_ = converged;
-    checkpoint_error_.clear();
-  } catch (const Error& error) {
-    checkpoint_error_ = error.what();  // tried again after the next vertex
-  }
-  checkpoint_version_ = version;
-}
-
-void CalibrationWizard::buildReview() {
-  const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
-  WizardReview review;
-  review.vertex_count = grid_.vertexCount();
-  std::vector<int> iterations;
-  for (int i = 0; i < review.vertex_count; ++i) {
-    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(i)];
-    if (vertex.outcome == VertexOutcome::kPending) {
-      ++review.pending;
-      continue;
-    }
-    if (vertex.outcome == VertexOutcome::kUnreachable) {
-      ++review.unreachable;
-      continue;
-    }
-    if (vertex.outcome != VertexOutcome::kConverged) {
-      review.failed.push_back(ReviewRow{i, grid_.vertexPosition(i), vertex.outcome,
-                                        vertex.iterations, vertex.seconds, vertex.gravity_n});
-      continue;
-    }
-    const double norm_n = vertex.gravity_n.norm();
-    review.gravity_min_n = review.converged == 0 ? norm_n : std::min(review.gravity_min_n, norm_n);
-    review.gravity_max_n = std::max(review.gravity_max_n, norm_n);
-    ++review.converged;
-    iterations.push_back(vertex.iterations);
-    review.estimation_seconds += vertex.seconds;
-    if (restored_[static_cast<std::size_t>(i)] != 0) ++review.restored;
-  }
-  if (!iterations.empty()) {
-    std::sort(iterations.begin(), iterations.end());
-    const std::size_t n = iterations.size();
-    review.iterations_min = iterations.front();
-    review.iterations_max = iterations.back();
-    review.iterations_median =
-        n % 2 ? iterations[n / 2] : 0.5 * (iterations[n / 2 - 1] + iterations[n / 2]);
-  }
+void CalibrationWizard::Impl::buildReview() {
+  WizardReview review = reviewOf(grid_, mirrorCopy(nullptr), restored_);
   {
     wizard::ScopedLock lock(live_busy_);
-    review.lipschitz_n_per_m = live_shared_->lipschitz_n_per_m;
-    review.peak_force_n = live_shared_->peak_force_n;
+    review.lipschitz_n_per_m = live_shared_.lipschitz_n_per_m;
+    review.peak_force_n = live_shared_.peak_force_n;
   }
   review_ = std::move(review);
   review_valid_ = true;
 }
 
-void CalibrationWizard::prepareRedo() {
+void CalibrationWizard::Impl::prepareRedo() {
   const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
   std::vector<int> redo;
   for (int i = 0; i < grid_.vertexCount(); ++i) {
@@ -524,7 +432,7 @@ void CalibrationWizard::prepareRedo() {
   replies_.fetch_or(wizard::kReplyRedoReady, std::memory_order_acq_rel);
 }
 
-std::vector<int> CalibrationWizard::chooseVerifyVertices(
+std::vector<int> CalibrationWizard::Impl::chooseVerifyVertices(
     const std::vector<VertexEstimate>& vertices) const {
   std::vector<int> converged;
   for (int i = 0; i < grid_.vertexCount(); ++i) {
@@ -565,7 +473,7 @@ std::vector<int> CalibrationWizard::chooseVerifyVertices(
   return chosen;
 }
 
-void CalibrationWizard::saveAndPrepareVerify() {
+void CalibrationWizard::Impl::saveAndPrepareVerify() {
   std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
   std::shared_ptr<const GravityMap> map;
   try {

@@ -1,5 +1,5 @@
-// CalibrationWizard::status(): the texts and numbers a front end shows, built on the service
-// thread from the servo side's latest live numbers.
+// CalibrationWizard, the status: the texts and numbers a front end shows, built on the service
+// thread from the servo half's latest live numbers.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,8 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "autograv/wizard/calibration_wizard.h"
-#include "wizard/wizard_internal.h"
+#include "wizard/wizard_impl.h"
 
 namespace autograv {
 
@@ -52,30 +51,11 @@ std::string seconds(double value) {
   return text;
 }
 
+/// 1-based number among the steps of a normal run, in WizardStep's order (Verify and Done share
+/// the last); 0 for the two that end a run early.
 int stepNumber(WizardStep step) {
-  switch (step) {
-    case WizardStep::kCheck:
-      return 1;
-    case WizardStep::kCentre:
-      return 2;
-    case WizardStep::kRelease:
-      return 3;
-    case WizardStep::kExplore:
-      return 4;
-    case WizardStep::kAutoCalibration:
-      return 5;
-    case WizardStep::kReview:
-      return 6;
-    case WizardStep::kSave:
-      return 7;
-    case WizardStep::kVerify:
-    case WizardStep::kDone:
-      return 8;
-    case WizardStep::kAborted:
-    case WizardStep::kFault:
-      return 0;
-  }
-  return 0;
+  if (step == WizardStep::kAborted || step == WizardStep::kFault) return 0;
+  return std::min(static_cast<int>(step) + 1, WizardStatus::kStepCount);
 }
 
 }  // namespace
@@ -103,11 +83,11 @@ std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_
   return text.str();
 }
 
-WizardStatus CalibrationWizard::status() const {
+WizardStatus CalibrationWizard::Impl::status() const {
   wizard::Live live;
   {
     wizard::ScopedLock lock(live_busy_);
-    live = *live_shared_;
+    live = live_shared_;
   }
   WizardStatus s;
   s.step = step();
