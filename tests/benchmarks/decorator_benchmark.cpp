@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 
 #include "autograv/device/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace {

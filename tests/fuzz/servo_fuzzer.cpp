@@ -24,6 +24,7 @@
 
 #include "autograv/device/gravity_compensated_device.h"
 #include "autograv/error.h"
+#include "autograv/map/gravity_map.h"
 #include "core/recording_device.h"
 #include "support/allocation_counter.h"
 
