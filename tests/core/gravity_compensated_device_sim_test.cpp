@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/forwarding_device.h"
-#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_driver.h"

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/map/gravity_map.h"
 #include "field_map.h"
 #include "recording_device.h"

@@ -1,4 +1,4 @@
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 
 #include <stdlib.h>
 

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "field_map.h"

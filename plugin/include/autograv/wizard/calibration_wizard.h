@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/device/servo_loop_stats.h"

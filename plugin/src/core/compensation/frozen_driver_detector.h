@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 
 namespace autograv {
 
