@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/sim/friction.h"

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/device_specifications.h"
-#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/device/wall_clock_tick_source.h"
 #include "autograv/error.h"

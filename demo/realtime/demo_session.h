@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/sim/end_stop_watch.h"

@@ -19,7 +19,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace {

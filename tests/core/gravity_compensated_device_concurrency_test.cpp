@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
+#include "field_map.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -19,15 +21,8 @@ namespace {
 
 // A constant field G = (0, 0, -strength) on a 2x2x2 grid around the origin.
 std::shared_ptr<const GravityMap> constantMap(double strength_n) {
-  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 2);
-  std::vector<VertexEstimate> vertices(8);
-  for (auto& vertex : vertices) {
-    vertex.gravity_n = Eigen::Vector3d(0.0, 0.0, -strength_n);
-    vertex.outcome = VertexOutcome::kConverged;
-  }
-  MapMetadata metadata;
-  metadata.device_model = "fake:recording";
-  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+  return testing::uniformFieldMap(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 2),
+                                  Eigen::Vector3d(0.0, 0.0, -strength_n), "fake:recording");
 }
 
 TEST(GravityCompensatedDeviceConcurrencyTest, MapsSwapUnderALiveServoLoop) {

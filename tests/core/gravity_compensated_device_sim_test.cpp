@@ -12,10 +12,12 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/forwarding_device.h"
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_driver.h"
+#include "field_map.h"
 
 namespace autograv {
 namespace {
@@ -43,15 +45,11 @@ std::shared_ptr<sim::SimulatedDevice> openDevice(const std::string& name) {
 // could produce on that grid.
 std::shared_ptr<const GravityMap> truthMap(const sim::SimulatedDevice& device) {
   const double side_m = 0.8 * 2.0 * device.specifications().workspace_radius_m / std::sqrt(3.0);
-  const WorkspaceGrid grid(device.workspaceCenter_m(), side_m, 5);
-  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
-  for (int i = 0; i < grid.vertexCount(); ++i) {
-    vertices[static_cast<std::size_t>(i)].gravity_n = device.trueGravity(grid.vertexPosition(i));
-    vertices[static_cast<std::size_t>(i)].outcome = VertexOutcome::kConverged;
-  }
   MapMetadata metadata;
   metadata.device_model = device.specifications().model_name;
-  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+  return testing::fieldMap(
+      WorkspaceGrid(device.workspaceCenter_m(), side_m, 5),
+      [&device](const Eigen::Vector3d& x) { return device.trueGravity(x); }, std::move(metadata));
 }
 
 double median(std::vector<double> values) {

@@ -11,7 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
+#include "field_map.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -20,15 +22,8 @@ namespace {
 using testing::RecordingDevice;
 
 std::shared_ptr<const GravityMap> uniformMap() {
-  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 3);
-  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
-  for (auto& vertex : vertices) {
-    vertex.gravity_n = Eigen::Vector3d(0.0, 0.0, 1.0);
-    vertex.outcome = VertexOutcome::kConverged;
-  }
-  MapMetadata metadata;
-  metadata.device_model = "fake:recording";
-  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+  return testing::uniformFieldMap(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 3),
+                                  Eigen::Vector3d(0.0, 0.0, 1.0), "fake:recording");
 }
 
 /// A clock that moves on by the next period at every reading, as real time does between the

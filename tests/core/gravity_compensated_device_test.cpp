@@ -1,4 +1,4 @@
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 
 #include <stdlib.h>
 
@@ -17,6 +17,7 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "field_map.h"
 #include "forwarding_checks.h"
 #include "recording_device.h"
 
@@ -33,16 +34,13 @@ constexpr double kTwoPi = 6.283185307179586;
 std::shared_ptr<const GravityMap> makeMap(const Eigen::Vector3d& offset,
                                           const Eigen::Matrix3d& gradient = Eigen::Matrix3d::Zero(),
                                           const std::string& model = "fake:recording") {
-  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 3);
-  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
-  for (int i = 0; i < grid.vertexCount(); ++i) {
-    vertices[static_cast<std::size_t>(i)].gravity_n = offset + gradient * grid.vertexPosition(i);
-    vertices[static_cast<std::size_t>(i)].outcome = VertexOutcome::kConverged;
-  }
   MapMetadata metadata;
   metadata.device_model = model;
   metadata.created_utc = "2026-11-23T13:25:00Z";
-  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+  return testing::fieldMap(
+      WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 3),
+      [&](const Eigen::Vector3d& x) -> Eigen::Vector3d { return offset + gradient * x; },
+      std::move(metadata));
 }
 
 // A loop at exactly 1 / kPeriod: each setForce reads the clock once and the first tick counts
@@ -112,21 +110,18 @@ TEST(GravityCompensatedDeviceTest, ForwardsSetForceUnchangedWithoutAMap) {
 TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
   EXPECT_THROW(GravityCompensatedDevice(nullptr), Error);
   auto fake = std::make_shared<RecordingDevice>();
-  CompensationOptions options;
-  options.max_tick_interval_s = 0.0;
-  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
-  options = CompensationOptions{};
-  options.ramp_duration_s = -1.0;
-  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
-  options = CompensationOptions{};
-  options.outside_margin_m = NAN;
-  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
-  options = CompensationOptions{};
-  options.frozen_window_s = -0.1;
-  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
-  options = CompensationOptions{};
-  options.frozen_hand_stiffness_n_per_m = INFINITY;
-  EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
+  const std::function<void(CompensationOptions&)> spoilers[] = {
+      [](CompensationOptions& o) { o.max_tick_interval_s = 0.0; },
+      [](CompensationOptions& o) { o.ramp_duration_s = -1.0; },
+      [](CompensationOptions& o) { o.outside_margin_m = NAN; },
+      [](CompensationOptions& o) { o.frozen_window_s = -0.1; },
+      [](CompensationOptions& o) { o.frozen_hand_stiffness_n_per_m = INFINITY; },
+  };
+  for (const auto& spoil : spoilers) {
+    CompensationOptions options;
+    spoil(options);
+    EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
+  }
   EXPECT_THROW(FixedPeriodServoClock(0.0), Error);
 }
 

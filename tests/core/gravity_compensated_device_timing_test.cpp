@@ -12,8 +12,10 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/sim/servo_timing_model.h"
+#include "field_map.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -66,15 +68,8 @@ class LoopRate {
 };
 
 std::shared_ptr<const GravityMap> uniformMap(const Eigen::Vector3d& gravity_n) {
-  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 3);
-  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
-  for (auto& vertex : vertices) {
-    vertex.gravity_n = gravity_n;
-    vertex.outcome = VertexOutcome::kConverged;
-  }
-  MapMetadata metadata;
-  metadata.device_model = "fake:recording";
-  return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
+  return testing::uniformFieldMap(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 3), gravity_n,
+                                  "fake:recording");
 }
 
 struct Loop {

@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/estimation/vertex_estimator.h"

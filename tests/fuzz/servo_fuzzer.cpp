@@ -22,8 +22,9 @@
 
 #include <fuzzer/FuzzedDataProvider.h>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
+#include "autograv/map/gravity_map.h"
 #include "core/recording_device.h"
 #include "support/allocation_counter.h"
 

@@ -12,9 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/device_specifications.h"
 #include "autograv/device/forwarding_device.h"
-#include "autograv/device/gravity_compensated_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/maintenance/map_verification.h"
 #include "autograv/map/measurement_plan.h"

@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include <autograv/device/gravity_compensated_device.h>
+#include <autograv/compensation/gravity_compensated_device.h>
 #include <autograv/device/servo_clock.h>
 #include <autograv/error.h>
 #include <autograv/map/map_io.h>

@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/tick_source.h"
 #include "autograv/map/explored_workspace.h"

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/map/explored_workspace.h"

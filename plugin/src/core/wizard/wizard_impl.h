@@ -18,7 +18,7 @@
 
 #include <Eigen/Core>
 
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"

@@ -5,7 +5,7 @@
 
 #include "autograv/chai3d/device_adapter.h"
 #include "autograv/chai3d/vendor_gravity_compensation.h"
-#include "autograv/device/gravity_compensated_device.h"
+#include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/tick_source.h"
 #include "autograv/maintenance/map_check.h"
 #include "chai3d.h"

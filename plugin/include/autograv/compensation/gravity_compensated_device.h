@@ -1,20 +1,18 @@
 #pragma once
 
-#include <array>
-#include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <mutex>
-#include <vector>
 
 #include <Eigen/Core>
 
 #include "autograv/device/forwarding_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_clock.h"
-#include "autograv/map/gravity_map.h"
 
 namespace autograv {
+
+class GravityMap;
 
 /// Why the decorator did not send the application's force plus compensation on a servo tick.
 /// Only a position that cannot be trusted, a force that cannot be sent or a device without a
@@ -224,83 +222,18 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   HapticDevice& innerDevice() noexcept { return inner(); }
 
  private:
-  struct RetainedMap {
-    std::uint64_t sequence;
-    std::shared_ptr<const GravityMap> map;  // null when null was published
-  };
+  /// The units the decorator is made of, private to core: the map hand-off, the maps in use and
+  /// their fade, the tick timer, the fade-stall watch, the position cache, the frozen-driver
+  /// detector and the status block (plugin/src/core/compensation/).
+  struct Impl;
 
-  /// Measured duration of this tick, clamped to [0, max_tick_interval_s]. Unit: [s]
-  double tickInterval() noexcept;
-  /// Watches a fade in progress for a clock that does not advance (see fadeStalled).
-  void watchFade(bool fading) noexcept;
-  void takeNewMap(double dt_s) noexcept;
-  /// The maps' gravity at `position_m`, blended during a fade (from or to no map as well);
-  /// `inside` is false when the position is beyond the outside margin of a map in use.
-  Eigen::Vector3d compensation(const Eigen::Vector3d& position_m, bool& inside) const noexcept;
-  void learnResolution(const Eigen::Vector3d& position_m) noexcept;
-  bool frozen(const Eigen::Vector3d& position_m, const Eigen::Vector3d& push_n,
-              double dt_s) noexcept;
+  /// Sends zero force, restarts the ramp and counts `fault`; returns false. Real-time safe.
   bool fault(ServoFault fault) noexcept;
-  void countTick(ServoFault fault) noexcept;
+  /// What open() and close() restart: ramps, timing, the frozen-driver run, the cached reading.
   void resetServoState() noexcept;
-  std::size_t reclaimLocked();
 
   CompensationOptions options_;
-  std::shared_ptr<ServoClock> clock_;
-
-  // Publication (written by publishers under publish_mutex_, read by the servo thread).
-  mutable std::mutex publish_mutex_;  // never taken by the servo thread
-  std::vector<RetainedMap> retained_;
-  std::uint64_t next_sequence_ = 1;
-  std::atomic<const GravityMap*> published_{nullptr};
-  std::atomic<std::uint64_t> published_sequence_{0};
-  std::atomic<std::uint64_t> acknowledged_sequence_{0};
-
-  // Servo-thread state.
-  const GravityMap* current_ = nullptr;
-  const GravityMap* previous_ = nullptr;
-  std::uint64_t taken_sequence_ = 0;
-  std::uint64_t acknowledged_local_ = 0;
-  double blend_ = 1.0;  ///< Weight of current_ against previous_ in a fade, in [0, 1].
-  double last_time_s_ = 0.0;
-  bool has_last_time_ = false;
-  // Frozen-driver check (see the class comment).
-  double resolution_m_;
-  Eigen::Vector3d last_position_m_ = Eigen::Vector3d::Zero();
-  bool has_last_position_ = false;
-  bool frozen_tracking_ = false;
-  bool frozen_detected_ = false;
-  double frozen_run_s_ = 0.0;
-  Eigen::Vector3d frozen_position_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d push_stage_n_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d push_filtered_n_ = Eigen::Vector3d::Zero();
-  std::uint8_t pushed_up_axes_ = 0;    ///< Bit a: the filtered push pointed along +axis a.
-  std::uint8_t pushed_down_axes_ = 0;  ///< Bit a: the filtered push pointed along -axis a.
-  // Stalled-fade watch (see fadeStalled): the tick and clock reading a watched span began at.
-  bool stall_watching_ = false;
-  std::uint64_t stall_start_tick_ = 0;
-  double stall_start_s_ = 0.0;
-  Eigen::Vector3d cached_position_m_ = Eigen::Vector3d::Zero();
-  bool cached_ok_ = false;
-  bool cached_fresh_ = false;
-  std::atomic<const void*> servo_thread_{nullptr};  // the servo thread's token, see the .cpp
-  static_assert(std::atomic<const void*>::is_always_lock_free,
-                "the servo path needs a lock-free thread token");
-
-  // Shared status (servo thread writes, anyone reads).
-  std::atomic<bool> enabled_;
-  std::atomic<double> level_{0.0};
-  static_assert(std::atomic<double>::is_always_lock_free,
-                "the servo path needs a lock-free compensation level");
-  std::atomic<bool> outside_map_{false};
-  std::atomic<std::uint64_t> outside_map_ticks_{0};
-  std::atomic<double> resolution_status_m_;
-  std::atomic<ServoFault> active_fault_{ServoFault::kNone};
-  std::atomic<ServoFault> last_fault_{ServoFault::kNone};
-  std::array<std::atomic<std::uint64_t>, kServoFaultKinds> fault_counts_{};
-  std::atomic<std::uint64_t> clamp_count_{0};
-  std::atomic<std::uint64_t> tick_count_{0};
-  std::atomic<bool> fade_stalled_{false};
+  std::unique_ptr<Impl> impl_;  ///< Created by the constructor, never null.
 };
 
 }  // namespace autograv
