@@ -12,13 +12,10 @@
 
 namespace autograv::cli {
 
-std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(const std::string& name,
-                                                          std::uint64_t seed,
-                                                          sim::FrictionLevel friction) {
-  auto device = sim::makeSimulatedDevice(name, seed, friction);
-  if (!device->open()) throw Error("device " + name + ": open() failed");
-  if (!device->calibrate()) throw Error("device " + name + ": calibrate() failed");
-  return device;
+nlohmann::json gridJson(const WorkspaceGrid& grid) {
+  return {{"resolution", vectorJson(grid.resolution())},
+          {"size_m", vectorJson(grid.size_m())},
+          {"center_m", vectorJson(grid.center_m())}};
 }
 
 CLI::Option* addDeviceOption(CLI::App& command, std::string& device) {
@@ -29,6 +26,16 @@ CLI::Option* addDeviceOption(CLI::App& command, std::string& device) {
   return command
       .add_option("--device", device, "Device: " + names + "; `autograv devices` lists them")
       ->capture_default_str();
+}
+
+CLI::Option* addSimulatedDeviceOption(CLI::App& command, std::string& device) {
+  return command.add_option("--device", device, "Simulated device")
+      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
+      ->capture_default_str();
+}
+
+CLI::Option* addReportOption(CLI::App& command, std::string& report_path) {
+  return command.add_option("--report", report_path, "Write a JSON report here");
 }
 
 void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load) {

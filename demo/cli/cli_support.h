@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/devices/device_registry.h"
+#include "autograv/map/workspace_grid.h"
+#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 
@@ -16,9 +18,16 @@ namespace autograv::cli {
 
 /// Opens a simulated device by name ("sim:omega", "sim:omni") with the given friction and calls
 /// open() and calibrate(). Throws autograv::Error with the valid names for an unknown one.
-std::unique_ptr<sim::SimulatedDevice> openSimulatedDevice(
-    const std::string& name, std::uint64_t seed,
-    sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
+using sim::openSimulatedDevice;
+
+/// [x, y, z] of a 3-vector, as every JSON report writes one.
+template <typename Scalar>
+nlohmann::json vectorJson(const Eigen::Matrix<Scalar, 3, 1>& vector) {
+  return {vector.x(), vector.y(), vector.z()};
+}
+
+/// A grid in a JSON report: its resolution, size_m and center_m.
+nlohmann::json gridJson(const WorkspaceGrid& grid);
 
 /// How every command names its device: adds `--device` (sim:omni, sim:omega, chai3d:N; checked when
 /// the device is opened, since CHAI3D's devices are only known then).
@@ -35,6 +44,12 @@ void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load);
 /// on a device that is not simulated.
 void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load);
 void applySimulatedLoad(sim::SimulatedDevice& device, const SimulatedLoad& load);
+
+/// `--device` for commands that run on a simulated device only: one of simulatedDeviceNames().
+CLI::Option* addSimulatedDeviceOption(CLI::App& command, std::string& device);
+
+/// `--report PATH`: where a command writes its JSON report (writeJsonReport).
+CLI::Option* addReportOption(CLI::App& command, std::string& report_path);
 
 /// A --device check for commands that need a simulation (no person in the loop): accepts
 /// sim::simulatedDeviceNames() and says what to use instead for any other device.

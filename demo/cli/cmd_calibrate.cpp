@@ -15,10 +15,10 @@
 #include "autograv/error.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
-#include "autograv/map/value_kind.h"
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "calibration_report.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
@@ -46,13 +46,6 @@ struct CalibrateOptions {
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
-
-double median(std::vector<int> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed, options.friction);
@@ -182,138 +175,19 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   std::error_code ignored;
   std::filesystem::remove(checkpoint_path, ignored);
 
-  std::vector<int> iterations;
-  std::vector<int> failed;
-  double vertex_seconds = 0.0;
-  for (int i = 0; i < grid.vertexCount(); ++i) {
-    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
-    iterations.push_back(v.iterations);
-    vertex_seconds += v.seconds;
-    if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
-      failed.push_back(i);
-    }
-  }
-  const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
+  CalibrationOutcome outcome{options.out_path,     options.seed, options.friction,
+                             options.servo_timing, specs,        parameters};
+  outcome.wall_s = wall_s;
+  outcome.workspace_coverage = workspace_coverage;
+  outcome.accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
   // The field where the hand can be, judged against the simulation's truth (scoring only).
-  const sim::FieldErrorReport field = sim::measureFieldError(map, *device, 4000, options.seed);
-  const double device_seconds = result.simulated_seconds;
-  const int iterations_max = *std::max_element(iterations.begin(), iterations.end());
-
-  std::printf("\n%-34s %s\n", "map", options.out_path.c_str());
-  std::printf("%-34s %d / %d\n", "vertices converged", map.convergedCount(), grid.vertexCount());
-  int kind_count[4] = {0, 0, 0, 0};
-  for (const VertexEstimate& vertex : map.vertices())
-    ++kind_count[static_cast<int>(valueKind(vertex))];
-  std::printf("%-34s %d %s, %d %s, %d %s\n", "values",
-              kind_count[static_cast<int>(ValueKind::kAtVertex)], toString(ValueKind::kAtVertex),
-              kind_count[static_cast<int>(ValueKind::kOffVertex)], toString(ValueKind::kOffVertex),
-              kind_count[static_cast<int>(ValueKind::kSolved)], toString(ValueKind::kSolved));
-  std::printf("%-34s %.1f %%\n", "reachable workspace inside the grid", 100.0 * workspace_coverage);
-  std::printf("%-34s %.1f / %d (paper: 14 at one vertex)\n", "iterations per vertex (median/max)",
-              median(iterations), iterations_max);
-  std::printf("%-34s %.1f s (%.2f s per vertex), wall %.1f s\n", "simulated time",
-              result.simulated_seconds, vertex_seconds / grid.vertexCount(), wall_s);
-  std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
-              100.0 * accuracy.max_error_rel, accuracy.worst_vertex, accuracy.max_error_n * 1e3);
-  printFieldError(field);
-  std::printf("%-34s %d at the vertex, %d just inside the stops, %d beyond reach\n",
-              "measurement points", result.plan.at_vertex, result.plan.off_vertex,
-              result.plan.skipped);
-  std::printf("%-34s %.1f s, %d directions, stops recognised within %.0f ms\n",
-              "workspace exploration", result.exploration_seconds,
-              static_cast<int>(result.workspace.directions().size()),
-              result.longest_stop_recognition_s * 1e3);
-  std::printf("%-34s %.1f s above %.2f N (%.1f %% of %.0f s), %llu ticks at the force limit\n",
-              "force on the device", result.seconds_above_continuous_force,
-              continuousForceRating_n(specs),
-              100.0 * result.seconds_above_continuous_force / device_seconds, device_seconds,
-              static_cast<unsigned long long>(result.force_limit_ticks));
+  outcome.field = sim::measureFieldError(map, *device, 4000, options.seed);
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
   auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
-  const sim::FrictionMeasurement friction = sim::measureFriction(*bench);
-  std::printf("%-34s %s: breakaway %.1f mN, sliding %.1f mN\n", "device friction",
-              sim::toString(options.friction), friction.breakaway_force_n * 1e3,
-              friction.coulomb_force_n * 1e3);
-  std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
-              100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
-  std::printf(
-      "%-34s %.1f N/m (beta |G| / (2 g) = %.1f N/m)\n", "Lipschitz constant c (measured)",
-      result.lipschitz_n_per_m,
-      parameters.beta_per_s2 * result.initialization.gravity_n.norm() / (2.0 * kStandardGravity));
-  std::printf("%-34s %.2f N of %.2f N, %llu clamps\n", "peak force", result.peak_force_n,
-              specs.max_linear_force_n, static_cast<unsigned long long>(result.saturation_count));
-  printServoLoop(options.servo_timing, result.servo_loop);
-  if (result.redo_passes > 0) {
-    std::printf("%-34s %d pass(es), %d vertex visit(s)\n", "failed vertices visited again",
-                result.redo_passes, result.redone_vertices);
-  }
-  for (int index : failed) {
-    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(index)];
-    std::printf("  vertex %d: %s after %d iterations\n", index, toString(v.outcome), v.iterations);
-  }
-
-  nlohmann::json failed_json = nlohmann::json::array();
-  for (int index : failed) {
-    failed_json.push_back(
-        {{"vertex", index},
-         {"outcome", toString(map.vertices()[static_cast<std::size_t>(index)].outcome)}});
-  }
-  const nlohmann::json report = {
-      {"device", specs.model_name},
-      {"seed", options.seed},
-      {"friction", sim::toString(options.friction)},
-      {"breakaway_force_n", friction.breakaway_force_n},
-      {"coulomb_force_n", friction.coulomb_force_n},
-      {"map", options.out_path},
-      {"grid",
-       {{"resolution", {grid.resolution().x(), grid.resolution().y(), grid.resolution().z()}},
-        {"size_m", {grid.size_m().x(), grid.size_m().y(), grid.size_m().z()}},
-        {"center_m", {grid.center_m().x(), grid.center_m().y(), grid.center_m().z()}}}},
-      {"vertices", grid.vertexCount()},
-      {"converged", map.convergedCount()},
-      {"unreachable", map.unreachableCount()},
-      {"filled", map.filledCount()},
-      {"complete", map.isComplete()},
-      {"workspace_coverage", workspace_coverage},
-      {"failed", failed_json},
-      {"iterations_median", median(iterations)},
-      {"iterations_max", iterations_max},
-      {"simulated_seconds", result.simulated_seconds},
-      {"seconds_per_vertex", vertex_seconds / grid.vertexCount()},
-      {"wall_seconds", wall_s},
-      {"max_error_rel", accuracy.max_error_rel},
-      {"worst_vertex", accuracy.worst_vertex},
-      {"max_error_n", accuracy.max_error_n},
-      {"rms_residual_rel", accuracy.rms_residual_rel},
-      {"field_error_max_n", field.max_n},
-      {"field_worst_point_m",
-       {field.worst_point_m.x(), field.worst_point_m.y(), field.worst_point_m.z()}},
-      {"measured_at_vertex", result.plan.at_vertex},
-      {"measured_inside_stops", result.plan.off_vertex},
-      {"beyond_reach", result.plan.skipped},
-      {"exploration_seconds", result.exploration_seconds},
-      {"exploration_directions", result.workspace.directions().size()},
-      {"longest_stop_recognition_s", result.longest_stop_recognition_s},
-      {"continuous_force_n", continuousForceRating_n(specs)},
-      {"seconds_above_continuous_force", result.seconds_above_continuous_force},
-      {"force_limit_ticks", result.force_limit_ticks},
-      {"mean_true_gravity_n", accuracy.mean_true_norm_n},
-      {"lipschitz_n_per_m", result.lipschitz_n_per_m},
-      {"peak_force_n", result.peak_force_n},
-      {"max_force_n", specs.max_linear_force_n},
-      {"saturation_count", result.saturation_count},
-      {"redo_passes", result.redo_passes},
-      {"redone_vertices", result.redone_vertices},
-      {"initial_gravity_n",
-       {result.initialization.gravity_n.x(), result.initialization.gravity_n.y(),
-        result.initialization.gravity_n.z()}},
-      {"parameters", parametersJson(parameters)}};
-  nlohmann::json full_report = report;
-  addFieldErrorJson(full_report, field);
-  full_report["servo_timing"] = sim::toString(options.servo_timing);
-  full_report["servo_loop"] = servoLoopJson(options.servo_timing, result.servo_loop);
-  writeJsonReport(options.report_path, full_report);
+  outcome.device_friction = sim::measureFriction(*bench);
+  printCalibrationOutcome(outcome, result, map);
+  writeJsonReport(options.report_path, calibrationReportJson(outcome, result, map));
 }
 
 void addCalibrateCommand(CLI::App& app) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_summary.h"
 #include "autograv/map/value_kind.h"
 #include "commands.h"
 
@@ -19,13 +20,6 @@ struct InspectOptions {
   std::string map_path;
   bool list_vertices = false;
 };
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 void printRow(const char* label, const std::string& value) {
   std::printf("%-22s %s\n", label, value.c_str());
@@ -97,20 +91,12 @@ void runInspectCommand(const InspectOptions& options) {
   std::vector<double> iterations;
   std::vector<double> seconds;
   std::map<std::string, int> outcomes;
-  std::vector<int> not_converged;
-  int at_vertex = 0;
-  int off_vertex = 0;
-  int solved = 0;
+  const MapSummary summary = summarizeVertices(map.vertices());
+  // Failed or never visited: the vertices a redo pass would visit again.
+  const std::vector<int>& not_converged = summary.to_visit_again;
   for (int i = 0; i < grid.vertexCount(); ++i) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
     ++outcomes[toString(v.outcome)];
-    const ValueKind kind = valueKind(v);
-    if (kind == ValueKind::kAtVertex) ++at_vertex;
-    if (kind == ValueKind::kOffVertex) ++off_vertex;
-    if (kind == ValueKind::kSolved) ++solved;
-    if (v.outcome != VertexOutcome::kConverged && v.outcome != VertexOutcome::kUnreachable) {
-      not_converged.push_back(i);
-    }
     if (v.outcome == VertexOutcome::kPending) continue;
     norms_n.push_back(v.gravity_n.norm());
     iterations.push_back(v.iterations);
@@ -137,9 +123,10 @@ void runInspectCommand(const InspectOptions& options) {
   }
   if (!details.empty()) outcome_text += " (" + details + ")";
   printRow("vertices", outcome_text);
-  printRow("values", std::to_string(at_vertex) + " measured at the vertex, " +
-                         std::to_string(off_vertex) + " measured inside the stops (off vertex), " +
-                         std::to_string(solved) + " solved from the measurements");
+  printRow("values", std::to_string(summary.at_vertex) + " measured at the vertex, " +
+                         std::to_string(summary.off_vertex) +
+                         " measured inside the stops (off vertex), " +
+                         std::to_string(summary.solved) + " solved from the measurements");
   printWorkspace(metadata.workspace);
   printLookup(map);
   if (!norms_n.empty()) {

@@ -23,8 +23,6 @@ struct PaperExperimentOptions {
   EstimationParameters parameters;  // the paper's values are the defaults
 };
 
-nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
   auto device = openSimulatedDevice(options.device, options.seed, options.friction);
   EstimationParameters parameters = options.parameters;
@@ -109,12 +107,10 @@ void addPaperExperimentCommand(CLI::App& app) {
       "paper-experiment",
       "Reproduce the paper's Section V: estimate the apparent gravity at X_D = [0,-30,0] mm on "
       "the simulated Omega with the paper's parameters");
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addSimulatedDeviceOption(*command, options->device);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
-  command->add_option("--report", options->report_path, "Write a JSON report here");
+  addReportOption(*command, options->report_path);
   addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
 }

@@ -50,16 +50,15 @@ void runRetareCommand(const RetareCommandOptions& options, const CLI::App& comma
       result.payload_kg * 1e3, result.shift_n.x(), result.shift_n.y(), result.shift_n.z(),
       100.0 * result.disagreement_rel, result.measurement.seconds, out_path.c_str());
 
-  nlohmann::json report = {
-      {"device", name},
-      {"map", setup.map_path},
-      {"out", out_path},
-      {"payload_estimate_g", result.payload_kg * 1e3},
-      {"shift_n", {result.shift_n.x(), result.shift_n.y(), result.shift_n.z()}},
-      {"disagreement_rel", result.disagreement_rel},
-      {"vertices", result.measurement.vertices},
-      {"simulated_seconds", result.measurement.seconds},
-      {"payload_true_g", options.common.load.payload_g}};
+  nlohmann::json report = {{"device", name},
+                           {"map", setup.map_path},
+                           {"out", out_path},
+                           {"payload_estimate_g", result.payload_kg * 1e3},
+                           {"shift_n", vectorJson(result.shift_n)},
+                           {"disagreement_rel", result.disagreement_rel},
+                           {"vertices", result.measurement.vertices},
+                           {"simulated_seconds", result.measurement.seconds},
+                           {"payload_true_g", options.common.load.payload_g}};
   if (setup.device.simulation) {
     const sim::AccuracyReport accuracy =
         sim::measureAccuracy(result.map, *setup.device.simulation, 1000, options.common.seed);

@@ -26,8 +26,6 @@ struct SimOptions {
   std::string report_path;
 };
 
-nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 void runSimCommand(const SimOptions& options) {
   if (!(std::isfinite(options.seconds) && options.seconds > 0.0 && options.seconds <= 3600.0)) {
     throw Error("--seconds must be in (0, 3600]");
@@ -131,16 +129,14 @@ void addSimCommand(CLI::App& app) {
       "sim",
       "Release a simulated end-effector at rest at the workspace centre with zero force and "
       "report where it drifts (what a user feels without gravity compensation)");
-  command->add_option("--device", options->device, "Simulated device")
-      ->check(CLI::IsMember(sim::simulatedDeviceNames()))
-      ->capture_default_str();
+  addSimulatedDeviceOption(*command, options->device);
   command->add_option("--seconds", options->seconds, "Simulated time to run. Unit: [s]")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--seed", options->seed, "Noise seed (same seed, same run)")
       ->capture_default_str();
   addFrictionOption(*command, options->friction);
-  command->add_option("--report", options->report_path, "Write a JSON report here");
+  addReportOption(*command, options->report_path);
   command->callback([options] { runSimCommand(*options); });
 }
 

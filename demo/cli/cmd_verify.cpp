@@ -69,8 +69,12 @@ struct VerifyOptions {
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
 
-nlohmann::json vectorJson(const Eigen::Vector3d& value) {
-  return {value.x(), value.y(), value.z()};
+// <prefix>_median<suffix>, _p90 and _max of `values`, each times `scale`.
+void addPercentilesJson(nlohmann::json& json, const std::string& prefix, const Percentiles& values,
+                        const std::string& suffix, double scale = 1.0) {
+  json[prefix + "_median" + suffix] = values.median * scale;
+  json[prefix + "_p90" + suffix] = values.p90 * scale;
+  json[prefix + "_max" + suffix] = values.max * scale;
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
@@ -278,12 +282,6 @@ void runVerifyCommand(const VerifyOptions& options) {
       {"probe_stiffness_n_per_m", probe.stiffness_n_per_m},
       {"probe_approach_distance_m", probe.approach_distance_m},
       {"probe_approaches_per_side", probe.approaches_per_side},
-      {"residual_force_median_n", residual.median},
-      {"residual_force_p90_n", residual.p90},
-      {"residual_force_max_n", residual.max},
-      {"residual_force_median_rel", residual_rel.median},
-      {"residual_force_p90_rel", residual_rel.p90},
-      {"residual_force_max_rel", residual_rel.max},
       {"residual_probes_valid", report.valid_residuals},
       {"max_residual_ratio", options.max_residual_ratio},
       {"max_residual_p90_ratio", options.max_residual_p90_ratio},
@@ -294,12 +292,6 @@ void runVerifyCommand(const VerifyOptions& options) {
       {"stuck_threshold_mm", options.stuck_threshold_mm},
       {"caught_releases", report.caught_releases},
       {"catch_drift_mm", kCatchDrift_m * 1e3},
-      {"drift_median_mm", on.median * 1e3},
-      {"drift_p90_mm", on.p90 * 1e3},
-      {"drift_max_mm", on.max * 1e3},
-      {"drift_off_median_mm", off.median * 1e3},
-      {"drift_off_p90_mm", off.p90 * 1e3},
-      {"drift_off_max_mm", off.max * 1e3},
       {"drift_ratio", ratio},
       {"max_drift_ratio", options.max_drift_ratio},
       {"max_force_sent_n", report.max_force_sent_n},
@@ -317,15 +309,15 @@ void runVerifyCommand(const VerifyOptions& options) {
       {"residual_ok", residual_ok},
       {"pass", pass},
       {"releases", point_list}};
+  addPercentilesJson(json, "residual_force", residual, "_n");
+  addPercentilesJson(json, "residual_force", residual_rel, "_rel");
+  addPercentilesJson(json, "drift", on, "_mm", 1e3);
+  addPercentilesJson(json, "drift_off", off, "_mm", 1e3);
   if (simulation) {
     json["friction"] = sim::toString(options.friction);
     json["truth_is_simulation_only"] = true;
-    json["truth_error_median_n"] = report.truth_error_n.median;
-    json["truth_error_p90_n"] = report.truth_error_n.p90;
-    json["truth_error_max_n"] = report.truth_error_n.max;
-    json["truth_error_median_rel"] = report.truth_error_rel.median;
-    json["truth_error_p90_rel"] = report.truth_error_rel.p90;
-    json["truth_error_max_rel"] = report.truth_error_rel.max;
+    addPercentilesJson(json, "truth_error", report.truth_error_n, "_n");
+    addPercentilesJson(json, "truth_error", report.truth_error_rel, "_rel");
     json["unreachable_points"] = report.unreachable_points;
     json["servo_timing"] = sim::toString(options.servo_timing);
     json["servo_loop"] = servoLoopJson(options.servo_timing, simulated_ticks->loopSummary());
@@ -357,37 +349,25 @@ void addVerifyCommand(CLI::App& app) {
   command->add_option("--duration-s", options->duration_s, "Time after each release [s]")
       ->check(CLI::Range(0.001, 60.0))
       ->capture_default_str();
-  command
-      ->add_option("--max-drift-ratio", options->max_drift_ratio,
-                   "Fail when drift median on / off exceeds this")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      ->add_option("--max-residual-ratio", options->max_residual_ratio,
-                   "Fail when the median residual force exceeds this fraction of |G_hat|")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      ->add_option("--max-residual-p90-ratio", options->max_residual_p90_ratio,
-                   "Fail when the 90th percentile of the residual exceeds this fraction of |G_hat|")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      ->add_option("--max-residual-max-ratio", options->max_residual_max_ratio,
-                   "Fail when the largest residual exceeds this fraction of |G_hat|")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      ->add_option("--max-residual-friction-ratio", options->max_residual_friction_ratio,
-                   "Fail when the largest residual exceeds this multiple of the friction the "
-                   "probe saw (median): above it a released stylus slides")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      ->add_option("--stuck-threshold-mm", options->stuck_threshold_mm,
-                   "A release that moved less than this counts as stuck (a few encoder counts)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  // The pass limits: each a positive number, its default shown.
+  const auto add_limit = [command](const char* flag, double& limit, const char* description) {
+    command->add_option(flag, limit, description)
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+  };
+  add_limit("--max-drift-ratio", options->max_drift_ratio,
+            "Fail when drift median on / off exceeds this");
+  add_limit("--max-residual-ratio", options->max_residual_ratio,
+            "Fail when the median residual force exceeds this fraction of |G_hat|");
+  add_limit("--max-residual-p90-ratio", options->max_residual_p90_ratio,
+            "Fail when the 90th percentile of the residual exceeds this fraction of |G_hat|");
+  add_limit("--max-residual-max-ratio", options->max_residual_max_ratio,
+            "Fail when the largest residual exceeds this fraction of |G_hat|");
+  add_limit("--max-residual-friction-ratio", options->max_residual_friction_ratio,
+            "Fail when the largest residual exceeds this multiple of the friction the "
+            "probe saw (median): above it a released stylus slides");
+  add_limit("--stuck-threshold-mm", options->stuck_threshold_mm,
+            "A release that moved less than this counts as stuck (a few encoder counts)");
   command->add_flag("!--no-uncompensated", options->compare_uncompensated,
                     "Skip the releases with compensation off (the end-effector falls, caught "
                     "after a few millimetres)");

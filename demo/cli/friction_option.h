@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "autograv/sim/friction.h"
+#include "choice_option.h"
 
 namespace autograv::cli {
 
@@ -12,13 +13,9 @@ namespace autograv::cli {
 /// command runs on, written into `level` (which keeps its value, typical by default, when the
 /// option is not given). The one definition shared by every command and by autograv-demo.
 inline CLI::Option* addFrictionOption(CLI::App& command, sim::FrictionLevel& level) {
-  return command
-      .add_option_function<std::string>(
-          "--friction",
-          [&level](const std::string& name) { level = sim::parseFrictionLevel(name); },
-          "Friction of the simulated device: none, low, typical (published figures) or high")
-      ->check(CLI::IsMember(sim::frictionLevelNames()))
-      ->default_str(sim::toString(level));
+  return addChoiceOption(
+      command, "--friction", level, sim::parseFrictionLevel, sim::frictionLevelNames(),
+      "Friction of the simulated device: none, low, typical (published figures) or high");
 }
 
 }  // namespace autograv::cli

@@ -16,7 +16,7 @@ void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options) {
   addMapsOption(command, options.maps_dir);
   command.add_option("--seed", options.seed, "Noise seed of simulated devices")
       ->capture_default_str();
-  command.add_option("--report", options.report_path, "Write a JSON report here");
+  addReportOption(command, options.report_path);
   addFrictionOption(command, options.friction);
   addSimulatedLoadOptions(command, options.load);
   addEstimationOptions(command, options.parameters);

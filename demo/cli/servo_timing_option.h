@@ -8,6 +8,7 @@
 
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/sim/servo_timing_model.h"
+#include "choice_option.h"
 
 namespace autograv::cli {
 
@@ -15,15 +16,11 @@ namespace autograv::cli {
 /// arrive, written into `timing` (exact, today's figures, when the option is not given). The one
 /// definition shared by calibrate, verify, wizard and bench.
 inline CLI::Option* addServoTimingOption(CLI::App& command, sim::ServoTiming& timing) {
-  return command
-      .add_option_function<std::string>(
-          "--servo-timing",
-          [&timing](const std::string& name) { timing = sim::parseServoTiming(name); },
-          "How the simulated servo ticks arrive: exact (1 kHz, the published figures), desktop "
-          "(1 kHz, late by 0-1 ms, 1 % by 3-5 ms, a 20 ms stall every 10-30 s) or free "
-          "(free-running at 2-8 kHz)")
-      ->check(CLI::IsMember(sim::servoTimingNames()))
-      ->default_str(sim::toString(timing));
+  return addChoiceOption(
+      command, "--servo-timing", timing, sim::parseServoTiming, sim::servoTimingNames(),
+      "How the simulated servo ticks arrive: exact (1 kHz, the published figures), desktop "
+      "(1 kHz, late by 0-1 ms, 1 % by 3-5 ms, a 20 ms stall every 10-30 s) or free "
+      "(free-running at 2-8 kHz)");
 }
 
 /// What the servo loop did, for a JSON report (rate, lateness percentiles, longest gap).

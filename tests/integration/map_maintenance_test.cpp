@@ -9,9 +9,9 @@
 #include "autograv/error.h"
 #include "autograv/maintenance/map_check.h"
 #include "autograv/maintenance/retare.h"
+#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
-#include "cube_calibration.h"
 
 namespace autograv {
 namespace {
@@ -19,8 +19,15 @@ namespace {
 constexpr double kPayload_kg = 0.030;
 constexpr double kTilt_rad = 10.0 * M_PI / 180.0;
 
-using testing::calibrateDefaultCube;
-using testing::toolParameters;
+using sim::toolParameters;
+
+// The tools' calibration of the default cube, each vertex visited where it is (all reachable).
+GravityMap defaultCubeMap(sim::SimulatedDevice& device, int resolution) {
+  sim::DefaultCubeOptions cube;
+  cube.resolution = resolution;
+  cube.explore = false;
+  return *sim::calibrateDefaultCube(device, cube).map;
+}
 
 class MapMaintenanceTest : public ::testing::Test {
  protected:
@@ -28,7 +35,7 @@ class MapMaintenanceTest : public ::testing::Test {
   static void SetUpTestSuite() {
     auto device = sim::makeSimulatedDevice("sim:omni", 1);
     ASSERT_TRUE(device->open());
-    map_ = std::make_unique<GravityMap>(calibrateDefaultCube(*device, 3));
+    map_ = std::make_unique<GravityMap>(defaultCubeMap(*device, 3));
     ASSERT_TRUE(map_->isComplete());
   }
   static void TearDownTestSuite() { map_.reset(); }
@@ -115,7 +122,7 @@ TEST(RetareAgainstFullCalibrationTest, ReTaredMapIsWithinHalfAPercentOfACalibrat
   // whole grid calibrated again with the handle on (typical friction, seed 1).
   auto device = sim::makeSimulatedDevice("sim:omni", 1);
   ASSERT_TRUE(device->open());
-  const GravityMap unloaded = calibrateDefaultCube(*device, 5);
+  const GravityMap unloaded = defaultCubeMap(*device, 5);
   ASSERT_TRUE(unloaded.isComplete());
   device->setPayload_kg(kPayload_kg);
   sim::SimulatedTickSource ticks(*device, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
@@ -123,7 +130,7 @@ TEST(RetareAgainstFullCalibrationTest, ReTaredMapIsWithinHalfAPercentOfACalibrat
   options.measurement.parameters = toolParameters(*device);
   const RetareResult retared = retareMap(*device, ticks, unloaded, options);
   EXPECT_LT(retared.measurement.seconds, 15.0);
-  const GravityMap full = calibrateDefaultCube(*device, 5);
+  const GravityMap full = defaultCubeMap(*device, 5);
   ASSERT_TRUE(full.isComplete());
   double worst_rel = 0.0;
   for (std::size_t i = 0; i < full.vertices().size(); ++i) {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/sim/experiments.h"
 #include "autograv/sim/simulated_device.h"
-#include "cube_calibration.h"
 
 namespace autograv {
 namespace {
@@ -16,7 +16,10 @@ class OutsideMapTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(OutsideMapTest, TheExtendedMapIsCloserToTheTruthThanTheBoundaryValue) {
   auto device = sim::makeSimulatedDevice(GetParam(), 1);
   ASSERT_TRUE(device->open());
-  const GravityMap map = testing::calibrateDefaultCube(*device, 5);
+  sim::DefaultCubeOptions cube;
+  cube.resolution = 5;
+  cube.explore = false;  // every vertex of the default cube is reachable
+  const GravityMap map = *sim::calibrateDefaultCube(*device, cube).map;
   ASSERT_TRUE(map.isComplete());
 
   // Reachable points 8-12 mm outside the box, where a hand that leaves the map goes first.

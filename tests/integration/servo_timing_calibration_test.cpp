@@ -13,10 +13,10 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/vertex_estimator.h"
+#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_device.h"
-#include "cube_calibration.h"
 
 namespace autograv {
 namespace {
@@ -34,7 +34,7 @@ VertexRun runVertex(const std::string& name, double stall_at_s, double stall_s) 
   auto device = sim::makeSimulatedDevice(name, 1);
   device->open();
   device->calibrate();
-  const EstimationParameters parameters = testing::toolParameters(*device);
+  const EstimationParameters parameters = sim::toolParameters(*device);
   const Eigen::Vector3d vertex_m = device->workspaceCenter_m();
   const sim::InitializationResult initialization =
       sim::initializeWithSimulatedHand(*device, parameters, vertex_m);
@@ -89,7 +89,7 @@ TEST(ServoTimingAllocationTest, EstimatorsOnAJitteryLoopAllocateNothing) {
   auto device = sim::makeSimulatedDevice("sim:omni", 1);
   device->open();
   device->calibrate();
-  const EstimationParameters parameters = testing::toolParameters(*device);
+  const EstimationParameters parameters = sim::toolParameters(*device);
   const WorkspaceGrid grid(device->workspaceCenter_m(), 0.02, 2);
   AutoCalibrator calibrator(grid, parameters, device->specifications().max_linear_force_n);
   device->resetState(grid.center_m());
@@ -122,24 +122,16 @@ TimedCalibration calibrateCube(const std::string& name, sim::ServoTiming timing)
   auto device = sim::makeSimulatedDevice(name, 1);
   device->open();
   device->calibrate();
-  sim::CalibrationRunOptions options;
-  options.grid_center_m = device->workspaceCenter_m();
-  options.grid_size_m =
-      Eigen::Vector3d::Constant(defaultGridSide_m(device->specifications().workspace_radius_m));
-  options.grid_resolution = Eigen::Vector3i::Constant(3);
-  options.parameters = testing::toolParameters(*device);
-  options.servo_timing = timing;
-  options.servo_timing_seed = 1;
-  const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
-  const GravityMap map(
-      WorkspaceGrid(options.grid_center_m, options.grid_size_m, options.grid_resolution),
-      run.vertices, MapMetadata{});
-  const sim::AccuracyReport accuracy = sim::measureAccuracy(map, *device, 500);
+  sim::DefaultCubeOptions cube;
+  cube.servo_timing = timing;
+  const sim::DefaultCubeCalibration calibration = sim::calibrateDefaultCube(*device, cube);
+  const sim::CalibrationRunResult& run = calibration.run;
+  const sim::AccuracyReport accuracy = sim::measureAccuracy(*calibration.map, *device, 500);
   TimedCalibration result;
   result.max_error_rel = accuracy.max_error_rel;
   result.rms_rel = accuracy.rms_residual_rel;
   result.seconds = run.simulated_seconds;
-  result.converged = map.convergedCount();
+  result.converged = calibration.map->convergedCount();
   result.loop = run.servo_loop;
   return result;
 }

@@ -11,6 +11,7 @@
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/estimation/vertex_estimator.h"
+#include "autograv/map/map_summary.h"
 #include "autograv/sim/paper_frame.h"
 
 namespace autograv::sim {
@@ -294,11 +295,8 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       std::vector<int> failed;
       const std::vector<VertexEstimate>& vertices = calibrator.vertices();
       for (int i = 0; i < grid.vertexCount(); ++i) {
-        const VertexOutcome outcome = vertices[static_cast<std::size_t>(i)].outcome;
         // An unreachable vertex would hit the same stop again: it is filled, not redone.
-        if (outcome != VertexOutcome::kConverged && outcome != VertexOutcome::kUnreachable) {
-          failed.push_back(i);
-        }
+        if (needsAnotherVisit(vertices[static_cast<std::size_t>(i)])) failed.push_back(i);
       }
       if (!failed.empty()) {
         // Between ticks, as the wizard's redo: from where the end-effector is, with the last

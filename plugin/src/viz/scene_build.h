@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
+#include "autograv/map/map_summary.h"
 #include "autograv/map/value_kind.h"
 #include "autograv/viz/scene.h"
 #include "vtk_support.h"
@@ -51,10 +52,8 @@ inline bool isMeasuredAtVertex(const VertexEstimate& vertex) noexcept {
   return valueKind(vertex) == ValueKind::kAtVertex;
 }
 
-inline bool isFailed(const VertexEstimate& vertex) noexcept {
-  return vertex.outcome != VertexOutcome::kConverged && vertex.outcome != VertexOutcome::kPending &&
-         vertex.provenance != VertexProvenance::kFilled;
-}
+// Marked red as "failed": visited, and the map holds no value there (autograv/map/map_summary.h).
+inline bool isFailed(const VertexEstimate& vertex) noexcept { return holdsNoValue(vertex); }
 
 inline int residualSubdivisions(const WorkspaceGrid& grid) noexcept {
   const int cells = grid.resolution().maxCoeff() - 1;

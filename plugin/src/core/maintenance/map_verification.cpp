@@ -11,6 +11,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/minimum_jerk_move.h"
+#include "autograv/map/map_summary.h"
 
 namespace autograv {
 
@@ -421,7 +422,7 @@ Percentiles percentiles(std::vector<double> values) {
   if (values.empty()) return result;
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
-  result.median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+  result.median = median(values);
   result.p90 = values[std::min(n - 1, static_cast<std::size_t>(std::ceil(0.9 * n)) - 1)];
   result.max = values.back();
   return result;

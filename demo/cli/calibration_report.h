@@ -1,0 +1,42 @@
+#pragma once
+
+// What `autograv calibrate` shows of a finished calibration: the summary lines and the JSON report.
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "autograv/device/device_specifications.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/sim/friction.h"
+#include "autograv/sim/friction_measurement.h"
+#include "autograv/sim/procedures.h"
+
+namespace autograv::cli {
+
+/// What a finished calibration on a simulated device was run with, and the figures scored on it.
+struct CalibrationOutcome {
+  std::string map_path;    ///< Where the map was saved.
+  std::uint64_t seed = 1;  ///< The device's and the timing's seed.
+  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< The device's friction level.
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;    ///< How the servo ticks arrived.
+  DeviceSpecifications specs;                                  ///< The device's.
+  EstimationParameters parameters;                             ///< The calibration's.
+  double wall_s = 0.0;                                         ///< Wall time of the run. Unit: [s]
+  double workspace_coverage = 0.0;             ///< Reachable workspace inside the grid (0..1).
+  sim::AccuracyReport accuracy{};              ///< At the measured points and 1000 random ones.
+  sim::FieldErrorReport field{};               ///< Over the reachable workspace.
+  sim::FrictionMeasurement device_friction{};  ///< Measured on a fresh copy of the device.
+};
+
+/// Prints the summary lines of the run `result` that made `map`, on standard output.
+void printCalibrationOutcome(const CalibrationOutcome& outcome,
+                             const sim::CalibrationRunResult& result, const GravityMap& map);
+
+/// The JSON report of the same.
+nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
+                                     const sim::CalibrationRunResult& result,
+                                     const GravityMap& map);
+
+}  // namespace autograv::cli
