@@ -253,8 +253,6 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
   }
 }
 
-nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 nlohmann::json reportJson(const WizardOptions& options, const std::string& out_path,
                           const CalibrationWizard& wizard, const WizardStatus& status,
                           bool initialization_end_stop_hit) {
@@ -280,10 +278,7 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
       {"outcome", toString(status.step)},
       {"map", status.map_saved ? out_path : ""},
       {"checkpoint", status.checkpoint_written && !status.map_saved ? status.checkpoint_path : ""},
-      {"grid",
-       {{"resolution", {grid.resolution().x(), grid.resolution().y(), grid.resolution().z()}},
-        {"size_m", vectorJson(grid.size_m())},
-        {"center_m", vectorJson(grid.center_m())}}},
+      {"grid", gridJson(grid)},
       {"vertices", status.vertex_count},
       {"converged", status.converged},
       {"explored", !status.workspace.empty()},

@@ -13,6 +13,7 @@
 #include "autograv/estimation/pd_design.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/map_summary.h"
 #include "autograv/map/vertex_fill.h"
 #include "wizard/wizard_impl.h"
 
@@ -63,39 +64,28 @@ std::vector<std::string> refusalForAnyGravity(const EstimationParameters& parame
 /// iteration and |G_hat| figures of the converged ones.
 WizardReview reviewOf(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
                       const std::vector<char>& restored) {
+  const MapSummary summary = summarizeVertices(vertices);
   WizardReview review;
-  review.vertex_count = grid.vertexCount();
-  std::vector<int> iterations;
-  for (int i = 0; i < review.vertex_count; ++i) {
+  review.vertex_count = summary.vertices;
+  review.converged = summary.converged;
+  review.pending = summary.pending;
+  review.unreachable = summary.unreachable;
+  for (const int i : summary.failed) {
     const VertexEstimate& vertex = vertices[static_cast<std::size_t>(i)];
-    if (vertex.outcome == VertexOutcome::kPending) {
-      ++review.pending;
-      continue;
-    }
-    if (vertex.outcome == VertexOutcome::kUnreachable) {
-      ++review.unreachable;
-      continue;
-    }
-    if (vertex.outcome != VertexOutcome::kConverged) {
-      review.failed.push_back(ReviewRow{i, grid.vertexPosition(i), vertex.outcome,
-                                        vertex.iterations, vertex.seconds, vertex.gravity_n});
-      continue;
-    }
-    const double norm_n = vertex.gravity_n.norm();
-    review.gravity_min_n = review.converged == 0 ? norm_n : std::min(review.gravity_min_n, norm_n);
-    review.gravity_max_n = std::max(review.gravity_max_n, norm_n);
-    ++review.converged;
-    iterations.push_back(vertex.iterations);
-    review.estimation_seconds += vertex.seconds;
-    if (restored[static_cast<std::size_t>(i)] != 0) ++review.restored;
+    review.failed.push_back(ReviewRow{i, grid.vertexPosition(i), vertex.outcome, vertex.iterations,
+                                      vertex.seconds, vertex.gravity_n});
   }
-  if (!iterations.empty()) {
-    std::sort(iterations.begin(), iterations.end());
-    const std::size_t n = iterations.size();
-    review.iterations_min = iterations.front();
-    review.iterations_max = iterations.back();
-    review.iterations_median =
-        n % 2 ? iterations[n / 2] : 0.5 * (iterations[n / 2 - 1] + iterations[n / 2]);
+  const ConvergedVertexStats& converged = summary.converged_only;
+  review.iterations_min = converged.iterations.min;
+  review.iterations_median = converged.iterations.median;
+  review.iterations_max = converged.iterations.max;
+  review.estimation_seconds = converged.seconds;
+  review.gravity_min_n = converged.gravity_min_n;
+  review.gravity_max_n = converged.gravity_max_n;
+  for (int i = 0; i < review.vertex_count; ++i) {
+    const bool converged_here =
+        vertices[static_cast<std::size_t>(i)].outcome == VertexOutcome::kConverged;
+    if (converged_here && restored[static_cast<std::size_t>(i)] != 0) ++review.restored;
   }
   return review;
 }
@@ -412,15 +402,8 @@ void CalibrationWizard::Impl::buildReview() {
 }
 
 void CalibrationWizard::Impl::prepareRedo() {
-  const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
-  std::vector<int> redo;
-  for (int i = 0; i < grid_.vertexCount(); ++i) {
-    const VertexOutcome outcome = vertices[static_cast<std::size_t>(i)].outcome;
-    // An unreachable vertex would hit the same stop again.
-    if (outcome != VertexOutcome::kConverged && outcome != VertexOutcome::kUnreachable) {
-      redo.push_back(i);
-    }
-  }
+  // An unreachable vertex would hit the same stop again (needsAnotherVisit).
+  const std::vector<int> redo = summarizeVertices(mirrorCopy(nullptr)).to_visit_again;
   if (redo.empty()) {
     redo_message_ = "Nothing to redo: every reachable vertex converged.";
     replies_.fetch_or(wizard::kReplyNothingToRedo, std::memory_order_acq_rel);
