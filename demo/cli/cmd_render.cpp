@@ -14,8 +14,9 @@
 #include "commands.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
+#include "autograv/image/image_comparison.h"
+#include "autograv/image/png.h"
 #include "autograv/map/map_io.h"
-#include "autograv/viz/image_compare.h"
 #include "autograv/viz/plots.h"
 #include "autograv/viz/scene.h"
 #include "autograv/viz/vtk_export.h"
@@ -153,21 +154,21 @@ void warnModelMismatch(const GravityMap& map, const TruthOptions& truth) {
 // (exit code 1) with a difference picture when it departs.
 void compareWithGolden(const std::string& actual_png, const std::string& golden_png,
                        const CompareOptions& options) {
-  viz::ImageComparisonOptions compare;
+  ImageComparisonOptions compare;
   compare.tolerance = options.tolerance;
   compare.channel_threshold = options.channel_threshold;
   std::string diff_path = options.diff_path;
-  const viz::RgbImage actual = viz::readPng(actual_png);
-  const viz::RgbImage golden = viz::readPng(golden_png);
-  viz::RgbImage diff;
-  const viz::ImageComparison result = viz::compareImages(actual, golden, compare, &diff);
+  const RgbImage actual = readPng(actual_png);
+  const RgbImage golden = readPng(golden_png);
+  RgbImage diff;
+  const ImageComparison result = compareImages(actual, golden, compare, &diff);
   if (!result.passed && diff_path.empty()) {
     const auto dot = actual_png.find_last_of('.');
     diff_path = (dot == std::string::npos ? actual_png : actual_png.substr(0, dot)) + ".diff.png";
   }
   if (!diff_path.empty()) viz::writePng(diff, diff_path);
   std::printf("compare %s with %s: %s\n", actual_png.c_str(), golden_png.c_str(),
-              viz::describe(result, compare).c_str());
+              describe(result, compare).c_str());
   if (!result.passed) {
     std::printf("the picture departs from the golden one; differences in red: %s\n",
                 diff_path.c_str());
@@ -224,9 +225,8 @@ void runPlot(const PlotCommandOptions& options) {
   const std::optional<Truth> truth = makeTruth(options.truth);
   warnModelMismatch(map, options.truth);
   if (truth) plot.ground_truth = truth->gravity;
-  const viz::RgbImage image = options.summary
-                                  ? viz::renderSummaryPlot(map, plot)
-                                  : viz::renderConvergencePlot(map, options.vertex, plot);
+  const RgbImage image = options.summary ? viz::renderSummaryPlot(map, plot)
+                                         : viz::renderConvergencePlot(map, options.vertex, plot);
   viz::writePng(image, options.out_path);
   std::printf("wrote %s (%dx%d px)\n", options.out_path.c_str(), plot.width_px, plot.height_px);
 }

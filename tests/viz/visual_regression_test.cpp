@@ -20,7 +20,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/viz/image.h"
-#include "autograv/viz/image_compare.h"
+#include "autograv/image/image_comparison.h"
 #include "autograv/viz/plots.h"
 #include "autograv/viz/scene.h"
 #include "viz_test_support.h"
