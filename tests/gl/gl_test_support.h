@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "autograv/gl/scene.h"
+#include "autograv/gl/frame_data.h"
 #include "autograv/gl/image.h"
 #include "autograv/image/image_comparison.h"
 #include "autograv/map/gravity_map.h"
