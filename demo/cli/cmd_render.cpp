@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -259,71 +260,86 @@ void runCompare(const CompareCommandOptions&) { noViz(); }
 
 #endif  // AUTOGRAV_HAVE_VIZ
 
+// A subcommand `name` whose options live as long as the program; `run` gets them once parsed.
+template <typename Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> addSubcommand(CLI::App& app, const std::string& name,
+                                                             const std::string& description,
+                                                             void (*run)(const Options&)) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand(name, description);
+  command->callback([options, run] { run(*options); });
+  return {command, options};
+}
+
+// The map to read and the file to write, the first two options of render, plot and export.
+template <typename Options>
+void addMapAndOutput(CLI::App* command, Options& options, const std::string& output) {
+  command->add_option("map", options.map_path, "Map file (JSON)")->required();
+  command->add_option("-o,--out", options.out_path, output)->required();
+}
+
+void addRenderCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<RenderOptions>(
+      app, "render",
+      "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
+      "headless)",
+      runRender);
+  addMapAndOutput(command, *options, "PNG to write");
+  command->add_option("--view", options->view, "Camera: iso, front or top")->capture_default_str();
+  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  command->add_option("--background", options->background, "white or dark")->capture_default_str();
+  command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
+      ->capture_default_str();
+  command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
+                      "Draw the workspace sphere with this radius when the map has no "
+                      "explored workspace (default: the --truth device's, else the grid's box)");
+  command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
+      ->delimiter(',')
+      ->expected(3);
+  command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
+                    "Draw the sphere or box instead of the map's explored workspace");
+  command->add_option("--title", options->title, "Title (default: model, grid, converged)");
+  addTruthOptions(command, options->truth);
+  command->add_option("--compare", options->golden_path,
+                      "Golden PNG: exit 1 with a difference picture when the render departs");
+  addCompareOptions(command, options->compare);
+}
+
+void addPlotCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<PlotCommandOptions>(
+      app, "plot", "Plot the convergence at a vertex (Figs. 8-9) or a whole-map summary (PNG)",
+      runPlot);
+  addMapAndOutput(command, *options, "PNG to write");
+  command->add_option("--vertex", options->vertex, "Vertex index: Delta_j and M_hat_j over j");
+  command->add_flag("--summary", options->summary,
+                    "Histograms of iterations per vertex (and of the error with --truth)");
+  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  command->add_option("--background", options->background, "white or dark")->capture_default_str();
+  command->add_option("--title", options->title, "Title (default: from the map)");
+  addTruthOptions(command, options->truth);
+}
+
+void addExportCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<ExportCommandOptions>(
+      app, "export", "Write a map for ParaView: .vti (image data) or .vtu", runExport);
+  addMapAndOutput(command, *options, "File to write (.vti or .vtu)");
+  addTruthOptions(command, options->truth);
+}
+
+void addCompareCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<CompareCommandOptions>(
+      app, "compare", "Compare a picture with a golden one; exit 1 with a difference picture",
+      runCompare);
+  command->add_option("actual", options->actual_path, "PNG to check")->required();
+  command->add_option("golden", options->golden_path, "Golden PNG")->required();
+  addCompareOptions(command, options->compare);
+}
+
 void addRenderCommands(CLI::App& app) {
-  {
-    auto options = std::make_shared<RenderOptions>();
-    CLI::App* command = app.add_subcommand(
-        "render",
-        "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
-        "headless)");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "PNG to write")->required();
-    command->add_option("--view", options->view, "Camera: iso, front or top")
-        ->capture_default_str();
-    command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
-    command->add_option("--background", options->background, "white or dark")
-        ->capture_default_str();
-    command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
-        ->capture_default_str();
-    command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
-                        "Draw the workspace sphere with this radius when the map has no "
-                        "explored workspace (default: the --truth device's, else the grid's box)");
-    command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
-        ->delimiter(',')
-        ->expected(3);
-    command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
-                      "Draw the sphere or box instead of the map's explored workspace");
-    command->add_option("--title", options->title, "Title (default: model, grid, converged)");
-    addTruthOptions(command, options->truth);
-    command->add_option("--compare", options->golden_path,
-                        "Golden PNG: exit 1 with a difference picture when the render departs");
-    addCompareOptions(command, options->compare);
-    command->callback([options] { runRender(*options); });
-  }
-  {
-    auto options = std::make_shared<PlotCommandOptions>();
-    CLI::App* command = app.add_subcommand(
-        "plot", "Plot the convergence at a vertex (Figs. 8-9) or a whole-map summary (PNG)");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "PNG to write")->required();
-    command->add_option("--vertex", options->vertex, "Vertex index: Delta_j and M_hat_j over j");
-    command->add_flag("--summary", options->summary,
-                      "Histograms of iterations per vertex (and of the error with --truth)");
-    command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
-    command->add_option("--background", options->background, "white or dark")
-        ->capture_default_str();
-    command->add_option("--title", options->title, "Title (default: from the map)");
-    addTruthOptions(command, options->truth);
-    command->callback([options] { runPlot(*options); });
-  }
-  {
-    auto options = std::make_shared<ExportCommandOptions>();
-    CLI::App* command =
-        app.add_subcommand("export", "Write a map for ParaView: .vti (image data) or .vtu");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "File to write (.vti or .vtu)")->required();
-    addTruthOptions(command, options->truth);
-    command->callback([options] { runExport(*options); });
-  }
-  {
-    auto options = std::make_shared<CompareCommandOptions>();
-    CLI::App* command = app.add_subcommand(
-        "compare", "Compare a picture with a golden one; exit 1 with a difference picture");
-    command->add_option("actual", options->actual_path, "PNG to check")->required();
-    command->add_option("golden", options->golden_path, "Golden PNG")->required();
-    addCompareOptions(command, options->compare);
-    command->callback([options] { runCompare(*options); });
-  }
+  addRenderCommand(app);
+  addPlotCommand(app);
+  addExportCommand(app);
+  addCompareCommand(app);
 }
 
 }  // namespace
