@@ -5,7 +5,6 @@
 // and drawn by renderer.cpp.
 
 #include <memory>
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>

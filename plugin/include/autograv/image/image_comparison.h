@@ -13,7 +13,8 @@ struct ImageComparisonOptions {
   /// A pixel differs when its largest channel difference exceeds this, on a 0-255 scale.
   int channel_threshold = 40;
   /// A pixel is forgiven when some pixel of the other image within this many pixels (in x and
-  /// y) matches it within channel_threshold: edges that moved by a pixel do not count.
+  /// y) matches it within channel_threshold: edges that moved by a pixel do not count. 0 counts
+  /// every pixel beyond the threshold, as the real-time renderer's screenshot tests do.
   int search_radius_px = 1;
   /// The comparison passes when the fraction of differing pixels is at most this.
   double tolerance = 5.0e-5;
