@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -14,8 +15,9 @@
 #include "commands.h"
 
 #ifdef AUTOGRAV_HAVE_VIZ
+#include "autograv/image/image_comparison.h"
+#include "autograv/image/png.h"
 #include "autograv/map/map_io.h"
-#include "autograv/viz/image_compare.h"
 #include "autograv/viz/plots.h"
 #include "autograv/viz/scene.h"
 #include "autograv/viz/vtk_export.h"
@@ -153,21 +155,21 @@ void warnModelMismatch(const GravityMap& map, const TruthOptions& truth) {
 // (exit code 1) with a difference picture when it departs.
 void compareWithGolden(const std::string& actual_png, const std::string& golden_png,
                        const CompareOptions& options) {
-  viz::ImageComparisonOptions compare;
+  ImageComparisonOptions compare;
   compare.tolerance = options.tolerance;
   compare.channel_threshold = options.channel_threshold;
   std::string diff_path = options.diff_path;
-  const viz::RgbImage actual = viz::readPng(actual_png);
-  const viz::RgbImage golden = viz::readPng(golden_png);
-  viz::RgbImage diff;
-  const viz::ImageComparison result = viz::compareImages(actual, golden, compare, &diff);
+  const RgbImage actual = readPng(actual_png);
+  const RgbImage golden = readPng(golden_png);
+  RgbImage diff;
+  const ImageComparison result = compareImages(actual, golden, compare, &diff);
   if (!result.passed && diff_path.empty()) {
     const auto dot = actual_png.find_last_of('.');
     diff_path = (dot == std::string::npos ? actual_png : actual_png.substr(0, dot)) + ".diff.png";
   }
   if (!diff_path.empty()) viz::writePng(diff, diff_path);
   std::printf("compare %s with %s: %s\n", actual_png.c_str(), golden_png.c_str(),
-              viz::describe(result, compare).c_str());
+              describe(result, compare).c_str());
   if (!result.passed) {
     std::printf("the picture departs from the golden one; differences in red: %s\n",
                 diff_path.c_str());
@@ -224,9 +226,8 @@ void runPlot(const PlotCommandOptions& options) {
   const std::optional<Truth> truth = makeTruth(options.truth);
   warnModelMismatch(map, options.truth);
   if (truth) plot.ground_truth = truth->gravity;
-  const viz::RgbImage image = options.summary
-                                  ? viz::renderSummaryPlot(map, plot)
-                                  : viz::renderConvergencePlot(map, options.vertex, plot);
+  const RgbImage image = options.summary ? viz::renderSummaryPlot(map, plot)
+                                         : viz::renderConvergencePlot(map, options.vertex, plot);
   viz::writePng(image, options.out_path);
   std::printf("wrote %s (%dx%d px)\n", options.out_path.c_str(), plot.width_px, plot.height_px);
 }
@@ -259,71 +260,86 @@ void runCompare(const CompareCommandOptions&) { noViz(); }
 
 #endif  // AUTOGRAV_HAVE_VIZ
 
+// A subcommand `name` whose options live as long as the program; `run` gets them once parsed.
+template <typename Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> addSubcommand(CLI::App& app, const std::string& name,
+                                                             const std::string& description,
+                                                             void (*run)(const Options&)) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand(name, description);
+  command->callback([options, run] { run(*options); });
+  return {command, options};
+}
+
+// The map to read and the file to write, the first two options of render, plot and export.
+template <typename Options>
+void addMapAndOutput(CLI::App* command, Options& options, const std::string& output) {
+  command->add_option("map", options.map_path, "Map file (JSON)")->required();
+  command->add_option("-o,--out", options.out_path, output)->required();
+}
+
+void addRenderCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<RenderOptions>(
+      app, "render",
+      "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
+      "headless)",
+      runRender);
+  addMapAndOutput(command, *options, "PNG to write");
+  command->add_option("--view", options->view, "Camera: iso, front or top")->capture_default_str();
+  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  command->add_option("--background", options->background, "white or dark")->capture_default_str();
+  command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
+      ->capture_default_str();
+  command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
+                      "Draw the workspace sphere with this radius when the map has no "
+                      "explored workspace (default: the --truth device's, else the grid's box)");
+  command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
+      ->delimiter(',')
+      ->expected(3);
+  command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
+                    "Draw the sphere or box instead of the map's explored workspace");
+  command->add_option("--title", options->title, "Title (default: model, grid, converged)");
+  addTruthOptions(command, options->truth);
+  command->add_option("--compare", options->golden_path,
+                      "Golden PNG: exit 1 with a difference picture when the render departs");
+  addCompareOptions(command, options->compare);
+}
+
+void addPlotCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<PlotCommandOptions>(
+      app, "plot", "Plot the convergence at a vertex (Figs. 8-9) or a whole-map summary (PNG)",
+      runPlot);
+  addMapAndOutput(command, *options, "PNG to write");
+  command->add_option("--vertex", options->vertex, "Vertex index: Delta_j and M_hat_j over j");
+  command->add_flag("--summary", options->summary,
+                    "Histograms of iterations per vertex (and of the error with --truth)");
+  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  command->add_option("--background", options->background, "white or dark")->capture_default_str();
+  command->add_option("--title", options->title, "Title (default: from the map)");
+  addTruthOptions(command, options->truth);
+}
+
+void addExportCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<ExportCommandOptions>(
+      app, "export", "Write a map for ParaView: .vti (image data) or .vtu", runExport);
+  addMapAndOutput(command, *options, "File to write (.vti or .vtu)");
+  addTruthOptions(command, options->truth);
+}
+
+void addCompareCommand(CLI::App& app) {
+  const auto [command, options] = addSubcommand<CompareCommandOptions>(
+      app, "compare", "Compare a picture with a golden one; exit 1 with a difference picture",
+      runCompare);
+  command->add_option("actual", options->actual_path, "PNG to check")->required();
+  command->add_option("golden", options->golden_path, "Golden PNG")->required();
+  addCompareOptions(command, options->compare);
+}
+
 void addRenderCommands(CLI::App& app) {
-  {
-    auto options = std::make_shared<RenderOptions>();
-    CLI::App* command = app.add_subcommand(
-        "render",
-        "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
-        "headless)");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "PNG to write")->required();
-    command->add_option("--view", options->view, "Camera: iso, front or top")
-        ->capture_default_str();
-    command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
-    command->add_option("--background", options->background, "white or dark")
-        ->capture_default_str();
-    command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
-        ->capture_default_str();
-    command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
-                        "Draw the workspace sphere with this radius when the map has no "
-                        "explored workspace (default: the --truth device's, else the grid's box)");
-    command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
-        ->delimiter(',')
-        ->expected(3);
-    command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
-                      "Draw the sphere or box instead of the map's explored workspace");
-    command->add_option("--title", options->title, "Title (default: model, grid, converged)");
-    addTruthOptions(command, options->truth);
-    command->add_option("--compare", options->golden_path,
-                        "Golden PNG: exit 1 with a difference picture when the render departs");
-    addCompareOptions(command, options->compare);
-    command->callback([options] { runRender(*options); });
-  }
-  {
-    auto options = std::make_shared<PlotCommandOptions>();
-    CLI::App* command = app.add_subcommand(
-        "plot", "Plot the convergence at a vertex (Figs. 8-9) or a whole-map summary (PNG)");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "PNG to write")->required();
-    command->add_option("--vertex", options->vertex, "Vertex index: Delta_j and M_hat_j over j");
-    command->add_flag("--summary", options->summary,
-                      "Histograms of iterations per vertex (and of the error with --truth)");
-    command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
-    command->add_option("--background", options->background, "white or dark")
-        ->capture_default_str();
-    command->add_option("--title", options->title, "Title (default: from the map)");
-    addTruthOptions(command, options->truth);
-    command->callback([options] { runPlot(*options); });
-  }
-  {
-    auto options = std::make_shared<ExportCommandOptions>();
-    CLI::App* command =
-        app.add_subcommand("export", "Write a map for ParaView: .vti (image data) or .vtu");
-    command->add_option("map", options->map_path, "Map file (JSON)")->required();
-    command->add_option("-o,--out", options->out_path, "File to write (.vti or .vtu)")->required();
-    addTruthOptions(command, options->truth);
-    command->callback([options] { runExport(*options); });
-  }
-  {
-    auto options = std::make_shared<CompareCommandOptions>();
-    CLI::App* command = app.add_subcommand(
-        "compare", "Compare a picture with a golden one; exit 1 with a difference picture");
-    command->add_option("actual", options->actual_path, "PNG to check")->required();
-    command->add_option("golden", options->golden_path, "Golden PNG")->required();
-    addCompareOptions(command, options->compare);
-    command->callback([options] { runCompare(*options); });
-  }
+  addRenderCommand(app);
+  addPlotCommand(app);
+  addExportCommand(app);
+  addCompareCommand(app);
 }
 
 }  // namespace

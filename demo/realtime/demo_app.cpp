@@ -334,7 +334,7 @@ int runWindowed(const DemoOptions& given) {
   const char* const help =
       "LEFT DRAG: HAND  RIGHT DRAG: VIEW  C: COMPENSATION  A: CALIBRATE  ENTER: CONFIRM  "
       "S/L: SAVE/LOAD  Q: QUIT";
-  gl::Image last_frame;
+  RgbImage last_frame;
   while (!window.shouldClose()) {
     window.pollEvents();
     const std::string update = session->updateCalibration();
@@ -358,7 +358,7 @@ int runWindowed(const DemoOptions& given) {
     if (last) break;
   }
   session->stopRealTime();
-  if (!options.screenshot.empty() && last_frame.width > 0) {
+  if (!options.screenshot.empty() && last_frame.width_px > 0) {
     gl::writePng(last_frame, options.screenshot);
     std::printf("screenshot %s\n", options.screenshot.c_str());
   }

@@ -36,7 +36,7 @@ std::shared_ptr<const GravityMap> loadMapFor(const DemoSession& session, const s
 
 /// What a deterministic headless run produced.
 struct HeadlessResult {
-  gl::Image last_frame;
+  RgbImage last_frame;
   ServoSnapshot last_snapshot;
   int frames = 0;
   std::int64_t ticks_per_frame = 0;

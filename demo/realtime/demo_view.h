@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "autograv/gl/scene.h"
+#include "autograv/gl/frame_data.h"
 #include "autograv/map/gravity_map.h"
 #include "demo_session.h"
 

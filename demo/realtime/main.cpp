@@ -68,8 +68,8 @@ int runHeadless(const DemoOptions& options) {
               static_cast<unsigned long long>(s.faults));
   if (!options.screenshot.empty()) {
     autograv::gl::writePng(result.last_frame, options.screenshot);
-    std::printf("screenshot %s (%dx%d)\n", options.screenshot.c_str(), result.last_frame.width,
-                result.last_frame.height);
+    std::printf("screenshot %s (%dx%d)\n", options.screenshot.c_str(), result.last_frame.width_px,
+                result.last_frame.height_px);
   }
   if (options.realtime_check) {
     const auto check = autograv::demo::runRealTimeCheck(options, seconds);

@@ -79,18 +79,18 @@ TEST(DemoHeadlessTest, TwoSecondsWithAMapMatchGoldenAndFloat) {
   EXPECT_LT(s.drift_m, 0.001) << s.drift_m * 1e3 << " mm";
   EXPECT_EQ(s.faults, 0u);
   EXPECT_DOUBLE_EQ(s.compensation_level, 1.0);
-  const gl::ImageDifference difference =
+  const ImageComparison difference =
       gl::testing::compareWithGolden(result.last_frame, "gl_demo_headless.png");
-  EXPECT_LE(difference.fraction_differing, gl::testing::kMaxFractionDiffering)
-      << difference.pixels_differing << " pixels differ; see tests/gl_output/ in the build folder";
+  EXPECT_LE(difference.differing_fraction, gl::testing::kMaxFractionDiffering)
+      << difference.differing_pixels << " pixels differ; see tests/gl_output/ in the build folder";
 }
 
 TEST(DemoHeadlessTest, SameOptionsGiveTheSamePicture) {
   if (!omniAvailable()) GTEST_SKIP() << "this tree has no sim:omni preset";
   const DemoOptions options = headlessOptions();
-  const gl::Image first = runHeadlessFrames(options).last_frame;
-  const gl::Image second = runHeadlessFrames(options).last_frame;
-  EXPECT_EQ(gl::compareImages(first, second, 0).pixels_differing, 0);
+  const RgbImage first = runHeadlessFrames(options).last_frame;
+  const RgbImage second = runHeadlessFrames(options).last_frame;
+  EXPECT_EQ(gl::testing::comparePixels(first, second, 0).differing_pixels, 0);
 }
 
 TEST(DemoHeadlessTest, WithoutCompensationItFallsAndThePictureShowsIt) {
@@ -99,10 +99,10 @@ TEST(DemoHeadlessTest, WithoutCompensationItFallsAndThePictureShowsIt) {
   options.session.compensation.enabled = false;
   const HeadlessResult result = runHeadlessFrames(options);
   EXPECT_GT(result.last_snapshot.drift_m, 0.02);
-  const gl::Image golden = gl::readPng(gl::testing::goldenPath("gl_demo_headless.png"));
-  const gl::ImageDifference difference =
-      gl::compareImages(result.last_frame, golden, gl::testing::kPixelThreshold);
-  EXPECT_GT(difference.fraction_differing, gl::testing::kMaxFractionDiffering);
+  const RgbImage golden = readPng(gl::testing::goldenPath("gl_demo_headless.png"));
+  const ImageComparison difference =
+      gl::testing::comparePixels(result.last_frame, golden, gl::testing::kPixelThreshold);
+  EXPECT_GT(difference.differing_fraction, gl::testing::kMaxFractionDiffering);
 }
 
 }  // namespace

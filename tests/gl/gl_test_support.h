@@ -12,8 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "autograv/gl/frame_data.h"
 #include "autograv/gl/image.h"
-#include "autograv/gl/scene.h"
+#include "autograv/image/image_comparison.h"
 #include "autograv/map/gravity_map.h"
 #include "explored_fixture_map.h"
 
@@ -99,9 +100,21 @@ inline constexpr int kPixelThreshold = 40;
 /// A screenshot matches when at most this fraction of its pixels differ.
 inline constexpr double kMaxFractionDiffering = 0.002;
 
+/// The comparison of the gl tests: a pixel differs when a channel is off by more than
+/// `threshold`, no shifted edge forgiven; passes at kMaxFractionDiffering. With `diff`, the
+/// difference picture too.
+inline ImageComparison comparePixels(const RgbImage& actual, const RgbImage& expected,
+                                     int threshold, RgbImage* diff = nullptr) {
+  ImageComparisonOptions options;
+  options.channel_threshold = threshold;
+  options.search_radius_px = 0;
+  options.tolerance = kMaxFractionDiffering;
+  return compareImages(actual, expected, options, diff);
+}
+
 /// Compares `actual` with the golden `name`; with AUTOGRAV_UPDATE_GOLDEN=1 in the environment it
 /// rewrites the golden instead. The picture and a difference map are left in outputPath().
-inline ImageDifference compareWithGolden(const Image& actual, const std::string& name) {
+inline ImageComparison compareWithGolden(const RgbImage& actual, const std::string& name) {
   writePng(actual, outputPath(name));
   const char* update = std::getenv("AUTOGRAV_UPDATE_GOLDEN");
   if (update != nullptr && std::string(update) == "1") {
@@ -110,10 +123,11 @@ inline ImageDifference compareWithGolden(const Image& actual, const std::string&
                   << "AUTOGRAV_UPDATE_GOLDEN and look at it before committing";
     return {};
   }
-  const Image golden = readPng(goldenPath(name));
-  const ImageDifference difference = compareImages(actual, golden, kPixelThreshold);
-  if (difference.fraction_differing > kMaxFractionDiffering) {
-    writePng(differenceImage(actual, golden, kPixelThreshold), outputPath("diff_" + name));
+  const RgbImage golden = readPng(goldenPath(name));
+  RgbImage diff;
+  const ImageComparison difference = comparePixels(actual, golden, kPixelThreshold, &diff);
+  if (difference.differing_fraction > kMaxFractionDiffering) {
+    writePng(diff, outputPath("diff_" + name));
   }
   return difference;
 }

@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "autograv/error.h"
+#include "autograv/image/image_comparison.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/viz/image.h"
-#include "autograv/viz/image_compare.h"
 #include "viz_test_support.h"
 
 namespace autograv::viz {

@@ -17,10 +17,10 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/image/image_comparison.h"
 #include "autograv/map/map_io.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/viz/image.h"
-#include "autograv/viz/image_compare.h"
 #include "autograv/viz/plots.h"
 #include "autograv/viz/scene.h"
 #include "viz_test_support.h"

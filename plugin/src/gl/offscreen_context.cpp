@@ -72,18 +72,19 @@ GlProcLoader OffscreenContext::procLoader() const {
   return reinterpret_cast<GlProcLoader>(&OSMesaGetProcAddress);
 }
 
-Image OffscreenContext::readImage() {
+RgbImage OffscreenContext::readImage() {
   const auto finish = reinterpret_cast<FinishFunction>(OSMesaGetProcAddress("glFinish"));
   if (finish != nullptr) finish();
-  Image image;
-  image.width = state_->width;
-  image.height = state_->height;
-  image.rgb.resize(static_cast<std::size_t>(image.width) * image.height * 3);
-  for (int y = 0; y < image.height; ++y) {
+  RgbImage image;
+  image.width_px = state_->width;
+  image.height_px = state_->height;
+  image.rgb.resize(static_cast<std::size_t>(image.width_px) * image.height_px * 3);
+  for (int y = 0; y < image.height_px; ++y) {
     const unsigned char* source =
-        state_->pixels.data() + static_cast<std::size_t>(image.height - 1 - y) * image.width * 4;
-    std::uint8_t* target = image.rgb.data() + static_cast<std::size_t>(y) * image.width * 3;
-    for (int x = 0; x < image.width; ++x) {
+        state_->pixels.data() +
+        static_cast<std::size_t>(image.height_px - 1 - y) * image.width_px * 4;
+    std::uint8_t* target = image.rgb.data() + static_cast<std::size_t>(y) * image.width_px * 3;
+    for (int x = 0; x < image.width_px; ++x) {
       target[3 * x + 0] = source[4 * x + 0];
       target[3 * x + 1] = source[4 * x + 1];
       target[3 * x + 2] = source[4 * x + 2];

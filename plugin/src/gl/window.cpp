@@ -147,7 +147,7 @@ void Window::setTitle(const std::string& title) {
   glfwSetWindowTitle(state_->window, title.c_str());
 }
 
-Image Window::readImage() {
+RgbImage Window::readImage() {
   const auto finish = reinterpret_cast<PFNGLFINISHPROC>(glfwGetProcAddress("glFinish"));
   const auto pixel_store =
       reinterpret_cast<PFNGLPIXELSTOREIPROC>(glfwGetProcAddress("glPixelStorei"));
@@ -159,18 +159,19 @@ Image Window::readImage() {
       read_pixels == nullptr) {
     throw Error("the window's GL context lacks glReadPixels; cannot take a screenshot");
   }
-  Image image;
-  image.width = framebufferWidth();
-  image.height = framebufferHeight();
-  std::vector<std::uint8_t> bottom_up(static_cast<std::size_t>(image.width) * image.height * 3);
+  RgbImage image;
+  image.width_px = framebufferWidth();
+  image.height_px = framebufferHeight();
+  std::vector<std::uint8_t> bottom_up(static_cast<std::size_t>(image.width_px) * image.height_px *
+                                      3);
   finish();
   read_buffer(GL_BACK);
   pixel_store(GL_PACK_ALIGNMENT, 1);
-  read_pixels(0, 0, image.width, image.height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
+  read_pixels(0, 0, image.width_px, image.height_px, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
   image.rgb.resize(bottom_up.size());
-  const std::size_t row = static_cast<std::size_t>(image.width) * 3;
-  for (int y = 0; y < image.height; ++y) {
-    std::copy_n(bottom_up.data() + static_cast<std::size_t>(image.height - 1 - y) * row, row,
+  const std::size_t row = static_cast<std::size_t>(image.width_px) * 3;
+  for (int y = 0; y < image.height_px; ++y) {
+    std::copy_n(bottom_up.data() + static_cast<std::size_t>(image.height_px - 1 - y) * row, row,
                 image.rgb.data() + static_cast<std::size_t>(y) * row);
   }
   return image;

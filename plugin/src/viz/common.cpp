@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "autograv/error.h"
+#include "enum_names.h"
 #include "vtk_support.h"
 
 // Xlib last: it defines macros (None, Status, Bool) that clash with other headers.
@@ -12,41 +13,30 @@
 
 namespace autograv::viz {
 
+namespace {
+
+constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::kWhite, "white"},
+                                                                   {Background::kDark, "dark"}};
+constexpr std::pair<ColorMap, const char*> kColorMapNames[] = {{ColorMap::kViridis, "viridis"},
+                                                               {ColorMap::kCoolWarm, "coolwarm"},
+                                                               {ColorMap::kGrayscale, "grayscale"}};
+
+}  // namespace
+
 const char* toString(Background background) noexcept {
-  return background == Background::kDark ? "dark" : "white";
+  return detail::nameIn(kBackgroundNames, background);
 }
 
 bool parseBackground(const std::string& name, Background& background) noexcept {
-  if (name == "white") {
-    background = Background::kWhite;
-  } else if (name == "dark") {
-    background = Background::kDark;
-  } else {
-    return false;
-  }
-  return true;
+  return detail::parseIn(kBackgroundNames, name, background);
 }
 
 const char* toString(ColorMap color_map) noexcept {
-  switch (color_map) {
-    case ColorMap::kCoolWarm:
-      return "coolwarm";
-    case ColorMap::kGrayscale:
-      return "grayscale";
-    case ColorMap::kViridis:
-      break;
-  }
-  return "viridis";
+  return detail::nameIn(kColorMapNames, color_map);
 }
 
 bool parseColorMap(const std::string& name, ColorMap& color_map) noexcept {
-  for (const ColorMap candidate : {ColorMap::kViridis, ColorMap::kCoolWarm, ColorMap::kGrayscale}) {
-    if (name == toString(candidate)) {
-      color_map = candidate;
-      return true;
-    }
-  }
-  return false;
+  return detail::parseIn(kColorMapNames, name, color_map);
 }
 
 namespace detail {

@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
+#include "enum_names.h"
 #include "scene_build.h"
 #include "scene_camera.h"
 
@@ -154,6 +155,12 @@ void addTitle(SceneBuild& scene) {
   scene.overlay->AddActor2D(title);
 }
 
+// Axes along the box of the data, seen from `basis`; returns where their labels stand.
+std::vector<Eigen::Vector3d> addSceneAxes(SceneBuild& scene, const CameraBasis& basis) {
+  return addAxes(scene.renderer, scene.data_bounds, basis.direction, basis.up, basis.right,
+                 scene.palette, scene.font_px);
+}
+
 // The preset direction, framed on the axes' labels (`frame_points`), the data, the workspace
 // and the device.
 void placeCamera(SceneBuild& scene, const CameraBasis& basis,
@@ -172,29 +179,29 @@ void placeCamera(SceneBuild& scene, const CameraBasis& basis,
   scene.renderer->ResetCameraClippingRange();
 }
 
+// The two layers in an offscreen window of the picture's size, drawn and read back.
+RgbImage renderOffscreen(SceneBuild& scene) {
+  OffscreenWindow window(scene.options.width_px, scene.options.height_px);
+  window.get()->SetNumberOfLayers(2);
+  window.get()->AddRenderer(scene.overlay);
+  window.get()->AddRenderer(scene.renderer);
+  return captureWindow(window.get());
+}
+
 }  // namespace
 }  // namespace detail
 
-const char* toString(CameraView view) noexcept {
-  switch (view) {
-    case CameraView::kFront:
-      return "front";
-    case CameraView::kTop:
-      return "top";
-    case CameraView::kIso:
-      break;
-  }
-  return "iso";
-}
+namespace {
+
+constexpr std::pair<CameraView, const char*> kCameraViewNames[] = {
+    {CameraView::kIso, "iso"}, {CameraView::kFront, "front"}, {CameraView::kTop, "top"}};
+
+}  // namespace
+
+const char* toString(CameraView view) noexcept { return detail::nameIn(kCameraViewNames, view); }
 
 bool parseCameraView(const std::string& name, CameraView& view) noexcept {
-  for (const CameraView candidate : {CameraView::kIso, CameraView::kFront, CameraView::kTop}) {
-    if (name == toString(candidate)) {
-      view = candidate;
-      return true;
-    }
-  }
-  return false;
+  return detail::parseIn(kCameraViewNames, name, view);
 }
 
 SceneSummary summarizeScene(const GravityMap& map, const GroundTruth& ground_truth,
@@ -243,18 +250,11 @@ RgbImage renderScene(const GravityMap& map, const SceneOptions& options) {
   detail::addResidualField(scene);
   // The axes go along the box of everything drawn, so they come after the scene's content.
   const detail::CameraBasis basis = detail::cameraBasis(options);
-  std::vector<Eigen::Vector3d> label_anchors =
-      detail::addAxes(scene.renderer, scene.data_bounds, basis.direction, basis.up, basis.right,
-                      scene.palette, scene.font_px);
+  std::vector<Eigen::Vector3d> label_anchors = detail::addSceneAxes(scene, basis);
   detail::addLegend(scene);
   detail::addTitle(scene);
   detail::placeCamera(scene, basis, std::move(label_anchors));
-
-  detail::OffscreenWindow window(options.width_px, options.height_px);
-  window.get()->SetNumberOfLayers(2);
-  window.get()->AddRenderer(scene.overlay);
-  window.get()->AddRenderer(scene.renderer);
-  return detail::captureWindow(window.get());
+  return detail::renderOffscreen(scene);
 }
 
 }  // namespace autograv::viz

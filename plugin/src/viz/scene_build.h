@@ -26,8 +26,6 @@ namespace autograv::viz::detail {
 
 inline constexpr double kMmPerM = 1000.0;
 inline constexpr double kPi = 3.14159265358979323846;
-// Longest arrow as a fraction of the grid spacing: neighbours never touch.
-inline constexpr double kArrowFraction = 0.8;
 // Residual samples per cell edge, and the most samples per axis (bounds the cost of ground truth).
 inline constexpr int kResidualSubdivisions = 4;
 inline constexpr int kResidualMaxSamples = 65;

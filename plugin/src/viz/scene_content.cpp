@@ -24,6 +24,7 @@
 #include <vtkRenderer.h>
 #include <vtkSphereSource.h>
 
+#include "autograv/image/arrow_length.h"
 #include "scene_build.h"
 
 namespace autograv::viz::detail {
@@ -125,8 +126,8 @@ void addLattice(SceneBuild& scene) {
   scene.renderer->AddActor(lattice);
 }
 
-// The colour range and the length rule of every gravity arrow: the longest is kArrowFraction of
-// the grid spacing, so neighbours never touch.
+// The colour range and the length of every gravity arrow (autograv/image/arrow_length.h: the
+// longest is kLongestArrowFraction of the grid spacing).
 void chooseArrowScale(SceneBuild& scene) {
   double lo = scene.summary.min_gravity_n;
   double hi = scene.summary.max_gravity_n;
@@ -137,7 +138,7 @@ void chooseArrowScale(SceneBuild& scene) {
     lo = hi > 0.0 ? std::min(lo, magnitude) : magnitude;
     hi = std::max(hi, magnitude);
   }
-  if (hi > 0.0) scene.arrow_mm_per_n = kArrowFraction * scene.spacing_mm / hi;
+  scene.arrow_mm_per_n = arrowLengthPerNewton(scene.spacing_mm, hi);
   if (hi - lo < 1e-6) {
     const double pad = 0.05 * hi + 1e-3;
     lo = std::max(0.0, lo - pad);

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "autograv/gl/gl_context.h"
-#include "autograv/gl/image.h"
+#include "autograv/image/rgb_image.h"
 
 namespace autograv::gl {
 
@@ -26,7 +26,7 @@ class OffscreenContext final : public GlContext {
 
   /// Waits for the GL to finish and returns what was drawn. The context must be current on the
   /// calling thread. Not real-time safe.
-  Image readImage();
+  RgbImage readImage();
 
  private:
   struct State;

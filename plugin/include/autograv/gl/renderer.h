@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "autograv/gl/frame_data.h"
 #include "autograv/gl/gl_context.h"
-#include "autograv/gl/scene.h"
 
 namespace autograv::gl {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "autograv/gl/gl_context.h"
-#include "autograv/gl/image.h"
+#include "autograv/image/rgb_image.h"
 
 namespace autograv::gl {
 
@@ -66,7 +66,7 @@ class Window final : public GlContext {
   /// Sets the window's title bar text. Not real-time safe.
   void setTitle(const std::string& title);
   /// Reads the back buffer (call after drawing, before swapBuffers). Not real-time safe.
-  Image readImage();
+  RgbImage readImage();
 
  private:
   struct State;

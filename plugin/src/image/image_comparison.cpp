@@ -1,4 +1,4 @@
-#include "autograv/viz/image_compare.h"
+#include "autograv/image/image_comparison.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,9 @@
 #include <sstream>
 
 #include "autograv/error.h"
+#include "autograv/image/png.h"
 
-namespace autograv::viz {
+namespace autograv {
 
 namespace {
 
@@ -33,8 +34,7 @@ bool unmatched(const RgbImage& image, const RgbImage& other, int x, int y, int r
 }
 
 void checkImage(const RgbImage& image, const char* which) {
-  if (image.empty() ||
-      image.rgb.size() != static_cast<std::size_t>(image.width_px) * image.height_px * 3) {
+  if (!image.consistent()) {
     throw Error(std::string("image comparison: the ") + which + " image is empty or inconsistent");
   }
 }
@@ -56,10 +56,8 @@ ImageComparison compareImages(const RgbImage& actual, const RgbImage& expected,
   checkImage(expected, "expected");
 
   ImageComparison result;
-  result.width_px = expected.width_px;
-  result.height_px = expected.height_px;
-  result.actual_width_px = actual.width_px;
-  result.actual_height_px = actual.height_px;
+  result.expected_size = {expected.width_px, expected.height_px};
+  result.actual_size = {actual.width_px, actual.height_px};
   result.same_size = actual.width_px == expected.width_px && actual.height_px == expected.height_px;
   if (diff != nullptr) {
     // The expected picture, faded so that the red marks stand out.
@@ -109,16 +107,17 @@ ImageComparison compareImageFiles(const std::string& actual_png, const std::stri
   RgbImage diff;
   const ImageComparison result =
       compareImages(actual, expected, options, diff_png.empty() ? nullptr : &diff);
-  if (!diff_png.empty()) writePng(diff, diff_png);
+  if (!diff_png.empty()) writePng(diff, diff_png, PngEncoding::kPlain);
   return result;
 }
 
 std::string describe(const ImageComparison& comparison, const ImageComparisonOptions& options) {
   std::ostringstream text;
   if (!comparison.same_size) {
-    text << "image sizes differ: " << comparison.actual_width_px << "x"
-         << comparison.actual_height_px << " px rendered, " << comparison.width_px << "x"
-         << comparison.height_px << " px expected";
+    text << "image sizes differ: " << comparison.actual_size.width_px << "x"
+         << comparison.actual_size.height_px << " px rendered, "
+         << comparison.expected_size.width_px << "x" << comparison.expected_size.height_px
+         << " px expected";
     return text.str();
   }
   char line[256];
@@ -130,4 +129,4 @@ std::string describe(const ImageComparison& comparison, const ImageComparisonOpt
   return line;
 }
 
-}  // namespace autograv::viz
+}  // namespace autograv

@@ -27,8 +27,9 @@ struct Scene {
   /// Draw the points measured off their vertex, inside the stops (VertexEstimate::measured_at_m):
   /// a bead with the measured arrow and a thin line to the vertex their value went into.
   bool show_measurements = true;
-  /// Arrow length per newton, shared by the map arrows and the force vector; 0 picks one so that
-  /// the longest map arrow is 0.8 grid cells. Unit: [m/N]
+  /// Arrow length per newton, shared by the map arrows and the force vector; 0 picks the one of
+  /// every picture of a map (arrowLengthPerNewton of the grid spacing and the largest |G|, or of
+  /// 1 N without a map). Unit: [m/N]
   double arrow_scale_m_per_n = 0.0;
 
   bool show_cursor = false;                            ///< Draw the end-effector.
