@@ -8,9 +8,18 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
+#include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/pd_design.h"
 
 namespace autograv::demo {
+
+namespace {
+/// Floor on |G_hat| for the apparent mass of the handover hold (constraint 6), whose feedforward
+/// is the new map's value where the wizard left the end-effector. The demo's own floor, twice
+/// VertexEstimator::kMinGravityN: only the gains of a near-weightless end-effector depend on
+/// it. Unit: [N]
+constexpr double kHandoverMinGravityN = 0.02;
+}  // namespace
 
 const char* toString(ServoMode mode) noexcept {
   switch (mode) {
@@ -267,10 +276,9 @@ void DemoSession::handleScriptEvent(const HandEvent& event) noexcept {
 
 Eigen::Vector3d DemoSession::holdForce(const ServoSample& sample) const noexcept {
   // Paper eq. (10) with the last estimate as feedforward and eq. (11)'s gains.
-  const double mass_kg = std::max(hold_gravity_n_.norm(), 0.02) / kStandardGravity;
-  Eigen::Vector3d force_n =
-      options_.estimation.beta_per_s2 * mass_kg * (hold_position_m_ - sample.position_m) -
-      options_.estimation.alpha_per_s * mass_kg * sample.velocity_m_per_s + hold_gravity_n_;
+  const ImpedanceHold hold = ImpedanceHold::from(options_.estimation, kHandoverMinGravityN);
+  Eigen::Vector3d force_n = hold.holdForce_n(
+      hold_position_m_, sample, hold.apparentMass_kg(hold_gravity_n_), hold_gravity_n_);
   clampForce(force_n, simulation_->specifications().max_linear_force_n);
   return force_n;
 }

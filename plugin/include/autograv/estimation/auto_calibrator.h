@@ -7,6 +7,7 @@
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/gravity_map.h"
@@ -150,6 +151,8 @@ class AutoCalibrator {
   EstimationParameters parameters_;
   double max_force_n_;
   Options options_;
+  ImpedanceHold hold_;  // the moves' and holds' law, with the estimator's floor
+  double max_invalid_periods_;
   VertexEstimator estimator_;
   bool retreated_ = false;  // the current vertex's point was moved back from a stop
   int stop_retreats_ = 0;

@@ -8,6 +8,12 @@
 
 namespace autograv {
 
+/// The apparent mass of eq. (11), M = max(|G|, floor) / g: constraint (6) needs |G| > 0, so an
+/// estimate below `min_gravity_n` counts as that floor. Units: [N] in, [kg] out. Real-time safe.
+inline double apparentMass_kg(const Eigen::Vector3d& gravity_n, double min_gravity_n) noexcept {
+  return std::max(gravity_n.norm(), min_gravity_n) / kStandardGravity;
+}
+
 /// The paper's impedance hold, eq. (10) with the gains of eq. (11): the closed loop
 /// Xdd = beta (X_D - X) - alpha Xd around the apparent mass M = |G| / g, so K_P = beta M and
 /// K_D = alpha M. Every part of the library that holds or carries the end-effector with the
@@ -15,7 +21,9 @@ namespace autograv {
 /// its force here, so the law is written once.
 ///
 /// Constraint (6) needs |G| > 0: the apparent mass has an explicit floor, passed by each user
-/// (the estimator's and the initialization's floors differ, and each keeps its own).
+/// (VertexEstimator::kMinGravityN for the estimator, the calibrator and the wizard; the
+/// real-time demo keeps a floor of its own), so that no figure depends on which part holds.
+/// Every member is real-time safe.
 struct ImpedanceHold {
   /// Closed-loop stiffness. Unit: [1/s^2]
   double beta_per_s2 = 0.0;
@@ -29,9 +37,9 @@ struct ImpedanceHold {
     return ImpedanceHold{parameters.beta_per_s2, parameters.alpha_per_s, min_gravity_n};
   }
 
-  /// M = max(|G|, floor) / g. Unit: [kg]
+  /// M = max(|G|, min_gravity_n) / g (the free apparentMass_kg). Unit: [kg]
   double apparentMass_kg(const Eigen::Vector3d& gravity_n) const noexcept {
-    return std::max(gravity_n.norm(), min_gravity_n) / kStandardGravity;
+    return autograv::apparentMass_kg(gravity_n, min_gravity_n);
   }
   /// K_P = beta M. Unit: [N/m]
   double stiffness_n_per_m(double mass_kg) const noexcept { return beta_per_s2 * mass_kg; }
@@ -59,7 +67,8 @@ struct ImpedanceHold {
 };
 
 /// Servo periods of invalid readings tolerated before a hold gives up: kMaxInvalidReadings_s
-/// in periods of `servo_period_s`, plus the slack every servo-time count keeps.
+/// in periods of `servo_period_s`, plus the slack every servo-time count keeps. A loop that
+/// counts invalid servo time in periods gives up once its count exceeds this. Real-time safe.
 inline double maxInvalidPeriods(double servo_period_s) noexcept {
   return kMaxInvalidReadings_s / servo_period_s + kServoTimeSlackPeriods;
 }

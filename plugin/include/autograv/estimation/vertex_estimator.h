@@ -6,6 +6,7 @@
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
+#include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/steady_state_detector.h"
 #include "autograv/map/gravity_map.h"
 
@@ -79,7 +80,8 @@ class VertexEstimator {
   /// room for the hold's feedback force.
   static constexpr double kContinuousForceMargin = 0.95;
 
-  /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6). Unit: [N]
+  /// Floor on |G_hat| used for the gains, enforcing the paper's constraint (6): the
+  /// ImpedanceHold floor of the estimator, the calibrator's moves and the wizard. Unit: [N]
   static constexpr double kMinGravityN = 0.01;
   /// Consecutive updates that do not shrink (each at least kStallRatio of the one before and
   /// larger than kStallUpdateFloor_n and 4 eps_G) after which the vertex is unreachable. Near a
@@ -139,13 +141,14 @@ class VertexEstimator {
   EstimationParameters parameters_;
   double max_force_n_;
   double continuous_force_n_;  // the automatic dither's budget. Unit: [N]
+  ImpedanceHold hold_;         // eq. (10) with eq. (11)'s gains, floored at kMinGravityN
   SteadyStateDetector detector_;
   VertexEstimate estimate_;
   Eigen::Vector3d vertex_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // G_hat_j, the feedforward
   Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
-  double stiffness_n_per_m_ = 0.0;
-  double damping_n_s_per_m_ = 0.0;
+  double mass_kg_ = 0.0;            // M_hat_{j-1} of the gains in use (eq. 11). Unit: [kg]
+  double stiffness_n_per_m_ = 0.0;  // K_P = beta M_hat_{j-1}. Unit: [N/m]
   double last_error_m_ = 0.0;
   double elapsed_periods_ = 0.0;  // servo time at this vertex, in nominal periods
   int small_updates_ = 0;

@@ -27,6 +27,8 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
       parameters_(parameters),
       max_force_n_(max_force_n),
       options_(options),
+      hold_(ImpedanceHold::from(parameters, VertexEstimator::kMinGravityN)),
+      max_invalid_periods_(maxInvalidPeriods(parameters.servo_period_s)),
       estimator_(parameters, max_force_n, options.continuous_force_n),
       vertices_(static_cast<std::size_t>(grid.vertexCount())),
       order_(grid.visitOrder(grid.center_m())) {
@@ -160,11 +162,8 @@ Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
 }
 
 Eigen::Vector3d AutoCalibrator::holdForce(const ServoSample& sample) const noexcept {
-  const double mass_kg =
-      std::max(gravity_n_.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
-  Eigen::Vector3d force_n = parameters_.beta_per_s2 * mass_kg * (hold_m_ - sample.position_m) -
-                            parameters_.alpha_per_s * mass_kg * sample.velocity_m_per_s +
-                            gravity_n_;
+  Eigen::Vector3d force_n =
+      hold_.holdForce_n(hold_m_, sample, hold_.apparentMass_kg(gravity_n_), gravity_n_);
   clampForce(force_n, max_force_n_);
   return force_n;
 }
@@ -224,8 +223,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
   if (!sample.valid) {
     force_n = last_force_n_;
     invalid_periods_ += periods;
-    if (invalid_periods_ >
-        kMaxInvalidReadings_s / parameters_.servo_period_s + kServoTimeSlackPeriods) {
+    if (invalid_periods_ > max_invalid_periods_) {
       force_n.setZero();
       last_force_n_.setZero();
       if (active_ && state_ == Status::kEstimating) {
@@ -248,12 +246,9 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
       Eigen::Vector3d desired_m, desired_velocity, desired_acceleration;
       move_.sample(move_periods_ * parameters_.servo_period_s, desired_m, desired_velocity,
                    desired_acceleration);
-      const double mass_kg =
-          std::max(gravity_n_.norm(), VertexEstimator::kMinGravityN) / kStandardGravity;
       // eq. (10) tracking a moving target, with the path's acceleration fed forward.
-      force_n = parameters_.beta_per_s2 * mass_kg * (desired_m - sample.position_m) +
-                parameters_.alpha_per_s * mass_kg * (desired_velocity - sample.velocity_m_per_s) +
-                mass_kg * desired_acceleration + gravity_n_;
+      force_n = hold_.trackForce_n(desired_m, desired_velocity, desired_acceleration, sample,
+                                   hold_.apparentMass_kg(gravity_n_), gravity_n_);
       clampForce(force_n, max_force_n_);
       hold_m_ = desired_m;
       if (move_periods_ * parameters_.servo_period_s >= move_.duration_s()) {

@@ -5,10 +5,9 @@
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
+#include "autograv/estimation/impedance_hold.h"
 
 namespace autograv {
-
-namespace {}  // namespace
 
 InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
                                                  double max_force_n, double ramp_s,
@@ -18,8 +17,7 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
       damping_n_s_per_m_(damping_n_s_per_m),
       ramp_periods_(
           static_cast<double>(std::max(1L, std::lround(ramp_s / parameters.servo_period_s)))),
-      max_invalid_periods_(kMaxInvalidReadings_s / parameters.servo_period_s +
-                           kServoTimeSlackPeriods),
+      max_invalid_periods_(maxInvalidPeriods(parameters.servo_period_s)),
       detector_(SteadyStateDetector::forParameters(parameters)) {
   if (!(parameters.k0_n_per_m > 0.0))
     throw Error(

@@ -64,6 +64,7 @@ VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double 
       max_force_n_(max_force_n),
       continuous_force_n_(continuous_force_n > 0.0 ? continuous_force_n
                                                    : kDefaultContinuousForceFraction * max_force_n),
+      hold_(ImpedanceHold::from(parameters, kMinGravityN)),
       detector_(SteadyStateDetector::forParameters(parameters)) {
   validate(parameters, max_force_n);
   if (!(continuous_force_n >= 0.0) || !std::isfinite(continuous_force_n)) {
@@ -77,16 +78,15 @@ VertexEstimator::VertexEstimator(const EstimationParameters& parameters, double 
             : EstimationParameters::kAutoDitherFraction * max_force_n;  // set per vertex
     dither_step_rad_ = 2.0 * kPi * parameters.dither_frequency_hz * parameters.servo_period_s;
   }
-  max_invalid_periods_ = kMaxInvalidReadings_s / parameters.servo_period_s + kServoTimeSlackPeriods;
+  max_invalid_periods_ = maxInvalidPeriods(parameters.servo_period_s);
   max_saturated_periods_ = kMaxSaturated_s / parameters.servo_period_s + kServoTimeSlackPeriods;
   estimate_.history.reserve(static_cast<std::size_t>(parameters.max_iterations));
 }
 
 void VertexEstimator::setGains(const Eigen::Vector3d& gravity_n) noexcept {
-  // Constraint (6): the gains need |G_hat| > 0; a floor keeps the loop controllable.
-  const double mass_kg = std::max(gravity_n.norm(), kMinGravityN) / kStandardGravity;
-  stiffness_n_per_m_ = parameters_.beta_per_s2 * mass_kg;
-  damping_n_s_per_m_ = parameters_.alpha_per_s * mass_kg;
+  // Constraint (6): the gains need |G_hat| > 0; the hold's floor keeps the loop controllable.
+  mass_kg_ = hold_.apparentMass_kg(gravity_n);
+  stiffness_n_per_m_ = hold_.stiffness_n_per_m(mass_kg_);
   // Eq. 12 turns a mean position into a force through K_P: window means that would move the update
   // by less than a quarter of eps_G already agree, however soft K_P makes that in millimetres.
   detector_.setWindowTolerance_m(kWindowToleranceOfEpsG * parameters_.eps_g_n / stiffness_n_per_m_);
@@ -257,8 +257,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   invalid_periods_ = 0.0;
 
   // eq. (10), plus the zero-mean dither of the dither method
-  force_n = stiffness_n_per_m_ * (vertex_m_ - sample.position_m) -
-            damping_n_s_per_m_ * sample.velocity_m_per_s + gravity_n_;
+  force_n = hold_.holdForce_n(vertex_m_, sample, mass_kg_, gravity_n_);
   if (dither_amplitude_n_ > 0.0) force_n -= holdPayback_n(force_n, periods);
   if (dither_amplitude_n_ > 0.0) force_n += ditherCommand_n(periods);
   saturated_periods_ = clampForce(force_n, max_force_n_) ? saturated_periods_ + periods : 0.0;

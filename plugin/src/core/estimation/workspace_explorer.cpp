@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "autograv/error.h"
+#include "autograv/estimation/impedance_hold.h"
 
 namespace autograv {
 
@@ -12,7 +13,7 @@ namespace {
 /// Longest hold after a transfer for the end-effector to catch up with its end. Unit: [s]
 constexpr double kTransferSettleMax_s = 0.3;
 /// Floor on |G_hat| for the apparent mass of the probe's damping (eq. 6). Unit: [N]
-constexpr double kMinGravityN = 0.01;
+constexpr double kProbeMinGravityN = 0.01;
 /// Time constant of the gravity estimate following the probe effort. Unit: [s]
 constexpr double kGravityFollow_s = 0.4;
 /// Time constant of the velocity filter of the contact check. Unit: [s]
@@ -118,7 +119,7 @@ Eigen::Vector3d WorkspaceExplorer::impedanceForce(const ServoSample& sample,
                                                   const Eigen::Vector3d& target_velocity,
                                                   bool adapt) noexcept {
   const double stiffness_n_per_m = contact_force_n_ / options_.contact_lag_m;
-  const double mass_kg = std::max(gravity_n_.norm(), kMinGravityN) / kStandardGravity;
+  const double mass_kg = apparentMass_kg(gravity_n_, kProbeMinGravityN);
   const double damping_n_s_per_m =
       2.0 * kProbeDampingRatio * std::sqrt(stiffness_n_per_m * mass_kg);
   Eigen::Vector3d effort_n = stiffness_n_per_m * (target_m - sample.position_m) +
