@@ -8,7 +8,7 @@
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/steady_state_detector.h"
-#include "autograv/map/gravity_map.h"
+#include "autograv/types/vertex_estimate.h"
 
 namespace autograv {
 

@@ -366,23 +366,6 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   return Status::kUpdated;
 }
 
-const char* toString(EstimationMethod method) noexcept {
-  switch (method) {
-    case EstimationMethod::kPaper:
-      return "paper";
-    case EstimationMethod::kDither:
-      return "dither";
-  }
-  return "unknown";
-}
-
-EstimationMethod parseEstimationMethod(const std::string& name) {
-  for (const EstimationMethod method : {EstimationMethod::kPaper, EstimationMethod::kDither}) {
-    if (name == toString(method)) return method;
-  }
-  throw Error("unknown estimation method '" + name + "'; valid: paper, dither");
-}
-
 const char* toString(VertexEstimator::Status status) noexcept {
   switch (status) {
     case VertexEstimator::Status::kSettling:
