@@ -3,7 +3,6 @@
 #include <string>
 #include <vector>
 
-#include "autograv/device/device_specifications.h"
 #include "autograv/map/gravity_map.h"
 
 namespace autograv {
@@ -16,6 +15,10 @@ std::string defaultMapLibraryDir();
 /// One folder of maps, one per device, named by model and serial number (so a lab with two
 /// Omegas keeps both): "<model>.json", or "<model>@<serial>.json" when the driver reports a serial,
 /// with every character outside [A-Za-z0-9._-] replaced by '_'. Not real-time safe.
+///
+/// A device is named by what its DeviceSpecifications report, `model_name` and `serial_number`:
+/// the members that take a device are templates on that pair, so that the map depends on no
+/// device header (the device library's decorator holds maps).
 class MapLibrary {
  public:
   /// An empty `dir` means defaultMapLibraryDir(). The folder need not exist until save().
@@ -23,16 +26,25 @@ class MapLibrary {
 
   /// The library's folder.
   const std::string& dir() const noexcept { return dir_; }
-  /// Where the map of this device is (or would be) kept.
-  std::string pathFor(const DeviceSpecifications& device) const;
+  /// Where the map of this device (a DeviceSpecifications) is (or would be) kept.
+  template <class Specifications>
+  std::string pathFor(const Specifications& device) const {
+    return pathFor(device.model_name, device.serial_number);
+  }
   /// The same for a model and a serial number (empty when unknown).
   std::string pathFor(const std::string& model, const std::string& serial) const;
   /// Saves `map` under its metadata's model and serial, creating the folder if needed; returns the
   /// path. Throws autograv::Error when it cannot.
   std::string save(const GravityMap& map) const;
-  /// The path of the map that fits `device`: the one made on this very unit (model and serial),
-  /// else, when the device reports no serial, the one of its model. Empty when none fits.
-  std::string find(const DeviceSpecifications& device) const;
+  /// The path of the map that fits `device` (a DeviceSpecifications): the one made on this very
+  /// unit (model and serial), else, when the device reports no serial, the one of its model.
+  /// Empty when none fits.
+  template <class Specifications>
+  std::string find(const Specifications& device) const {
+    return find(device.model_name, device.serial_number);
+  }
+  /// The same for a model and a serial number (empty when unknown).
+  std::string find(const std::string& model, const std::string& serial) const;
   /// Every map file in the folder (sorted), empty when the folder does not exist.
   std::vector<std::string> list() const;
 
@@ -40,9 +52,17 @@ class MapLibrary {
   std::string dir_;
 };
 
-/// Loads the map of `device` from the library in `dir` (empty: the default folder), checked
-/// against the device's model and serial. Throws autograv::Error naming the folder, the maps it
-/// holds and how to make one when none fits. Not real-time safe.
-GravityMap loadMapForDevice(const DeviceSpecifications& device, const std::string& dir = {});
+/// Loads the map of the unit `model` with serial number `serial` (empty when unknown) from the
+/// library in `dir` (empty: the default folder), checked against that model and serial. Throws
+/// autograv::Error naming the folder, the maps it holds and how to make one when none fits. Not
+/// real-time safe.
+GravityMap loadMapForUnit(const std::string& model, const std::string& serial,
+                          const std::string& dir = {});
+
+/// loadMapForUnit for `device` (a DeviceSpecifications): its model_name and serial_number.
+template <class Specifications>
+GravityMap loadMapForDevice(const Specifications& device, const std::string& dir = {}) {
+  return loadMapForUnit(device.model_name, device.serial_number, dir);
+}
 
 }  // namespace autograv

@@ -25,9 +25,8 @@ std::string fileSafe(const std::string& text) {
   return safe;
 }
 
-std::string describe(const DeviceSpecifications& device) {
-  return "\"" + device.model_name + "\"" +
-         (device.serial_number.empty() ? "" : " (serial " + device.serial_number + ")");
+std::string describe(const std::string& model, const std::string& serial) {
+  return "\"" + model + "\"" + (serial.empty() ? "" : " (serial " + serial + ")");
 }
 
 }  // namespace
@@ -57,10 +56,6 @@ std::string MapLibrary::pathFor(const std::string& model, const std::string& ser
   return (fs::path(dir_) / (name + ".json")).string();
 }
 
-std::string MapLibrary::pathFor(const DeviceSpecifications& device) const {
-  return pathFor(device.model_name, device.serial_number);
-}
-
 std::string MapLibrary::save(const GravityMap& map) const {
   std::error_code error;
   fs::create_directories(dir_, error);
@@ -72,9 +67,9 @@ std::string MapLibrary::save(const GravityMap& map) const {
   return path;
 }
 
-std::string MapLibrary::find(const DeviceSpecifications& device) const {
+std::string MapLibrary::find(const std::string& model, const std::string& serial) const {
   std::error_code error;
-  const std::string exact = pathFor(device);
+  const std::string exact = pathFor(model, serial);
   if (fs::is_regular_file(exact, error)) return exact;
   return {};
 }
@@ -92,25 +87,26 @@ std::vector<std::string> MapLibrary::list() const {
   return paths;
 }
 
-GravityMap loadMapForDevice(const DeviceSpecifications& device, const std::string& dir) {
+GravityMap loadMapForUnit(const std::string& model, const std::string& serial,
+                          const std::string& dir) {
   const MapLibrary library(dir);
-  const std::string path = library.find(device);
+  const std::string path = library.find(model, serial);
   if (path.empty()) {
     std::string held;
     for (const std::string& other : library.list()) {
       held += (held.empty() ? "" : ", ") + fs::path(other).filename().string();
     }
-    throw Error("no map for the device " + describe(device) + " in the map library '" +
+    throw Error("no map for the device " + describe(model, serial) + " in the map library '" +
                 library.dir() + "' (" + (held.empty() ? "it holds none" : "it holds " + held) +
                 "); calibrate this device first (CalibrationWizard, then MapLibrary::save), or "
                 "name a map file");
   }
   MapLoadOptions options;
-  options.expected_device_model = device.model_name;
+  options.expected_device_model = model;
   GravityMap map = loadMap(path, options);
-  if (map.metadata().device_serial != device.serial_number) {
+  if (map.metadata().device_serial != serial) {
     throw Error("the map '" + path + "' was made on serial \"" + map.metadata().device_serial +
-                "\" but the device is " + describe(device) + "; calibrate this unit");
+                "\" but the device is " + describe(model, serial) + "; calibrate this unit");
   }
   return map;
 }
