@@ -66,6 +66,15 @@ HandScript liftAndRelease(const DemoSession& session) {
   return HandScript::parse(std::string("at 0.0 grab\n") + move + "at 0.8 release\n", "lift");
 }
 
+/// Publishes the ground-truth map, plays liftAndRelease (kept in `script`) and runs two seconds.
+const ServoSnapshot& liftReleaseAndRun(DemoSession& session, HandScript& script) {
+  session.publishMap(groundTruthMap(session));
+  script = liftAndRelease(session);
+  session.setScript(&script);
+  run(session, 2.0);
+  return session.snapshot();
+}
+
 TEST(DemoSessionTest, StartsHeldAtTheWorkspaceCentre) {
   DemoSession session(SessionOptions{});
   const ServoSnapshot& s = session.snapshot();
@@ -76,11 +85,8 @@ TEST(DemoSessionTest, StartsHeldAtTheWorkspaceCentre) {
 
 TEST(DemoSessionTest, ReleasedWithCompensationItFloats) {
   DemoSession session(SessionOptions{});
-  session.publishMap(groundTruthMap(session));
-  const HandScript script = liftAndRelease(session);
-  session.setScript(&script);
-  run(session, 2.0);
-  const ServoSnapshot& s = session.snapshot();
+  HandScript script;
+  const ServoSnapshot& s = liftReleaseAndRun(session, script);
   ASSERT_TRUE(s.released);
   EXPECT_NEAR(s.since_release_s, 1.2, 1e-9);
   EXPECT_LT(s.drift_m, 0.001) << "drift " << s.drift_m * 1e3 << " mm";
@@ -96,11 +102,8 @@ TEST(DemoSessionTest, ReleasedWithoutCompensationItFalls) {
   SessionOptions options;
   options.compensation.enabled = false;
   DemoSession session(options);
-  session.publishMap(groundTruthMap(session));
-  const HandScript script = liftAndRelease(session);
-  session.setScript(&script);
-  run(session, 2.0);
-  const ServoSnapshot& s = session.snapshot();
+  HandScript script;
+  const ServoSnapshot& s = liftReleaseAndRun(session, script);
   ASSERT_TRUE(s.released);
   EXPECT_GT(s.drift_m, 0.03);
   EXPECT_LT(s.position_m.z(), session.simulation().workspaceCenter_m().z() - 0.02);
