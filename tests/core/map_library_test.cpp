@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 
