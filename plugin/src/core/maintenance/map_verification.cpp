@@ -25,8 +25,6 @@ constexpr double kProbeFrozenForceFloor_n = 2.0;
 constexpr double kProbeOutsideGrid_m = 0.003;
 // Time the end-effector gets, held at a point, for compensation to be fully in. Unit: [s]
 constexpr double kReadyTimeout_s = 5.0;
-// A tick whose force is within this fraction of the device's maximum sent the force limit.
-constexpr double kForceLimitFraction = 0.999;
 
 /// Measures what went to the device: the largest force, the time spent above the continuous
 /// rating (and its longest stretch) and the ticks at the force limit. The check "never above the
@@ -52,7 +50,7 @@ class ForceMeter final : public ForwardingDevice {
     } else {
       stretch_s_ = 0.0;
     }
-    if (norm >= kForceLimitFraction * limit_n_) ++limit_ticks_;
+    if (norm >= kLimitFraction * limit_n_) ++limit_ticks_;
     return ForwardingDevice::setForce(force_n);
   }
   double maxForce_n() const { return max_force_n_; }
@@ -61,6 +59,8 @@ class ForceMeter final : public ForwardingDevice {
   std::uint64_t limitTicks() const { return limit_ticks_; }
 
  private:
+  // A tick whose force is within this fraction of the device's maximum sent the force limit.
+  static constexpr double kLimitFraction = 0.999;
   TickSource& ticks_;
   double continuous_n_;
   double limit_n_;

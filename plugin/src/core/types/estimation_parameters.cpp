@@ -5,12 +5,8 @@
 namespace autograv {
 
 const char* toString(EstimationMethod method) noexcept {
-  switch (method) {
-    case EstimationMethod::kPaper:
-      return "paper";
-    case EstimationMethod::kDither:
-      return "dither";
-  }
+  if (method == EstimationMethod::kPaper) return "paper";
+  if (method == EstimationMethod::kDither) return "dither";
   return "unknown";
 }
 
