@@ -4,7 +4,7 @@
 #include "autograv/chai3d/device_adapter.h"
 #include "autograv/error.h"
 #include "chai3d.h"
-#include "chai3d_devices.h"
+#include "devices/chai3d_devices.h"
 
 namespace autograv::detail {
 

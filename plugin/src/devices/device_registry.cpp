@@ -6,7 +6,7 @@
 
 #include "autograv/device/wall_clock_tick_source.h"
 #include "autograv/error.h"
-#include "chai3d_devices.h"
+#include "devices/chai3d_devices.h"
 
 namespace autograv {
 

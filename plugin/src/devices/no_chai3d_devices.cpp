@@ -1,5 +1,5 @@
 #include "autograv/error.h"
-#include "chai3d_devices.h"
+#include "devices/chai3d_devices.h"
 
 namespace autograv::detail {
 

@@ -1,4 +1,4 @@
-#include "parameter_checks.h"
+#include "sim/parameter_checks.h"
 
 #include <cmath>
 #include <string>

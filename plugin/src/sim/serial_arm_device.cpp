@@ -8,8 +8,8 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
-#include "parameter_checks.h"
-#include "preset_driver.h"
+#include "sim/parameter_checks.h"
+#include "sim/preset_driver.h"
 
 namespace autograv::sim {
 

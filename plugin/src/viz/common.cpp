@@ -5,8 +5,8 @@
 #include <thread>
 
 #include "autograv/error.h"
-#include "enum_names.h"
-#include "vtk_support.h"
+#include "viz/enum_names.h"
+#include "viz/vtk_support.h"
 
 // Xlib last: it defines macros (None, Status, Bool) that clash with other headers.
 #include <X11/Xlib.h>

@@ -30,7 +30,7 @@
 #include <vtkVector.h>
 
 #include "autograv/error.h"
-#include "vtk_support.h"
+#include "viz/vtk_support.h"
 
 namespace autograv::viz {
 

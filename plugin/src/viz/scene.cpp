@@ -21,9 +21,9 @@
 #include <Eigen/Geometry>
 
 #include "autograv/error.h"
-#include "enum_names.h"
-#include "scene_build.h"
-#include "scene_camera.h"
+#include "viz/enum_names.h"
+#include "viz/scene_build.h"
+#include "viz/scene_camera.h"
 
 namespace autograv::viz {
 

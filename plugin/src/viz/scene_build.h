@@ -18,7 +18,7 @@
 #include "autograv/map/map_summary.h"
 #include "autograv/map/value_kind.h"
 #include "autograv/viz/scene.h"
-#include "vtk_support.h"
+#include "viz/vtk_support.h"
 
 class vtkActor;
 

@@ -1,4 +1,4 @@
-#include "scene_camera.h"
+#include "viz/scene_camera.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,7 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 
-#include "scene_build.h"
+#include "viz/scene_build.h"
 
 namespace autograv::viz::detail {
 

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "autograv/viz/scene.h"
-#include "vtk_support.h"
+#include "viz/vtk_support.h"
 
 class vtkCamera;
 class vtkRenderer;

@@ -25,7 +25,7 @@
 #include <vtkSphereSource.h>
 
 #include "autograv/image/arrow_length.h"
-#include "scene_build.h"
+#include "viz/scene_build.h"
 
 namespace autograv::viz::detail {
 

@@ -22,7 +22,7 @@
 
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
-#include "vtk_support.h"
+#include "viz/vtk_support.h"
 
 namespace autograv::viz {
 

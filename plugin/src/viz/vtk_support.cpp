@@ -1,4 +1,4 @@
-#include "vtk_support.h"
+#include "viz/vtk_support.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "compensation/compensation_status.h"
+#include "core/compensation/compensation_status.h"
 
 namespace autograv {
 

@@ -1,4 +1,4 @@
-#include "compensation/frozen_driver_detector.h"
+#include "core/compensation/frozen_driver_detector.h"
 
 #include <algorithm>
 #include <cmath>

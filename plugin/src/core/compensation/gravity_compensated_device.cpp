@@ -8,13 +8,13 @@
 
 #include "autograv/error.h"
 #include "autograv/map/gravity_map.h"
-#include "compensation/compensation_status.h"
-#include "compensation/frozen_driver_detector.h"
-#include "compensation/map_fade.h"
-#include "compensation/map_handoff.h"
-#include "compensation/ramp.h"
-#include "compensation/servo_position_cache.h"
-#include "compensation/servo_tick_timer.h"
+#include "core/compensation/compensation_status.h"
+#include "core/compensation/frozen_driver_detector.h"
+#include "core/compensation/map_fade.h"
+#include "core/compensation/map_handoff.h"
+#include "core/compensation/ramp.h"
+#include "core/compensation/servo_position_cache.h"
+#include "core/compensation/servo_tick_timer.h"
 
 namespace autograv {
 

@@ -1,6 +1,6 @@
-#include "compensation/map_fade.h"
+#include "core/compensation/map_fade.h"
 
-#include "compensation/ramp.h"
+#include "core/compensation/ramp.h"
 
 namespace autograv {
 

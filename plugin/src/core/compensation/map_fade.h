@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 
 #include "autograv/map/gravity_map.h"
-#include "compensation/map_handoff.h"
+#include "core/compensation/map_handoff.h"
 
 namespace autograv {
 

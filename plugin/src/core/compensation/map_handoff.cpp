@@ -1,4 +1,4 @@
-#include "compensation/map_handoff.h"
+#include "core/compensation/map_handoff.h"
 
 #include <utility>
 

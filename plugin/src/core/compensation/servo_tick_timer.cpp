@@ -1,4 +1,4 @@
-#include "compensation/servo_tick_timer.h"
+#include "core/compensation/servo_tick_timer.h"
 
 #include <algorithm>
 

@@ -5,7 +5,7 @@
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/minimum_jerk_move.h"
-#include "maintenance/hold_toward.h"
+#include "core/maintenance/hold_toward.h"
 
 namespace autograv {
 

@@ -11,7 +11,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/map_summary.h"
-#include "maintenance/hold_toward.h"
+#include "core/maintenance/hold_toward.h"
 
 namespace autograv {
 

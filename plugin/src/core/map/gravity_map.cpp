@@ -9,7 +9,7 @@
 
 #include "autograv/error.h"
 #include "autograv/map/vertex_fill.h"
-#include "map/trilinear.h"
+#include "core/map/trilinear.h"
 
 namespace autograv {
 

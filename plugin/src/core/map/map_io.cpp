@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "autograv/error.h"
-#include "map/map_json.h"
+#include "core/map/map_json.h"
 
 namespace autograv {
 

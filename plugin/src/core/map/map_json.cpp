@@ -1,4 +1,4 @@
-#include "map/map_json.h"
+#include "core/map/map_json.h"
 
 #include <algorithm>
 #include <cinttypes>

@@ -8,7 +8,7 @@
 
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
-#include "wizard/wizard_impl.h"
+#include "core/wizard/wizard_impl.h"
 
 namespace autograv {
 

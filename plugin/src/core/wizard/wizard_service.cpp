@@ -15,7 +15,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_summary.h"
 #include "autograv/map/vertex_fill.h"
-#include "wizard/wizard_impl.h"
+#include "core/wizard/wizard_impl.h"
 
 namespace autograv {
 

@@ -7,7 +7,7 @@
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/impedance_hold.h"
-#include "wizard/wizard_impl.h"
+#include "core/wizard/wizard_impl.h"
 
 namespace autograv {
 

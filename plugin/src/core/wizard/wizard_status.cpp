@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "wizard/wizard_impl.h"
+#include "core/wizard/wizard_impl.h"
 
 namespace autograv {
 
