@@ -73,7 +73,7 @@ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUTOGRAV_FUZZ=ON \
 cmake --build build/fuzz -j "$jobs" --target autograv_fuzzers
 tests/fuzz/run_fuzzers.sh build/fuzz "$fuzz_seconds"
 
-if [[ -f tests/core/gravity_compensated_device_concurrency_test.cpp ]]; then
+if [[ -f tests/core/compensation/gravity_compensated_device_concurrency_test.cpp ]]; then
   step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread, the demo's A key"
   cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-fsanitize=thread \
     -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \

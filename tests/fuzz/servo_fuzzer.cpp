@@ -25,8 +25,8 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/map/gravity_map.h"
-#include "core/recording_device.h"
 #include "support/allocation_counter.h"
+#include "support/recording_device.h"
 
 namespace {
 

@@ -59,12 +59,6 @@ class MapMaintenanceTest : public ::testing::Test {
 
 std::unique_ptr<GravityMap> MapMaintenanceTest::map_;
 
-TEST_F(MapMaintenanceTest, CentralVerticesAreTheMiddleThenItsNeighboursInIndexOrder) {
-  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.04, 3);
-  EXPECT_EQ(centralVertices(grid, 3), (std::vector<int>{13, 4, 10}));
-  EXPECT_EQ(centralVertices(grid, 100).size(), 27u);
-}
-
 TEST_F(MapMaintenanceTest, CheckSaysTheMapFitsTheDeviceItWasMadeOn) {
   auto device = freshOmni();
   const MapCheckResult result = check(*device);

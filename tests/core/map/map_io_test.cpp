@@ -496,7 +496,7 @@ TEST(MapIoTest, Schema1FilesStillLoad) {
   // Maps written by an earlier autograv (the visual tests' fixtures before schema 2), as users
   // have them on disk.
   for (const char* name : {"omega_map_schema1.json", "omni_map_schema1.json"}) {
-    const std::string path = std::string(AUTOGRAV_SOURCE_DIR) + "/tests/core/fixtures/" + name;
+    const std::string path = std::string(AUTOGRAV_SOURCE_DIR) + "/tests/core/map/fixtures/" + name;
     const GravityMap golden = loadMap(path);
     EXPECT_TRUE(golden.grid().isCube()) << path;
     EXPECT_EQ(golden.filledCount(), 0) << path;
