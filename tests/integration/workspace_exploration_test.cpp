@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -28,10 +29,14 @@ double trueReach_m(const sim::SimulatedDevice& device, const Eigen::Vector3d& ce
   return reach;
 }
 
-class WorkspaceExplorationTest : public ::testing::TestWithParam<std::string> {};
+// Every simulated device at typical and at high friction: at high friction the initialization
+// leaves G_hat_0 off by about 0.1 N on sim:omni, and static friction holds the end-effector at
+// the start of the first probes.
+class WorkspaceExplorationTest
+    : public ::testing::TestWithParam<std::tuple<std::string, sim::FrictionLevel>> {};
 
 TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
-  auto device = sim::makeSimulatedDevice(GetParam(), 1, sim::FrictionLevel::kTypical);
+  auto device = sim::makeSimulatedDevice(std::get<0>(GetParam()), 1, std::get<1>(GetParam()));
   ASSERT_TRUE(device->open() && device->calibrate());
   EstimationParameters parameters;
   parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
@@ -65,9 +70,13 @@ TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
   EXPECT_LT(result.seconds, 60.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(SimulatedDevices, WorkspaceExplorationTest,
-                         ::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
-                         [](const auto& info) { return info.param.substr(4); });
+INSTANTIATE_TEST_SUITE_P(
+    SimulatedDevices, WorkspaceExplorationTest,
+    ::testing::Combine(::testing::Values("sim:omega", "sim:omni", "sim:falcon"),
+                       ::testing::Values(sim::FrictionLevel::kTypical, sim::FrictionLevel::kHigh)),
+    [](const auto& info) {
+      return std::get<0>(info.param).substr(4) + "_" + toString(std::get<1>(info.param));
+    });
 
 TEST(InitializationClearanceTest, AnInitializationOnAStopIsRefusedFromDriverDataAlone) {
   // The hand lets go 1 mm above sim:omega's lower stop: the end-effector settles on it.

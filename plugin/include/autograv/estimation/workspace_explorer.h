@@ -130,6 +130,7 @@ class WorkspaceExplorer {
   Options options_;
   double contact_force_n_ = 0.0;
   double force_cap_n_ = 0.0;
+  bool followed_since_start_ = false;  // the end-effector has kept up since this probe began
   std::vector<Eigen::Vector3d> directions_;
   std::vector<double> reach_m_;
   Status state_ = Status::kIdle;

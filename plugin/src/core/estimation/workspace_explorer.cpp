@@ -187,6 +187,7 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
         last_progress_s_ = now_s;
         last_following_m_ = sample.position_m;
         contact_since_s_ = -1.0;
+        followed_since_start_ = false;
         state_ = Status::kProbing;
       }
       break;
@@ -210,11 +211,17 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
       if (following) {
         last_progress_s_ = now_s;
         last_following_m_ = sample.position_m;
+        followed_since_start_ = true;
       }
       // A stop: the effort is up and the end-effector no longer follows, or it has fallen so
-      // far behind that only a stop can hold it (a soft stop still yields to the probe).
+      // far behind that only a stop can hold it (a soft stop still yields to the probe). An
+      // end-effector that has not moved at all since the probe began may be held by static
+      // friction and an initial G_hat that is off by the friction of the initialization
+      // (high-friction Omni: 0.23 N breakaway plus 0.1 N, above contact_force_n): only the probe's
+      // full effort, far behind, tells a stop from that.
       const bool far_behind = lag_m > kFarBehindLags * options_.contact_lag_m;
-      if ((effort_n >= contact_force_n_ && !following) || far_behind) {
+      const bool stalled = effort_n >= contact_force_n_ && !following && followed_since_start_;
+      if (stalled || far_behind) {
         if (contact_since_s_ < 0.0) contact_since_s_ = now_s;
         if (now_s - contact_since_s_ >= kContactConfirm_s) {
           longest_recognition_s_ = std::max(longest_recognition_s_, now_s - last_progress_s_);
