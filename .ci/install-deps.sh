@@ -11,7 +11,7 @@ packages=(
   libcli11-dev                     # command-line parsing
   libvtk9-dev mpi-default-dev libx11-dev  # autograv::viz (Debian's VTK config needs MPI C)
   fonts-dejavu-core                # scene and plot text (the goldens were rendered with it)
-  libglfw3-dev libosmesa6-dev libgl-dev libpng-dev  # autograv::gl
+  libglfw3-dev libosmesa6-dev libgl-dev libpng-dev  # autograv::gl, autograv::image (PNG)
   libgtest-dev libgmock-dev libbenchmark-dev          # tests and benchmarks
   xvfb xauth                       # X server for the VTK screenshot tests
   tmux                             # drives the terminal wizard in its end-to-end test
