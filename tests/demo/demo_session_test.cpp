@@ -16,6 +16,7 @@
 
 #include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/measurement_plan.h"
 
@@ -252,7 +253,8 @@ TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplica
   const auto map = session.map();
   ASSERT_TRUE(map);
   const ExploredWorkspace& workspace = map->metadata().workspace;
-  ASSERT_EQ(workspace.directions().size(), 26u);
+  ASSERT_EQ(workspace.directions().size(),
+            static_cast<std::size_t>(WorkspaceExplorer::Options().directions));
   EXPECT_TRUE(
       map->grid().sameGeometry(gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(3))))
       << map->grid().describe();

@@ -19,6 +19,7 @@
 
 #include "allocation_counter.h"
 #include "autograv/error.h"
+#include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/sim/procedures.h"
@@ -27,6 +28,10 @@
 
 namespace autograv {
 namespace {
+
+/// Probe directions of the default exploration.
+const std::size_t kDefaultDirections =
+    static_cast<std::size_t>(WorkspaceExplorer::Options().directions);
 
 constexpr double kPeriod = 1e-3;
 constexpr int kTicksPerFrame = 20;  // 20 ms of simulated time per "UI frame"
@@ -309,7 +314,7 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   rig.wizard->post(WizardEvent::kSkipRedo);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kDone, 60.0));
   for (int i = 0; i < 20; ++i) rig.frame();
-  EXPECT_EQ(rig.wizard->workspace().directions().size(), 26u);
+  EXPECT_EQ(rig.wizard->workspace().directions().size(), kDefaultDirections);
   EXPECT_GT(rig.servo_ticks, 10000);
   EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
   RecordProperty("servo_ticks", std::to_string(rig.servo_ticks));
@@ -753,7 +758,7 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
       [&] {
         const WizardStatus now = rig.wizard->status();
         if (now.step != WizardStep::kExplore) return true;
-        EXPECT_EQ(now.direction_count, 26);
+        EXPECT_EQ(now.direction_count, static_cast<int>(kDefaultDirections));
         const Eigen::Vector3d extent_m = now.explored_high_m - now.explored_low_m;
         const double volume_m3 = extent_m.prod();
         monotonic = monotonic && now.directions_probed >= last_probed &&
@@ -772,7 +777,7 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
 
   // The grid is the box around the explored workspace, measured inside it.
   const ExploredWorkspace workspace = rig.wizard->workspace();
-  ASSERT_EQ(workspace.directions().size(), 26u);
+  ASSERT_EQ(workspace.directions().size(), kDefaultDirections);
   const WorkspaceGrid expected_grid = gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(3));
   EXPECT_TRUE(rig.wizard->grid().sameGeometry(expected_grid)) << rig.wizard->grid().describe();
   WizardStatus status = rig.wizard->status();
@@ -788,7 +793,8 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
     stops_found += rig.device->isReachable(workspace.center_m() + (r_m - 0.003) * u) &&
                    !rig.device->isReachable(workspace.center_m() + (r_m + 0.008) * u);
   }
-  EXPECT_GE(stops_found, 24) << "of 26 directions";
+  EXPECT_GE(stops_found, static_cast<int>(kDefaultDirections) - 2)
+      << "of " << kDefaultDirections << " directions";
 
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 400.0)) << rig.wizard->status().message;
   rig.frame();
@@ -802,7 +808,7 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
 
   // The map (schema 3) carries the workspace; every measurement lies inside it.
   const GravityMap map = loadMap(path);
-  ASSERT_EQ(map.metadata().workspace.directions().size(), 26u);
+  ASSERT_EQ(map.metadata().workspace.directions().size(), kDefaultDirections);
   EXPECT_EQ(map.metadata().workspace.radii_m(), workspace.radii_m());
   EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
   int measured = 0;
