@@ -115,6 +115,7 @@ struct TimedCalibration {
   double rms_rel = 0.0;
   double seconds = 0.0;
   int converged = 0;
+  double seconds_above_continuous_force = 0.0;
   ServoLoopStats::Summary loop;
 };
 
@@ -132,6 +133,7 @@ TimedCalibration calibrateCube(const std::string& name, sim::ServoTiming timing)
   result.rms_rel = accuracy.rms_residual_rel;
   result.seconds = run.simulated_seconds;
   result.converged = calibration.map->convergedCount();
+  result.seconds_above_continuous_force = run.seconds_above_continuous_force;
   result.loop = run.servo_loop;
   return result;
 }
@@ -155,6 +157,22 @@ TEST(ServoTimingCalibrationTest, DesktopAndFreeLoopsCalibrateAsAccuratelyAsAnExa
       EXPECT_GT(timed.loop.lateness_p50_ms, 0.3);
     }
   }
+}
+
+// sim:omni's dither peaks just under its 0.88 N continuous rating. On a jittery loop the
+// estimator pays back the impulse that late ticks delivered too much or too little; those
+// paybacks must fit in what the rating leaves, or the device runs above it for much of the
+// calibration (6-7 % on a desktop loop before they were budgeted).
+TEST(ServoTimingCalibrationTest, AJitteryLoopKeepsTheDeviceWithinItsContinuousRating) {
+  const TimedCalibration exact = calibrateCube("sim:omni", sim::ServoTiming::kExact);
+  const TimedCalibration desktop = calibrateCube("sim:omni", sim::ServoTiming::kDesktop);
+  RecordProperty("exact_above_continuous_s", std::to_string(exact.seconds_above_continuous_force));
+  RecordProperty("desktop_above_continuous_s",
+                 std::to_string(desktop.seconds_above_continuous_force));
+  EXPECT_LT(desktop.seconds_above_continuous_force, 0.02 * desktop.seconds);
+  EXPECT_LT(desktop.seconds_above_continuous_force,
+            exact.seconds_above_continuous_force + 0.01 * desktop.seconds);
+  EXPECT_EQ(desktop.converged, exact.converged);
 }
 
 }  // namespace

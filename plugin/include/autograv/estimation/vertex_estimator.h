@@ -133,8 +133,12 @@ class VertexEstimator {
   void finish(VertexOutcome outcome) noexcept;
   Eigen::Vector3d ditherForce_n(double cell) const noexcept;
   Eigen::Vector3d ditherImpulse_ns(double from, double to) const noexcept;
-  Eigen::Vector3d ditherCommand_n(double periods) noexcept;
+  // The waveform an exact loop would send now; `payback_n` is what late or early ticks owe it.
+  Eigen::Vector3d ditherWaveform_n(double periods, Eigen::Vector3d& payback_n) noexcept;
   Eigen::Vector3d holdPayback_n(const Eigen::Vector3d& feedback_n, double periods) noexcept;
+  // The hold plus the dither, and as much of the paybacks as the continuous rating leaves room
+  // for: what is not sent now stays owed (the debts count what was sent).
+  Eigen::Vector3d ditheredHoldForce_n(const Eigen::Vector3d& feedback_n, double periods) noexcept;
   // Samples (paper) or windows (dither) that make the next steady state.
   int requiredSteadyCount(bool last_update_small) const noexcept;
 

@@ -169,7 +169,8 @@ Eigen::Vector3d VertexEstimator::ditherImpulse_ns(double from, double to) const 
   return impulse;
 }
 
-Eigen::Vector3d VertexEstimator::ditherCommand_n(double periods) noexcept {
+Eigen::Vector3d VertexEstimator::ditherWaveform_n(double periods,
+                                                  Eigen::Vector3d& payback_n) noexcept {
   // The dither is a function of servo time: the value an exact loop would send in the nominal
   // period the tick falls in. A late, early or stalled tick holds its command longer or shorter
   // than one period, which a loop that ticks irregularly turns into a random impulse on the
@@ -195,11 +196,10 @@ Eigen::Vector3d VertexEstimator::ditherCommand_n(double periods) noexcept {
   // Both the impulse debt and its integral (what it did to the position, times the mass) are
   // paid back, critically damped at kPaybackRate per nominal period: the end-effector ends up
   // where the exact waveform would have put it, not merely at its velocity.
-  Eigen::Vector3d payback_n = 2.0 * kPaybackDamping * kPaybackRate * dither_debt_ns_ +
-                              kPaybackRate * kPaybackRate * dither_displacement_debt_;
+  payback_n = 2.0 * kPaybackDamping * kPaybackRate * dither_debt_ns_ +
+              kPaybackRate * kPaybackRate * dither_displacement_debt_;
   payback_n = payback_n.cwiseMax(-dither_amplitude_n_).cwiseMin(dither_amplitude_n_);
-  last_dither_n_ = waveform_n - payback_n;
-  return last_dither_n_;
+  return waveform_n;
 }
 
 Eigen::Vector3d VertexEstimator::holdPayback_n(const Eigen::Vector3d& feedback_n,
@@ -221,6 +221,33 @@ Eigen::Vector3d VertexEstimator::holdPayback_n(const Eigen::Vector3d& feedback_n
   payback_n = payback_n.cwiseMax(-dither_amplitude_n_).cwiseMin(dither_amplitude_n_);
   last_hold_payback_n_ = payback_n;
   return payback_n;
+}
+
+Eigen::Vector3d VertexEstimator::ditheredHoldForce_n(const Eigen::Vector3d& feedback_n,
+                                                     double periods) noexcept {
+  const Eigen::Vector3d hold_payback_n = holdPayback_n(feedback_n, periods);
+  Eigen::Vector3d dither_payback_n;
+  const Eigen::Vector3d waveform_n = ditherWaveform_n(periods, dither_payback_n);
+  const Eigen::Vector3d planned_n = feedback_n + waveform_n;
+  // Each payback may reach one dither amplitude, on a command whose peaks the automatic dither
+  // already plans near the continuous rating: on a jittery loop the paybacks alone would keep
+  // the device above its rating (sim:omni on a desktop loop: 6-7 % of a calibration). Send the
+  // share of them that keeps the command within the rating; an exact loop owes nothing, and its
+  // command is the hold plus the waveform, bit for bit.
+  const Eigen::Vector3d payback_n = -hold_payback_n - dither_payback_n;
+  double share = 1.0;
+  const double limit_n = continuous_force_n_;
+  if ((planned_n + payback_n).norm() > limit_n) {
+    const double a = payback_n.squaredNorm();
+    const double b = planned_n.dot(payback_n);
+    const double c = planned_n.squaredNorm() - limit_n * limit_n;
+    // |planned + s payback| = limit for s in [0, 1]; none when planned is beyond it already.
+    share =
+        c >= 0.0 || !(a > 0.0) ? 0.0 : std::clamp((-b + std::sqrt(b * b - a * c)) / a, 0.0, 1.0);
+  }
+  last_hold_payback_n_ = share * hold_payback_n;
+  last_dither_n_ = waveform_n - share * dither_payback_n;
+  return planned_n + share * payback_n;
 }
 
 int VertexEstimator::requiredSteadyCount(bool last_update_small) const noexcept {
@@ -258,8 +285,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
 
   // eq. (10), plus the zero-mean dither of the dither method
   force_n = hold_.holdForce_n(vertex_m_, sample, mass_kg_, gravity_n_);
-  if (dither_amplitude_n_ > 0.0) force_n -= holdPayback_n(force_n, periods);
-  if (dither_amplitude_n_ > 0.0) force_n += ditherCommand_n(periods);
+  if (dither_amplitude_n_ > 0.0) force_n = ditheredHoldForce_n(force_n, periods);
   saturated_periods_ = clampForce(force_n, max_force_n_) ? saturated_periods_ + periods : 0.0;
   last_force_n_ = force_n;
   if (saturated_periods_ > max_saturated_periods_) {
