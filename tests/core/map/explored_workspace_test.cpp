@@ -1,9 +1,12 @@
 #include "autograv/map/explored_workspace.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include "autograv/error.h"
 #include "autograv/map/measurement_plan.h"
@@ -15,6 +18,37 @@ namespace {
 ExploredWorkspace probedSphere(const Eigen::Vector3d& center_m, double radius_m, int count) {
   const std::vector<Eigen::Vector3d> directions = ExploredWorkspace::probeDirections(count);
   return ExploredWorkspace(center_m, directions, std::vector<double>(directions.size(), radius_m));
+}
+
+// How many of the boundary's triangles hold `u` in their cone.
+int conesHolding(const ExploredWorkspace& workspace, const Eigen::Vector3d& u) {
+  int holding = 0;
+  for (const std::array<int, 3>& corners : workspace.facets()) {
+    Eigen::Matrix3d spanned;
+    spanned << workspace.directions()[static_cast<std::size_t>(corners[0])],
+        workspace.directions()[static_cast<std::size_t>(corners[1])],
+        workspace.directions()[static_cast<std::size_t>(corners[2])];
+    const Eigen::Vector3d weights = spanned.inverse() * u;
+    holding += weights.minCoeff() >= -1e-9 ? 1 : 0;
+  }
+  return holding;
+}
+
+// The 26 directions to a cube's faces, edges and corners, reaching its faces.
+ExploredWorkspace probedCube(double half_width_m) {
+  std::vector<Eigen::Vector3d> directions;
+  std::vector<double> radii;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      for (int k = -1; k <= 1; ++k) {
+        if (i == 0 && j == 0 && k == 0) continue;
+        const Eigen::Vector3d u = Eigen::Vector3d(i, j, k).normalized();
+        directions.push_back(u);
+        radii.push_back(half_width_m / u.cwiseAbs().maxCoeff());
+      }
+    }
+  }
+  return ExploredWorkspace(Eigen::Vector3d::Zero(), directions, radii);
 }
 
 TEST(ExploredWorkspaceTest, ProbeDirectionsAreUnitSpreadAndAPath) {
@@ -64,19 +98,7 @@ TEST(ExploredWorkspaceTest, ContainsAndPullInsideKeepTheMargin) {
 TEST(ExploredWorkspaceTest, DepthIsMeasuredSquareToTheBoundaryNotAlongTheRay) {
   // A cube of half-width 50 mm probed along its 26 lattice directions: every boundary point lies
   // on a face, and the facets near the +x face lie in its plane.
-  std::vector<Eigen::Vector3d> directions;
-  std::vector<double> radii;
-  for (int i = -1; i <= 1; ++i) {
-    for (int j = -1; j <= 1; ++j) {
-      for (int k = -1; k <= 1; ++k) {
-        if (i == 0 && j == 0 && k == 0) continue;
-        const Eigen::Vector3d u = Eigen::Vector3d(i, j, k).normalized();
-        directions.push_back(u);
-        radii.push_back(0.05 / u.cwiseAbs().maxCoeff());
-      }
-    }
-  }
-  const ExploredWorkspace cube(Eigen::Vector3d::Zero(), directions, radii);
+  const ExploredWorkspace cube = probedCube(0.05);
   // 5 mm from the +x face along its normal; along the oblique ray from the centre it is 6.4 mm.
   const Eigen::Vector3d near_face(0.045, 0.03, 0.02);
   EXPECT_NEAR(cube.depth_m(near_face), 0.005, 1e-9);
@@ -90,6 +112,74 @@ TEST(ExploredWorkspaceTest, DepthIsMeasuredSquareToTheBoundaryNotAlongTheRay) {
   EXPECT_NEAR((pulled.normalized()).dot(beyond.normalized()), 1.0, 1e-12);
 }
 
+TEST(ExploredWorkspaceTest, TheBoundaryIsOneTriangulationOfTheDirections) {
+  // Spread directions, and a cube's lattice (four of its directions lie on one circle, where a
+  // triangulation must still choose).
+  std::vector<ExploredWorkspace> workspaces;
+  for (int count : {6, 26, 50, 200}) {
+    workspaces.push_back(probedSphere(Eigen::Vector3d::Zero(), 0.05, count));
+  }
+  workspaces.push_back(probedCube(0.05));
+  for (const ExploredWorkspace& workspace : workspaces) {
+    const std::size_t n = workspace.directions().size();
+    // A closed triangulated sphere: F = 2 n - 4, and every direction is a corner.
+    EXPECT_EQ(workspace.facets().size(), 2 * n - 4) << n << " directions";
+    std::vector<int> corner_of(n, 0);
+    for (const auto& corners : workspace.facets()) {
+      for (int c : corners) ++corner_of[static_cast<std::size_t>(c)];
+    }
+    EXPECT_EQ(std::count(corner_of.begin(), corner_of.end(), 0), 0) << n << " directions";
+    // Every direction of space lies in a triangle's cone, and off the edges in one only.
+    int covered = 0;
+    int once = 0;
+    const std::vector<Eigen::Vector3d> samples = ExploredWorkspace::probeDirections(997);
+    for (const Eigen::Vector3d& u : samples) {
+      const int holding = conesHolding(workspace, u);
+      covered += holding >= 1 ? 1 : 0;
+      once += holding == 1 ? 1 : 0;
+    }
+    EXPECT_EQ(covered, static_cast<int>(samples.size())) << n << " directions";
+    EXPECT_GT(once, static_cast<int>(0.97 * static_cast<double>(samples.size())))
+        << n << " directions";
+  }
+}
+
+TEST(ExploredWorkspaceTest, TheModelMovesContinuouslyWithTheReach) {
+  // Two explorations of one workspace whose reaches differ by a tenth of a millimetre plan the
+  // same points to within about that much: the plan does not jump between facets.
+  const std::vector<Eigen::Vector3d> directions = ExploredWorkspace::probeDirections(26);
+  std::vector<double> radii(directions.size());
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    const Eigen::Vector3d& u = directions[i];
+    radii[i] = 1.0 / std::sqrt(std::pow(u.x() / 0.09, 2) + std::pow(u.y() / 0.07, 2) +
+                               std::pow(u.z() / 0.05, 2));
+  }
+  std::vector<double> nudged = radii;
+  for (std::size_t i = 0; i < nudged.size(); ++i) nudged[i] += (i % 3 == 0 ? 1e-4 : -1e-4);
+  const ExploredWorkspace first(Eigen::Vector3d::Zero(), directions, radii);
+  const ExploredWorkspace second(Eigen::Vector3d::Zero(), directions, nudged);
+  const WorkspaceGrid grid = gridAroundWorkspace(first, Eigen::Vector3i::Constant(5));
+  const MeasurementPlan a = planMeasurements(grid, first);
+  const MeasurementPlan b = planMeasurements(grid, second);
+  double largest_m = 0.0;
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!(a.measure[k] && b.measure[k])) continue;
+    largest_m = std::max(largest_m, (a.points_m[k] - b.points_m[k]).norm());
+  }
+  EXPECT_LT(largest_m, 0.5e-3);
+  // Along a line across many facets the pulled point never jumps.
+  Eigen::Vector3d previous = first.pullInside(Eigen::Vector3d(0.1, -0.08, 0.06), 0.004);
+  for (int step = 1; step <= 2000; ++step) {
+    const double t = step / 2000.0;
+    const Eigen::Vector3d outside(0.1 - 0.2 * t, -0.08 + 0.16 * t, 0.06 - 0.02 * t);
+    const Eigen::Vector3d pulled = first.pullInside(outside, 0.004);
+    EXPECT_LT((pulled - previous).norm(), 1e-3) << "step " << step;
+    EXPECT_GE(first.depth_m(pulled), 0.004 - 1e-9);
+    previous = pulled;
+  }
+}
+
 TEST(ExploredWorkspaceTest, RefusesWhatIsNoWorkspace) {
   const std::vector<Eigen::Vector3d> six = ExploredWorkspace::probeDirections(6);
   EXPECT_THROW(ExploredWorkspace(Eigen::Vector3d::Zero(), six, std::vector<double>(5, 0.05)),
@@ -99,6 +189,12 @@ TEST(ExploredWorkspaceTest, RefusesWhatIsNoWorkspace) {
   std::vector<Eigen::Vector3d> zero = six;
   zero[2].setZero();
   EXPECT_THROW(ExploredWorkspace(Eigen::Vector3d::Zero(), zero, std::vector<double>(6, 0.05)),
+               Error);
+  // So many directions that the triangulation alone would take minutes.
+  const std::size_t too_many = ExploredWorkspace::kMaxDirections + 1;
+  EXPECT_THROW(ExploredWorkspace(Eigen::Vector3d::Zero(),
+                                 std::vector<Eigen::Vector3d>(too_many, Eigen::Vector3d::UnitX()),
+                                 std::vector<double>(too_many, 0.05)),
                Error);
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -8,18 +10,23 @@ namespace autograv {
 
 /// The part of the workspace the end-effector was seen to reach, found from the device's own data
 /// (WorkspaceExplorer): from a centre, how far it went along each probe direction before a stop
-/// held it. Between the probe directions the boundary is the plane through the three nearest
-/// boundary points, so for a convex workspace the model lies inside what was reached.
+/// held it. The boundary is a closed surface of triangles through the boundary points, one
+/// triangulation of the probe directions (their spherical Delaunay triangulation) computed once:
+/// for a convex workspace the model lies inside what was reached, and it moves continuously
+/// with the reach, so two explorations a fraction of a millimetre apart plan the same points.
 /// Immutable once built; an empty one (maps made before exploration existed) knows nothing.
 class ExploredWorkspace {
  public:
   ExploredWorkspace() = default;
   /// `directions` are normalized here; `radii_m[i]` is the distance from `center_m` to the stop
-  /// along `directions[i]`. Throws autograv::Error for fewer than 6 directions, a count mismatch,
-  /// a zero or non-finite direction, or a radius that is not finite and positive.
-  /// Not real-time safe. Units: [m]
+  /// along `directions[i]`. Throws autograv::Error for fewer than 6 or more than kMaxDirections
+  /// directions, a count mismatch, a zero or non-finite direction, or a radius that is not finite
+  /// and positive. Not real-time safe. Units: [m]
   ExploredWorkspace(const Eigen::Vector3d& center_m, std::vector<Eigen::Vector3d> directions,
                     std::vector<double> radii_m);
+
+  /// Most probe directions a workspace holds: its triangulation takes a few seconds at this many.
+  static constexpr std::size_t kMaxDirections = 10000;
 
   /// True when nothing was explored (every point counts as inside).
   bool empty() const noexcept { return directions_.empty(); }
@@ -36,12 +43,13 @@ class ExploredWorkspace {
   /// True when `position_m` lies at least `margin_m` inside the boundary (always, when empty).
   /// Real-time safe. Unit: [m]
   bool contains(const Eigen::Vector3d& position_m, double margin_m = 0.0) const noexcept;
-  /// How far `position_m` lies inside the boundary (negative outside), measured square to the
-  /// boundary facet its ray from the centre meets: a point a few millimetres inside along an
-  /// oblique ray may be much closer to the stop. Real-time safe. Unit: [m]
+  /// How far `position_m` lies inside the boundary (negative outside): its distance to the
+  /// nearest boundary triangle, not the distance along its ray from the centre (a point a few
+  /// millimetres inside along an oblique ray may be much closer to the stop). Continuous in
+  /// `position_m` and in the reach. Real-time safe; its cost grows with the directions. Unit: [m]
   double depth_m(const Eigen::Vector3d& position_m) const noexcept;
-  /// `position_m` itself when it lies `margin_m` inside, else the point on its ray from the
-  /// centre that lies `margin_m` inside the boundary (depth_m; the centre if the workspace is
+  /// `position_m` itself when it lies `margin_m` inside, else the outermost point on its ray from
+  /// the centre that lies `margin_m` inside the boundary (depth_m; the centre if the workspace is
   /// thinner than that). Real-time safe. Unit: [m]
   Eigen::Vector3d pullInside(const Eigen::Vector3d& position_m, double margin_m) const noexcept;
   /// Smallest boundary distance. Unit: [m]
@@ -53,21 +61,30 @@ class ExploredWorkspace {
   /// is close to the one before: the probe's path. Not real-time safe.
   static std::vector<Eigen::Vector3d> probeDirections(int count);
 
+  /// The boundary's triangles, as indices into directions(), counter-clockwise seen from
+  /// outside. A triangulation of well-spread directions has 2 n - 4 of them.
+  std::vector<std::array<int, 3>> facets() const;
+
  private:
-  /// Where the ray from the centre along the unit vector `u` leaves the model, and the cosine
-  /// between `u` and the outward normal of the facet it leaves through (at least
-  /// kMinFacetCosine, 1 where no facet holds `u`).
-  struct Exit {
-    double distance_m;
-    double cosine;
+  /// One boundary triangle, with what the queries need of it precomputed.
+  struct Facet {
+    std::array<int, 3> corners;  ///< Indices into directions_.
+    Eigen::Matrix3d to_weights;  ///< A direction to its weights on the three corner directions.
+    Eigen::Vector3d normal;      ///< Outward unit normal of the triangle's plane.
+    double offset_m;             ///< normal . (corner - centre). Unit: [m]
   };
-  Exit exitAlong(const Eigen::Vector3d& u) const noexcept;
-  /// Floor on Exit::cosine: a facet seen this obliquely is treated as seen at this angle.
-  static constexpr double kMinFacetCosine = 0.25;
+  /// Distance from the centre to where the ray along the unit vector `u` leaves the model.
+  double exitDistance_m(const Eigen::Vector3d& u) const noexcept;
+  /// Distance from `position_m` to the nearest boundary triangle. Unit: [m]
+  double surfaceDistance_m(const Eigen::Vector3d& position_m) const noexcept;
+  /// A boundary point. Unit: [m]
+  Eigen::Vector3d boundaryPoint_m(int index) const noexcept;
+  void buildFacets();
 
   Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> directions_;
   std::vector<double> radii_m_;
+  std::vector<Facet> facets_;
 };
 
 }  // namespace autograv

@@ -305,9 +305,11 @@ ExploredWorkspace readWorkspace(const DocumentReader& reader, const json& value)
   const Eigen::Vector3d center = reader.vector3(value, p, "center_m", "m");
   const json& directions = value.at("directions");
   const json& radii = value.at("radii_m");
-  constexpr std::size_t kMaxDirections = 100000;
+  constexpr std::size_t kMaxDirections = ExploredWorkspace::kMaxDirections;
   if (!directions.is_array() || directions.size() < 6 || directions.size() > kMaxDirections) {
-    reader.expected(p + "/directions", "an array of 6 to 100000 direction vectors", directions);
+    reader.expected(p + "/directions",
+                    "an array of 6 to " + std::to_string(kMaxDirections) + " direction vectors",
+                    directions);
   }
   if (!radii.is_array() || radii.size() != directions.size()) {
     reader.expected(p + "/radii_m",
