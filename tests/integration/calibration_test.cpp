@@ -137,10 +137,11 @@ TEST(CalibrationTest, FailedVerticesAreVisitedAgainOnlyAsOftenAsAsked) {
 }
 
 TEST(CalibrationTest, OmniVerticesThatMissedTheirSteadyStateConvergeOnASecondVisit) {
-  // Seed 2 at low friction: a vertex ends no_steady_state on the first pass (one-count encoder
-  // dither against eps_S = 0.1 mm/s); one more visit settles it. The redo pass is what is
-  // tested, not the estimator's accuracy through friction, hence the low friction.
-  auto device = sim::makeSimulatedDevice("sim:omni", 2, sim::FrictionLevel::kLow);
+  // Seed 1 at low friction: a vertex ends no_steady_state on the first pass (one-count encoder
+  // dither against eps_S = 0.1 mm/s); one more visit settles it (seeds 3, 4, 6, 13 and 15 do
+  // the same). The redo pass is what is tested, not the estimator's accuracy through friction,
+  // hence the low friction.
+  auto device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kLow);
   ASSERT_TRUE(device->open());
   sim::CalibrationRunOptions options =
       optionsFor(*device, defaultGridSide_m(device->specifications().workspace_radius_m), 5);

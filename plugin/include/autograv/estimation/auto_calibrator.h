@@ -41,8 +41,10 @@ class AutoCalibrator {
     double max_move_acceleration_m_per_s2 = 0.75;
     /// Shortest move. Unit: [s]
     double min_move_duration_s = 0.25;
-    /// Start each vertex from a linear extrapolation of the two previous converged vertices on
-    /// the same line instead of eq. (9)'s plain copy; fewer iterations, same fixed point.
+    /// Start each vertex from what the measurements so far predict for its point (an affine fit
+    /// to the nearest converged ones: kFitMeasurements of them, at least kMinFitMeasurements, else
+    /// the linear extrapolation of the two previous vertices on the same line) instead of
+    /// eq. (9)'s plain copy; fewer and shorter iterations, same fixed point.
     bool extrapolate_initial_estimate = true;
     /// The device's continuous force rating (continuousForceRating_n), within which the
     /// automatic dither keeps G_hat plus its peaks; 0 takes kDefaultContinuousForceFraction of
@@ -59,6 +61,13 @@ class AutoCalibrator {
                                   const Options& options) noexcept {
     return kMassUncertainty * options.max_move_acceleration_m_per_s2 / parameters.beta_per_s2;
   }
+  /// Measurements the initial estimate of a vertex is fitted to (Options::
+  /// extrapolate_initial_estimate): the nearest converged ones within kFitReachCells cells.
+  static constexpr int kFitMeasurements = 8;
+  /// Fewest measurements for the fit; fewer fall back to the extrapolation along a grid line.
+  static constexpr int kMinFitMeasurements = 6;
+  /// Cells, along each axis, within which the fit looks for measurements.
+  static constexpr int kFitReachCells = 2;
   /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
   static constexpr double kMassUncertainty = 3.0;
   /// When a stop holds the end-effector short of a measurement point
@@ -143,6 +152,9 @@ class AutoCalibrator {
   void beginMove(const Eigen::Vector3d& from_m) noexcept;
   void beginNextVertex(const Eigen::Vector3d& from_m) noexcept;
   Eigen::Vector3d initialEstimateFor(int vertex) const noexcept;
+  // The affine fit of initialEstimateFor; false when too few measurements are near or the fit
+  // is not to be trusted.
+  bool fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept;
   void recordFinished() noexcept;
   Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
 

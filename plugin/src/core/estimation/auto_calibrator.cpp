@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Cholesky>
+
 #include "autograv/error.h"
 #include "autograv/map/vertex_fill.h"
 
@@ -19,6 +21,10 @@ bool isDone(const VertexEstimate& vertex) noexcept {
 bool isSettled(const VertexEstimate& vertex) noexcept {
   return isDone(vertex) || vertex.outcome == VertexOutcome::kUnreachable;
 }
+
+/// Largest departure of a fitted initial estimate from the nearest measurement, as a fraction of
+/// that measurement's magnitude.
+constexpr double kMaxFitDeparture = 0.5;
 }  // namespace
 
 AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
@@ -144,9 +150,81 @@ void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
   state_ = Status::kMoving;
 }
 
+bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept {
+  // The converged measurements nearest the point, among the vertices within kFitReachCells
+  // cells (a bounded search, whatever the grid's size), closest first.
+  const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(vertex)];
+  const Eigen::Vector3i here = grid_.vertexCoordinates(vertex);
+  int nearest[kFitMeasurements];
+  double nearest_m2[kFitMeasurements];
+  int found = 0;
+  for (int dz = -kFitReachCells; dz <= kFitReachCells; ++dz) {
+    for (int dy = -kFitReachCells; dy <= kFitReachCells; ++dy) {
+      for (int dx = -kFitReachCells; dx <= kFitReachCells; ++dx) {
+        const Eigen::Vector3i other = here + Eigen::Vector3i(dx, dy, dz);
+        if (!grid_.hasVertex(other)) continue;
+        const int index = grid_.vertexIndex(other.x(), other.y(), other.z());
+        const VertexEstimate& measured = vertices_[static_cast<std::size_t>(index)];
+        if (index == vertex || !isDone(measured)) continue;
+        const Eigen::Vector3d at_m =
+            measured.measuredOffVertex() ? measured.measured_at_m : grid_.vertexPosition(index);
+        const double distance_m2 = (at_m - point_m).squaredNorm();
+        int slot = std::min(found, kFitMeasurements);
+        while (slot > 0 && nearest_m2[slot - 1] > distance_m2) {
+          if (slot < kFitMeasurements) {
+            nearest[slot] = nearest[slot - 1];
+            nearest_m2[slot] = nearest_m2[slot - 1];
+          }
+          --slot;
+        }
+        if (slot < kFitMeasurements) {
+          nearest[slot] = index;
+          nearest_m2[slot] = distance_m2;
+          found = std::min(found + 1, kFitMeasurements);
+        }
+      }
+    }
+  }
+  if (found < kMinFitMeasurements) return false;
+  // G(x) = a + B (x - point), least squares over the measurements, offsets in units of their
+  // RMS distance so that the 4 x 4 normal equations are well scaled; a light ridge on B keeps
+  // coplanar measurements (a face of the grid) solvable.
+  double mean_m2 = 0.0;
+  for (int k = 0; k < found; ++k) mean_m2 += nearest_m2[k];
+  const double scale_m = std::sqrt(mean_m2 / found);
+  if (!(scale_m > 0.0)) return false;
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  Eigen::Matrix<double, 4, 3> right = Eigen::Matrix<double, 4, 3>::Zero();
+  for (int k = 0; k < found; ++k) {
+    const VertexEstimate& measured = vertices_[static_cast<std::size_t>(nearest[k])];
+    const Eigen::Vector3d at_m =
+        measured.measuredOffVertex() ? measured.measured_at_m : grid_.vertexPosition(nearest[k]);
+    Eigen::Vector4d row;
+    row << 1.0, (at_m - point_m) / scale_m;
+    normal += row * row.transpose();
+    right += row * measured.gravity_n.transpose();
+  }
+  constexpr double kRidge = 1e-3;
+  for (int axis = 1; axis < 4; ++axis) normal(axis, axis) += kRidge * found;
+  const Eigen::LDLT<Eigen::Matrix4d> solver(normal);
+  if (solver.info() != Eigen::Success) return false;
+  const Eigen::Matrix<double, 4, 3> coefficients = solver.solve(right);
+  const Eigen::Vector3d predicted_n = coefficients.row(0).transpose();
+  // A fit that moves far from the nearest measurement extrapolates more than it knows.
+  const Eigen::Vector3d& closest_n = vertices_[static_cast<std::size_t>(nearest[0])].gravity_n;
+  if (!predicted_n.allFinite() ||
+      (predicted_n - closest_n).norm() > kMaxFitDeparture * closest_n.norm()) {
+    return false;
+  }
+  gravity_n = predicted_n;
+  return true;
+}
+
 Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
   // eq. (9): start from the estimate carried from the previous vertex.
   if (!options_.extrapolate_initial_estimate || previous_vertex_ < 0) return gravity_n_;
+  Eigen::Vector3d fitted_n;
+  if (fittedEstimate(vertex, fitted_n)) return fitted_n;
   const auto& previous = vertices_[static_cast<std::size_t>(previous_vertex_)];
   if (!isDone(previous)) return gravity_n_;
   // If the vertex behind the previous one (on the same line) converged too, extrapolate linearly.
