@@ -342,11 +342,8 @@ AccuracyReport measureAccuracy(const GravityMap& map, const SimulatedDevice& dev
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
     if (vertex.outcome != VertexOutcome::kConverged) continue;
     // The measurement, where it was made (a vertex beyond the stops is measured inside them).
-    const bool off_vertex = vertex.measuredOffVertex();
-    const Eigen::Vector3d truth =
-        device.trueGravity(off_vertex ? vertex.measured_at_m : grid.vertexPosition(i));
-    const double error_n =
-        ((off_vertex ? vertex.measured_gravity_n : vertex.gravity_n) - truth).norm();
+    const Eigen::Vector3d truth = device.trueGravity(vertex.measuredAt_m(grid.vertexPosition(i)));
+    const double error_n = (vertex.measuredGravity_n() - truth).norm();
     report.max_error_n = std::max(report.max_error_n, error_n);
     const double error = error_n / truth.norm();
     if (error > report.max_error_rel) {

@@ -74,6 +74,16 @@ struct VertexEstimate {
   Eigen::Vector3d measured_gravity_n = Eigen::Vector3d::Zero();
   /// True when the estimate was measured at measured_at_m, not at the vertex.
   bool measuredOffVertex() const noexcept { return measured_at_m.allFinite(); }
+  /// Where the estimate was measured: measured_at_m, or `vertex_m`, the vertex's own position.
+  /// Unit: [m]
+  Eigen::Vector3d measuredAt_m(const Eigen::Vector3d& vertex_m) const noexcept {
+    return measuredOffVertex() ? measured_at_m : vertex_m;
+  }
+  /// What was measured there: measured_gravity_n off the vertex (gravity_n is then solved from
+  /// every measurement), gravity_n at it. Unit: [N]
+  const Eigen::Vector3d& measuredGravity_n() const noexcept {
+    return measuredOffVertex() ? measured_gravity_n : gravity_n;
+  }
 };
 
 }  // namespace autograv

@@ -155,8 +155,10 @@ bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) cons
   // cells (a bounded search, whatever the grid's size), closest first.
   const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(vertex)];
   const Eigen::Vector3i here = grid_.vertexCoordinates(vertex);
-  int nearest[kFitMeasurements];
-  double nearest_m2[kFitMeasurements];
+  // Per measurement kept: its offset from the point, and what was measured there.
+  Eigen::Vector3d offsets_m[kFitMeasurements];
+  Eigen::Vector3d measured_n[kFitMeasurements];
+  double distances_m2[kFitMeasurements];
   int found = 0;
   for (int dz = -kFitReachCells; dz <= kFitReachCells; ++dz) {
     for (int dy = -kFitReachCells; dy <= kFitReachCells; ++dy) {
@@ -166,22 +168,20 @@ bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) cons
         const int index = grid_.vertexIndex(other.x(), other.y(), other.z());
         const VertexEstimate& measured = vertices_[static_cast<std::size_t>(index)];
         if (index == vertex || !isDone(measured)) continue;
-        const Eigen::Vector3d at_m =
-            measured.measuredOffVertex() ? measured.measured_at_m : grid_.vertexPosition(index);
-        const double distance_m2 = (at_m - point_m).squaredNorm();
-        int slot = std::min(found, kFitMeasurements);
-        while (slot > 0 && nearest_m2[slot - 1] > distance_m2) {
-          if (slot < kFitMeasurements) {
-            nearest[slot] = nearest[slot - 1];
-            nearest_m2[slot] = nearest_m2[slot - 1];
-          }
-          --slot;
+        const Eigen::Vector3d offset_m =
+            measured.measuredAt_m(grid_.vertexPosition(index)) - point_m;
+        const double distance_m2 = offset_m.squaredNorm();
+        // Insertion into the sorted list; once it is full, the farthest falls off.
+        if (found == kFitMeasurements && distances_m2[found - 1] <= distance_m2) continue;
+        int slot = found < kFitMeasurements ? found++ : kFitMeasurements - 1;
+        for (; slot > 0 && distances_m2[slot - 1] > distance_m2; --slot) {
+          offsets_m[slot] = offsets_m[slot - 1];
+          measured_n[slot] = measured_n[slot - 1];
+          distances_m2[slot] = distances_m2[slot - 1];
         }
-        if (slot < kFitMeasurements) {
-          nearest[slot] = index;
-          nearest_m2[slot] = distance_m2;
-          found = std::min(found + 1, kFitMeasurements);
-        }
+        offsets_m[slot] = offset_m;
+        measured_n[slot] = measured.measuredGravity_n();
+        distances_m2[slot] = distance_m2;
       }
     }
   }
@@ -190,19 +190,16 @@ bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) cons
   // RMS distance so that the 4 x 4 normal equations are well scaled; a light ridge on B keeps
   // coplanar measurements (a face of the grid) solvable.
   double mean_m2 = 0.0;
-  for (int k = 0; k < found; ++k) mean_m2 += nearest_m2[k];
+  for (int k = 0; k < found; ++k) mean_m2 += distances_m2[k];
   const double scale_m = std::sqrt(mean_m2 / found);
   if (!(scale_m > 0.0)) return false;
   Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
   Eigen::Matrix<double, 4, 3> right = Eigen::Matrix<double, 4, 3>::Zero();
   for (int k = 0; k < found; ++k) {
-    const VertexEstimate& measured = vertices_[static_cast<std::size_t>(nearest[k])];
-    const Eigen::Vector3d at_m =
-        measured.measuredOffVertex() ? measured.measured_at_m : grid_.vertexPosition(nearest[k]);
     Eigen::Vector4d row;
-    row << 1.0, (at_m - point_m) / scale_m;
+    row << 1.0, offsets_m[k] / scale_m;
     normal += row * row.transpose();
-    right += row * measured.gravity_n.transpose();
+    right += row * measured_n[k].transpose();
   }
   constexpr double kRidge = 1e-3;
   for (int axis = 1; axis < 4; ++axis) normal(axis, axis) += kRidge * found;
@@ -211,7 +208,7 @@ bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) cons
   const Eigen::Matrix<double, 4, 3> coefficients = solver.solve(right);
   const Eigen::Vector3d predicted_n = coefficients.row(0).transpose();
   // A fit that moves far from the nearest measurement extrapolates more than it knows.
-  const Eigen::Vector3d& closest_n = vertices_[static_cast<std::size_t>(nearest[0])].gravity_n;
+  const Eigen::Vector3d& closest_n = measured_n[0];
   if (!predicted_n.allFinite() ||
       (predicted_n - closest_n).norm() > kMaxFitDeparture * closest_n.norm()) {
     return false;

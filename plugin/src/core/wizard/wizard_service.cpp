@@ -428,7 +428,7 @@ std::vector<int> CalibrationWizard::Impl::chooseVerifyVertices(
   // Where each was measured: a vertex beyond the stops is tested where it was measured.
   const auto point = [&](int vertex) {
     const VertexEstimate& estimate = vertices[static_cast<std::size_t>(vertex)];
-    return estimate.measuredOffVertex() ? estimate.measured_at_m : grid_.vertexPosition(vertex);
+    return estimate.measuredAt_m(grid_.vertexPosition(vertex));
   };
   // The vertex nearest the centre, then each time the one farthest from those chosen: a few
   // tests that still span the grid.
@@ -476,8 +476,7 @@ void CalibrationWizard::Impl::saveAndPrepareVerify() {
   verify_targets_m_.clear();
   for (int vertex : verify_vertices_) {
     const VertexEstimate& estimate = vertices[static_cast<std::size_t>(vertex)];
-    verify_targets_m_.push_back(estimate.measuredOffVertex() ? estimate.measured_at_m
-                                                             : grid_.vertexPosition(vertex));
+    verify_targets_m_.push_back(estimate.measuredAt_m(grid_.vertexPosition(vertex)));
   }
   if (!verify_vertices_.empty()) {
     try {
