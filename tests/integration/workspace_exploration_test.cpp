@@ -2,6 +2,8 @@
 // what the device really reaches (ground truth, for scoring only), and what it costs the device.
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -103,6 +105,109 @@ TEST(InitializationClearanceTest, AnInitializationOnAStopIsRefusedFromDriverData
   EXPECT_TRUE(initializationClearanceProblem(roomy, Eigen::Vector3d::Zero()).empty());
   EXPECT_FALSE(initializationClearanceProblem(roomy, Eigen::Vector3d(0.0, 0.0, -0.047)).empty());
   EXPECT_TRUE(initializationClearanceProblem(ExploredWorkspace{}, Eigen::Vector3d::Zero()).empty());
+}
+
+// Share of `samples` reachable points (uniform, seeded) that lie more than 2 mm beyond the
+// explored boundary: where the map can only extrapolate.
+double shareBeyondBoundary(const sim::SimulatedDevice& device, const ExploredWorkspace& workspace,
+                           int samples) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double half_box_m = 2.0 * device.specifications().workspace_radius_m;
+  int reachable = 0;
+  int beyond = 0;
+  while (reachable < samples) {
+    const Eigen::Vector3d point =
+        device.workspaceCenter_m() +
+        half_box_m * Eigen::Vector3d(unit(random), unit(random), unit(random));
+    if (!device.isReachable(point)) continue;
+    ++reachable;
+    if (workspace.depth_m(point) < -2e-3) ++beyond;
+  }
+  return static_cast<double>(beyond) / samples;
+}
+
+TEST(BoundaryProbeTest, BoundaryProbesFollowTheCornersBetweenTheRadialStops) {
+  // sim:omni's workspace is a slab of a spherical shell: the radial stops' triangles cut its
+  // corners. The boundary probes start just inside those triangles and find the stops beyond.
+  const auto explore = [](int boundary_directions, sim::ExplorationResult& result,
+                          std::unique_ptr<sim::SimulatedDevice>& device) {
+    device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kTypical);
+    ASSERT_TRUE(device->open() && device->calibrate());
+    EstimationParameters parameters;
+    parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+    const sim::InitializationResult init =
+        sim::initializeWithSimulatedHand(*device, parameters, device->workspaceCenter_m());
+    ASSERT_TRUE(init.ok) << init.message;
+    WorkspaceExplorer::Options options;
+    options.boundary_directions = boundary_directions;
+    result = sim::exploreWorkspace(*device, parameters, init, options);
+    ASSERT_FALSE(result.workspace.empty());
+  };
+  std::unique_ptr<sim::SimulatedDevice> radial_device, refined_device;
+  sim::ExplorationResult radial, refined;
+  ASSERT_NO_FATAL_FAILURE(explore(0, radial, radial_device));
+  ASSERT_NO_FATAL_FAILURE(explore(50, refined, refined_device));
+  ASSERT_EQ(radial.workspace.directions().size(), 26u);
+  // The 50-direction spread less the few that repeat a radial direction.
+  EXPECT_GT(refined.workspace.directions().size(), 60u);
+  // The radial directions come first and find the same stops.
+  for (std::size_t i = 0; i < 26; ++i) {
+    EXPECT_NEAR(refined.workspace.radii_m()[i], radial.workspace.radii_m()[i], 1e-4) << i;
+  }
+  // Every boundary probe ends at the stop too, as gently as the radial ones.
+  std::vector<double> errors;
+  for (std::size_t i = 26; i < refined.workspace.directions().size(); ++i) {
+    const Eigen::Vector3d& u = refined.workspace.directions()[i];
+    errors.push_back(refined.workspace.radii_m()[i] -
+                     trueReach_m(*refined_device, refined.workspace.center_m(), u));
+  }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_NEAR(errors[errors.size() / 2], 0.0, 2.5e-3);
+  EXPECT_GT(errors.front(), -3e-3);
+  EXPECT_LT(errors.back(), 8e-3);
+  EXPECT_LE(refined.longest_recognition_s, 0.1);
+  EXPECT_EQ(refined.saturation_count, 0u);
+  EXPECT_LT(refined.seconds_above_continuous_force, 0.05 * refined.seconds);
+  // Each boundary probe costs less than a radial one: it starts a centimetre from the stop.
+  const double radial_per_direction_s = radial.seconds / 26.0;
+  const double boundary_per_direction_s =
+      (refined.seconds - radial.seconds) /
+      static_cast<double>(refined.workspace.directions().size() - 26);
+  RecordProperty("radial_s_per_direction", std::to_string(radial_per_direction_s));
+  RecordProperty("boundary_s_per_direction", std::to_string(boundary_per_direction_s));
+  EXPECT_LT(boundary_per_direction_s, radial_per_direction_s);
+  // And the boundary now holds what the hand can reach: far fewer reachable points lie beyond.
+  const double radial_beyond = shareBeyondBoundary(*radial_device, radial.workspace, 4000);
+  const double refined_beyond = shareBeyondBoundary(*refined_device, refined.workspace, 4000);
+  RecordProperty("share_beyond_radial", std::to_string(radial_beyond));
+  RecordProperty("share_beyond_refined", std::to_string(refined_beyond));
+  EXPECT_GT(radial_beyond, 0.08);
+  EXPECT_LT(refined_beyond, 0.5 * radial_beyond);
+}
+
+TEST(BoundaryProbeTest, BadBoundaryOptionsAreRefused) {
+  EstimationParameters parameters;
+  const DeviceSpecifications specifications =
+      sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kTypical)->specifications();
+  WorkspaceExplorer::Options options;
+  options.boundary_directions = -1;
+  EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
+  options.boundary_directions = 50;
+  options.boundary_clearance_m = 0.0;
+  EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
+  options.boundary_clearance_m = 0.01;
+  options.boundary_directions = 20000;
+  EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
+  // A spread of fewer than six adds nothing; the default adds nothing either.
+  options.boundary_directions = 5;
+  EXPECT_EQ(WorkspaceExplorer(parameters, specifications, options).directionCount(), 26);
+  EXPECT_EQ(WorkspaceExplorer(parameters, specifications).directionCount(), 26);
+  options.boundary_directions = 50;
+  const WorkspaceExplorer explorer(parameters, specifications, options);
+  EXPECT_EQ(explorer.radialDirectionCount(), 26);
+  EXPECT_GT(explorer.directionCount(), 60);
+  EXPECT_EQ(explorer.directions().size(), static_cast<std::size_t>(explorer.directionCount()));
 }
 
 }  // namespace

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <utility>
+
+#include <Eigen/LU>
 
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
@@ -64,8 +68,65 @@ WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
                          ? options.contact_force_n
                          : std::min(kContactForceFraction * max_force_n, 0.5 * continuous_force_n);
   force_cap_n_ = 1.5 * contact_force_n_;
+  if (options.boundary_directions < 0 || !(options.boundary_clearance_m > 0.0)) {
+    refuse(
+        "WorkspaceExplorer::Options::boundary_directions must not be negative and "
+        "boundary_clearance_m must be positive");
+  }
+  if (static_cast<std::size_t>(options.directions) +
+          static_cast<std::size_t>(std::max(0, options.boundary_directions)) >
+      ExploredWorkspace::kMaxDirections) {
+    refuse("WorkspaceExplorer::Options::directions plus boundary_directions must be at most " +
+           std::to_string(ExploredWorkspace::kMaxDirections));
+  }
   directions_ = ExploredWorkspace::probeDirections(options.directions);
+  radial_count_ = static_cast<int>(directions_.size());
+  addBoundaryDirections(options.boundary_directions);
   reach_m_.assign(directions_.size(), 0.0);
+}
+
+void WorkspaceExplorer::addBoundaryDirections(int count) {
+  enclosures_.assign(directions_.size(), Enclosure{});
+  if (count < 6) return;
+  // The radial directions' triangulation, the one their explored workspace will have.
+  const std::vector<Eigen::Vector3d> radial = directions_;
+  const ExploredWorkspace unit(Eigen::Vector3d::Zero(), radial,
+                               std::vector<double>(radial.size(), 1.0));
+  std::vector<std::pair<std::array<int, 3>, Eigen::Matrix3d>> triangles;
+  for (const std::array<int, 3>& facet : unit.facets()) {
+    Eigen::Matrix3d corners;
+    for (int k = 0; k < 3; ++k)
+      corners.col(k) = unit.directions()[static_cast<std::size_t>(facet[k])];
+    triangles.emplace_back(facet, corners.inverse());
+  }
+  const double same_dot = std::cos(kSameDirection_rad);
+  for (const Eigen::Vector3d& u : ExploredWorkspace::probeDirections(count)) {
+    const bool known = std::any_of(radial.begin(), radial.end(),
+                                   [&](const Eigen::Vector3d& r) { return r.dot(u) > same_dot; });
+    if (known) continue;
+    for (const auto& [facet, to_weights] : triangles) {
+      const Eigen::Vector3d weight = to_weights * u;
+      if (weight.minCoeff() < -1e-9) continue;
+      directions_.push_back(u);
+      enclosures_.push_back(Enclosure{facet, weight.cwiseMax(0.0)});
+      break;
+    }
+  }
+}
+
+double WorkspaceExplorer::probeStart_m(int index) const noexcept {
+  if (index < radial_count_) {
+    const double previous_reach_m = index > 0 ? reach_m_[static_cast<std::size_t>(index - 1)] : 0.0;
+    return options_.start_fraction * previous_reach_m;
+  }
+  // The plane through the three radial stops around this direction, where the ray meets it.
+  const Enclosure& around = enclosures_[static_cast<std::size_t>(index)];
+  double inverse_reach_per_m = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    inverse_reach_per_m += around.weight[k] / reach_m_[static_cast<std::size_t>(around.corner[k])];
+  }
+  const double boundary_m = 1.0 / inverse_reach_per_m;
+  return std::max(options_.start_fraction * boundary_m, boundary_m - options_.boundary_clearance_m);
 }
 
 void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
@@ -87,10 +148,7 @@ void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
 void WorkspaceExplorer::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
   Eigen::Vector3d to_m = center_m_;
   if (current_ < directionCount()) {
-    const double previous_reach_m =
-        current_ > 0 ? reach_m_[static_cast<std::size_t>(current_ - 1)] : 0.0;
-    to_m = center_m_ + options_.start_fraction * previous_reach_m *
-                           directions_[static_cast<std::size_t>(current_)];
+    to_m = center_m_ + probeStart_m(current_) * directions_[static_cast<std::size_t>(current_)];
   }
   move_.start(from_m, to_m,
               MinimumJerkMove::durationFor((to_m - from_m).norm(),

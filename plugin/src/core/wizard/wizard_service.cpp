@@ -171,7 +171,7 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
         parameters, max_force_n_, config_.field_ramp_s, field_damping_n_s_per_m);
     if (config_.explore) {
       explorer_ = std::make_unique<WorkspaceExplorer>(parameters, specifications, config_.explorer);
-      probe_directions_ = ExploredWorkspace::probeDirections(explorer_->directionCount());
+      probe_directions_ = explorer_->directions();
       explored_reach_m_.assign(probe_directions_.size(), 0.0);
       live_.direction_count = explorer_->directionCount();
     }
