@@ -18,6 +18,7 @@
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "boundary_probes_option.h"
 #include "calibration_report.h"
 #include "cli_support.h"
 #include "commands.h"
@@ -42,6 +43,7 @@ struct CalibrateOptions {
   bool resume = false;
   bool copy_initial_estimate = false;
   int redo_failed = 1;
+  int boundary_probes = WorkspaceExplorer::Options().boundary_directions;
   SimulatedLoad load;
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
@@ -70,6 +72,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   run.parameters = parameters;
   run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
   run.redo_passes = options.redo_failed;
+  run.explorer.boundary_directions = options.boundary_probes;
   run.servo_timing = options.servo_timing;
   run.servo_timing_seed = options.seed;
 
@@ -212,6 +215,7 @@ void addCalibrateCommand(CLI::App& app) {
                    "Visit the vertices that did not converge again, up to this many passes")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
+  addBoundaryProbesOption(*command, options->boundary_probes);
   addEstimationOptions(*command, options->parameters);
   command->callback([options, command] { runCalibrateCommand(*options, *command); });
 }

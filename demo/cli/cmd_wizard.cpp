@@ -27,6 +27,7 @@
 #include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "boundary_probes_option.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
@@ -58,6 +59,7 @@ struct WizardOptions {
   double frame_ms = 20.0;
   double tolerance_mm = 10.0;
   int verify_points = 3;
+  int boundary_probes = WorkspaceExplorer::Options().boundary_directions;
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
@@ -413,6 +415,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   config.resume = options.resume;
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
+  config.explorer.boundary_directions = options.boundary_probes;
   const double period_s = options.parameters.servo_period_s;
   // The simulated loop's ticks, as --servo-timing draws them; an exact loop needs no clock (the
   // wizard then counts exact periods). Hardware runs on the wall clock's time.
@@ -604,6 +607,7 @@ void addWizardCommand(CLI::App& app) {
                    "Release tests in the Verify step (0 skips it)")
       ->check(CLI::Range(0, kMaxVerifyPoints))
       ->capture_default_str();
+  addBoundaryProbesOption(*command, options->boundary_probes);
   command->add_flag("--uncalibrated", options->uncalibrated,
                     "Start the simulated device un-homed (to see the Check step stop)");
   command->add_option("--report", options->report_path, "Write a JSON report here");

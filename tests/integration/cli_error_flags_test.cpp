@@ -83,6 +83,32 @@ TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsMeasuredInsideTheExploredWorksp
   EXPECT_GE(measured, 4);
 }
 
+TEST(CliErrorFlagsTest, BoundaryProbesReachTheExplorationOfBothCommands) {
+  SKIP_WITHOUT_PROGRAM();
+  // The wizard on a 2x2x2 grid (quick), calibrate as published: both save the radial directions
+  // and the boundary ones in the map.
+  const std::string wizard_map = scratch("wizard_boundary.json");
+  const auto wizard = runCommand(kBinary +
+                                 " wizard --device sim:omega --auto-hand --grid 2 "
+                                 "--verify-points 0 --boundary-probes 50 --out " +
+                                 wizard_map);
+  ASSERT_EQ(wizard.exit_code, 0) << wizard.output;
+  EXPECT_GT(loadMap(wizard_map).metadata().workspace.directions().size(), 60u);
+  const std::string calibrate_map = scratch("calibrate_boundary.json");
+  const auto calibrate = runCommand(kBinary +
+                                    " calibrate --device sim:omega --grid 2 --boundary-probes 50 "
+                                    "--out " +
+                                    calibrate_map);
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  EXPECT_GT(loadMap(calibrate_map).metadata().workspace.directions().size(), 60u);
+  const auto refused = runCommand(kBinary +
+                                  " calibrate --device sim:omega --boundary-probes -1 "
+                                  "--out " +
+                                  scratch("never.json"));
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.output.find("--boundary-probes"), std::string::npos) << refused.output;
+}
+
 TEST(CliErrorFlagsTest, ResumingWithNoCheckpointSaysToStartWithoutResume) {
   SKIP_WITHOUT_PROGRAM();
   const auto run = runCommand(kBinary +

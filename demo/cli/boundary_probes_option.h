@@ -1,0 +1,23 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "autograv/estimation/workspace_explorer.h"
+
+namespace autograv::cli {
+
+/// Adds --boundary-probes N to `command`: how many directions the exploration probes after its
+/// radial ones, each from just inside the boundary those found
+/// (WorkspaceExplorer::Options::boundary_directions, whose default `count` keeps when the option
+/// is not given). The one definition that calibrate and wizard share.
+inline CLI::Option* addBoundaryProbesOption(CLI::App& command, int& count) {
+  return command
+      .add_option("--boundary-probes", count,
+                  "After the radial probes, refine the workspace's boundary along a spread of up "
+                  "to N more directions, each probed from just inside it (about 1 s each; 0: "
+                  "none)")
+      ->check(CLI::Range(0, 2000))
+      ->capture_default_str();
+}
+
+}  // namespace autograv::cli
