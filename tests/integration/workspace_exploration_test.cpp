@@ -31,6 +31,23 @@ double trueReach_m(const sim::SimulatedDevice& device, const Eigen::Vector3d& ce
   return reach;
 }
 
+// Opens `name`, initializes it at its workspace's centre with the simulated hand and explores it
+// with `options`; `device` keeps the simulation for scoring.
+void exploreFromTheCentre(const std::string& name, sim::FrictionLevel friction,
+                          const WorkspaceExplorer::Options& options,
+                          std::unique_ptr<sim::SimulatedDevice>& device,
+                          sim::ExplorationResult& result) {
+  device = sim::makeSimulatedDevice(name, 1, friction);
+  ASSERT_TRUE(device->open() && device->calibrate());
+  EstimationParameters parameters;
+  parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::InitializationResult init =
+      sim::initializeWithSimulatedHand(*device, parameters, device->workspaceCenter_m());
+  ASSERT_TRUE(init.ok) << init.message;
+  result = sim::exploreWorkspace(*device, parameters, init, options);
+  ASSERT_FALSE(result.workspace.empty());
+}
+
 // Every simulated device at typical and at high friction: at high friction the initialization
 // leaves G_hat_0 off by about 0.1 N on sim:omni, and static friction holds the end-effector at
 // the start of the first probes.
@@ -38,16 +55,11 @@ class WorkspaceExplorationTest
     : public ::testing::TestWithParam<std::tuple<std::string, sim::FrictionLevel>> {};
 
 TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
-  auto device = sim::makeSimulatedDevice(std::get<0>(GetParam()), 1, std::get<1>(GetParam()));
-  ASSERT_TRUE(device->open() && device->calibrate());
-  EstimationParameters parameters;
-  parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
-  const sim::InitializationResult init =
-      sim::initializeWithSimulatedHand(*device, parameters, device->workspaceCenter_m());
-  ASSERT_TRUE(init.ok) << init.message;
-  const sim::ExplorationResult result = sim::exploreWorkspace(*device, parameters, init);
+  std::unique_ptr<sim::SimulatedDevice> device;
+  sim::ExplorationResult result;
+  ASSERT_NO_FATAL_FAILURE(exploreFromTheCentre(std::get<0>(GetParam()), std::get<1>(GetParam()),
+                                               WorkspaceExplorer::Options(), device, result));
   const ExploredWorkspace& workspace = result.workspace;
-  ASSERT_FALSE(workspace.empty());
   std::vector<double> errors;
   for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
     const Eigen::Vector3d& u = workspace.directions()[i];
@@ -132,17 +144,9 @@ TEST(BoundaryProbeTest, BoundaryProbesFollowTheCornersBetweenTheRadialStops) {
   // corners. The boundary probes start just inside those triangles and find the stops beyond.
   const auto explore = [](int boundary_directions, sim::ExplorationResult& result,
                           std::unique_ptr<sim::SimulatedDevice>& device) {
-    device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kTypical);
-    ASSERT_TRUE(device->open() && device->calibrate());
-    EstimationParameters parameters;
-    parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
-    const sim::InitializationResult init =
-        sim::initializeWithSimulatedHand(*device, parameters, device->workspaceCenter_m());
-    ASSERT_TRUE(init.ok) << init.message;
     WorkspaceExplorer::Options options;
     options.boundary_directions = boundary_directions;
-    result = sim::exploreWorkspace(*device, parameters, init, options);
-    ASSERT_FALSE(result.workspace.empty());
+    exploreFromTheCentre("sim:omni", sim::FrictionLevel::kTypical, options, device, result);
   };
   std::unique_ptr<sim::SimulatedDevice> radial_device, refined_device;
   sim::ExplorationResult radial, refined;
