@@ -461,8 +461,9 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
 
   WizardStatus status = inCommandLineTerms(wizard.status());
   if (!terminal) log.update(status);
-  // Eq. (7) assumes the end-effector settled in the k0 field alone: watch the end stops from the
-  // moment the field comes on until G_hat_0 is taken.
+  // Eq. (7) assumes the end-effector settled in the k0 field alone. The wizard judges that from
+  // driver data once the workspace is explored; on a simulation the report also says whether it
+  // really touched a stop (ground truth, for scoring only).
   bool initialization_end_stop_hit = false;
   sim::InitializationEndStopWatch end_stop_watch;
   ForceWatch force_watch(specifications, simulation);
@@ -502,12 +503,9 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     }
     wizard.service();
     status = inCommandLineTerms(wizard.status());
-    // Only a simulation can tell that the end-effector rested on an end stop.
     if (simulation != nullptr &&
         end_stop_watch.update(status.step == WizardStep::kRelease, *simulation)) {
       initialization_end_stop_hit = true;
-      front_end.notice = sim::InitializationEndStopWatch::kWarning;
-      std::fprintf(stderr, "autograv wizard: %s\n", front_end.notice.c_str());
     }
 
     if (terminal) {

@@ -149,7 +149,6 @@ std::string DemoSession::startCalibration() {
   compensation_before_calibration_ = decorator_->compensationEnabled();
   decorator_->setCompensationEnabled(false);
   initialization_end_stop_hit_.store(false);
-  end_stop_warning_given_ = false;
   Command command;
   command.kind = Command::Kind::kStartCalibration;
   command.wizard = wizard_ui_;
@@ -175,11 +174,6 @@ std::string DemoSession::updateCalibration() {
   if (wizard_status_.step != last_wizard_step_) {
     last_wizard_step_ = wizard_status_.step;
     message = "calibration: " + wizard_status_.title;
-  }
-  if (!end_stop_warning_given_ && initialization_end_stop_hit_.load()) {
-    end_stop_warning_given_ = true;
-    message += (message.empty() ? "calibration: " : ". ") +
-               std::string(sim::InitializationEndStopWatch::kWarning);
   }
   if (!wizard_ui_->finished()) return message;
 

@@ -163,8 +163,9 @@ class DemoSession {
   /// The status of the running calibration, or how the last one ended. UI thread.
   const WizardStatus& lastCalibrationStatus() const noexcept { return wizard_status_; }
   /// True when the end-effector rested on an end stop while the initialization of the running
-  /// (or last) calibration settled: its G_hat_0 (eq. 7) is wrong. updateCalibration says so once.
-  /// Any thread.
+  /// (or last) calibration settled: its G_hat_0 (eq. 7) is wrong. The simulator's contact flag,
+  /// for scoring only: the user hears of it from the wizard, which judges the settled point from
+  /// driver data once the workspace is explored (initializationClearanceProblem). Any thread.
   bool initializationEndStopHit() const noexcept { return initialization_end_stop_hit_.load(); }
 
   // --- Running ----------------------------------------------------------------------------------
@@ -253,7 +254,6 @@ class DemoSession {
   // Watched on the servo thread, which advances the simulation; the UI reads the atomic.
   sim::InitializationEndStopWatch end_stop_watch_;
   std::atomic<bool> initialization_end_stop_hit_{false};
-  bool end_stop_warning_given_ = false;  // UI thread's
 
   SpscQueue<Command, 256> commands_;
   TripleBuffer<ServoSnapshot> snapshots_;

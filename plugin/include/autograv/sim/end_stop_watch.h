@@ -7,7 +7,9 @@ namespace autograv::sim {
 /// Tells whether the end-effector rested on an end stop while a manual initialization (paper
 /// eq. 7) settled: then X_inf is where the stop put it, not the k0 field, and G_hat_0 is wrong.
 /// Call update() once per servo tick, on the thread that advances the simulation, with whether
-/// the initialization's release phase (hand off, k0 field on) is running. Real-time safe.
+/// the initialization's release phase (hand off, k0 field on) is running. The simulator's contact
+/// flag, no driver's: for scoring only (what the wizard's own check,
+/// initializationClearanceProblem, should have caught). Real-time safe.
 class InitializationEndStopWatch {
  public:
   /// Returns true once, on the tick the release phase ends, when the stop was touched during it.
@@ -22,11 +24,6 @@ class InitializationEndStopWatch {
     was_releasing_ = releasing;
     return hit;
   }
-
-  /// What to tell the user when update() returned true.
-  static constexpr const char* kWarning =
-      "WARNING: the end-effector rested on an end stop during the initialization, so G_hat_0 "
-      "(eq. 7) is wrong there: start again nearer the workspace centre.";
 
  private:
   bool was_releasing_ = false;
