@@ -64,6 +64,11 @@ class ExploredWorkspace {
   /// The boundary's triangles, as indices into directions(), counter-clockwise seen from
   /// outside. A triangulation of well-spread directions has 2 n - 4 of them.
   std::vector<std::array<int, 3>> facets() const;
+  /// The boundary triangle whose cone holds the unit vector `u`: its corners (indices into
+  /// directions()) and u's non-negative weights on their directions (u = sum of weight times
+  /// direction). False when no triangle holds it. Real-time safe.
+  bool enclosingFacet(const Eigen::Vector3d& u, std::array<int, 3>& corners,
+                      Eigen::Vector3d& weights) const noexcept;
 
  private:
   /// One boundary triangle, with what the queries need of it precomputed.
@@ -73,6 +78,9 @@ class ExploredWorkspace {
     Eigen::Vector3d normal;      ///< Outward unit normal of the triangle's plane.
     double offset_m;             ///< normal . (corner - centre). Unit: [m]
   };
+  /// The facet whose cone holds the unit vector `u` (its weights on the corners in `weights`),
+  /// or null.
+  const Facet* facetHolding(const Eigen::Vector3d& u, Eigen::Vector3d& weights) const noexcept;
   /// Distance from the centre to where the ray along the unit vector `u` leaves the model.
   double exitDistance_m(const Eigen::Vector3d& u) const noexcept;
   /// Distance from `position_m` to the nearest boundary triangle. Unit: [m]

@@ -4,9 +4,6 @@
 #include <cmath>
 #include <sstream>
 #include <string>
-#include <utility>
-
-#include <Eigen/LU>
 
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
@@ -74,7 +71,7 @@ WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
         "boundary_clearance_m must be positive");
   }
   if (static_cast<std::size_t>(options.directions) +
-          static_cast<std::size_t>(std::max(0, options.boundary_directions)) >
+          static_cast<std::size_t>(options.boundary_directions) >
       ExploredWorkspace::kMaxDirections) {
     refuse("WorkspaceExplorer::Options::directions plus boundary_directions must be at most " +
            std::to_string(ExploredWorkspace::kMaxDirections));
@@ -92,25 +89,14 @@ void WorkspaceExplorer::addBoundaryDirections(int count) {
   const std::vector<Eigen::Vector3d> radial = directions_;
   const ExploredWorkspace unit(Eigen::Vector3d::Zero(), radial,
                                std::vector<double>(radial.size(), 1.0));
-  std::vector<std::pair<std::array<int, 3>, Eigen::Matrix3d>> triangles;
-  for (const std::array<int, 3>& facet : unit.facets()) {
-    Eigen::Matrix3d corners;
-    for (int k = 0; k < 3; ++k)
-      corners.col(k) = unit.directions()[static_cast<std::size_t>(facet[k])];
-    triangles.emplace_back(facet, corners.inverse());
-  }
   const double same_dot = std::cos(kSameDirection_rad);
   for (const Eigen::Vector3d& u : ExploredWorkspace::probeDirections(count)) {
     const bool known = std::any_of(radial.begin(), radial.end(),
                                    [&](const Eigen::Vector3d& r) { return r.dot(u) > same_dot; });
-    if (known) continue;
-    for (const auto& [facet, to_weights] : triangles) {
-      const Eigen::Vector3d weight = to_weights * u;
-      if (weight.minCoeff() < -1e-9) continue;
-      directions_.push_back(u);
-      enclosures_.push_back(Enclosure{facet, weight.cwiseMax(0.0)});
-      break;
-    }
+    Enclosure around;
+    if (known || !unit.enclosingFacet(u, around.corner, around.weight)) continue;
+    directions_.push_back(u);
+    enclosures_.push_back(around);
   }
 }
 

@@ -209,15 +209,31 @@ double ExploredWorkspace::boundaryDistance_m(const Eigen::Vector3d& direction) c
   return exitDistance_m(direction / norm);
 }
 
+const ExploredWorkspace::Facet* ExploredWorkspace::facetHolding(
+    const Eigen::Vector3d& u, Eigen::Vector3d& weights) const noexcept {
+  constexpr double kWeightTolerance = -1e-12;
+  for (const Facet& facet : facets_) {
+    weights = facet.to_weights * u;
+    if (weights.minCoeff() >= kWeightTolerance && facet.normal.dot(u) > 0.0) return &facet;
+  }
+  return nullptr;
+}
+
+bool ExploredWorkspace::enclosingFacet(const Eigen::Vector3d& u, std::array<int, 3>& corners,
+                                       Eigen::Vector3d& weights) const noexcept {
+  const Facet* facet = facetHolding(u, weights);
+  if (facet == nullptr) return false;
+  corners = facet->corners;
+  weights = weights.cwiseMax(0.0);
+  return true;
+}
+
 double ExploredWorkspace::exitDistance_m(const Eigen::Vector3d& u) const noexcept {
   // The facet whose cone holds u: the ray meets its triangle there. On a shared edge both
   // neighbours give the same point, so the boundary is continuous.
-  constexpr double kWeightTolerance = -1e-12;
-  for (const Facet& facet : facets_) {
-    const Eigen::Vector3d weights = facet.to_weights * u;
-    if (weights.minCoeff() < kWeightTolerance) continue;
-    const double approach = facet.normal.dot(u);
-    if (approach > 0.0) return facet.offset_m / approach;
+  Eigen::Vector3d weights;
+  if (const Facet* facet = facetHolding(u, weights)) {
+    return facet->offset_m / facet->normal.dot(u);
   }
   // No facet holds u (directions that leave part of the sphere uncovered, as all in one
   // hemisphere): nothing is known there but that the shortest reach was free.
