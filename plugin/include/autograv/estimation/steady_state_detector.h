@@ -82,9 +82,12 @@ class SteadyStateDetector {
   static constexpr double kMaxGapOfWindow = 0.2;
   /// Window-means rule: the agreement tolerance grows by this factor per unit of spread of the
   /// window's servo intervals (their standard deviation in nominal periods): a desktop loop, late
-  /// by 0-1 ms, has a spread of about 0.5 and makes window means scatter by several times the
-  /// exact loop's tolerance. Accuracy stays with eq. 12's n_G small updates.
-  static constexpr double kToleranceGrowthPerSpread = 10.0;
+  /// by 0-1 ms, has a spread of about 0.4 and makes window means scatter beyond the exact loop's
+  /// tolerance. Wider (10 did) lets a steep-field vertex take a steady state while it still
+  /// creeps, and eq. (12) then swings around its fixed point for dozens of iterations; none (0)
+  /// doubles a desktop calibration's time (README, "Servo timing"). Accuracy stays with eq. 12's
+  /// n_G small updates.
+  static constexpr double kToleranceGrowthPerSpread = 3.0;
   /// Slow-samples rule: a gap longer than this many nominal periods breaks the run.
   static constexpr double kMaxGapPeriods = 10.0;
 
