@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -89,6 +90,11 @@ class VertexEstimator {
   /// on the simulated devices) per iteration and friction leaves updates of a few mN; against an
   /// end stop the steady state stays put and every update is K_P times the same gap.
   static constexpr int kStalledUpdates = 3;
+  /// Estimates in each half of the swing rule's window: an estimate that has not met the n_G
+  /// rule after twice this many iterations, and whose last two halves of this many estimates
+  /// have means within eps_G, swings around its fixed point (a steep field, a jittery loop, high
+  /// friction); the vertex ends with the mean of both halves.
+  static constexpr int kSwingHalf = 8;
   /// See kStalledUpdates: an update at least this fraction of the previous one does not shrink.
   static constexpr double kStallRatio = 0.6;
   /// See kStalledUpdates: updates below this never count as stalled. Unit: [N]
@@ -159,6 +165,7 @@ class VertexEstimator {
   int stalled_updates_ = 0;
   double last_update_n_ = 0.0;  // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
   Eigen::Vector3d last_raw_update_n_ = Eigen::Vector3d::Zero();  // eq. (12)'s previous step. [N]
+  std::array<Eigen::Vector3d, 2 * kSwingHalf> recent_n_{};       // last estimates, a ring. [N]
   double relaxation_ = 1.0;  // fraction of eq. (12)'s step applied (kMinRelaxation..1)
   Eigen::Vector3d last_settled_m_ = Eigen::Vector3d::Zero();   // previous steady state. [m]
   Eigen::Vector3d last_previous_n_ = Eigen::Vector3d::Zero();  // G_hat before the last step. [N]

@@ -385,6 +385,20 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     finish(VertexOutcome::kConverged);
     return Status::kConverged;
   }
+  recent_n_[static_cast<std::size_t>(estimate_.iterations % (2 * kSwingHalf))] = updated_n;
+  if (estimate_.iterations >= 2 * kSwingHalf) {
+    Eigen::Vector3d older_n = Eigen::Vector3d::Zero(), newer_n = Eigen::Vector3d::Zero();
+    for (int k = 0; k < kSwingHalf; ++k) {
+      newer_n += recent_n_[static_cast<std::size_t>((estimate_.iterations - k) % (2 * kSwingHalf))];
+      older_n += recent_n_[static_cast<std::size_t>((estimate_.iterations - kSwingHalf - k) %
+                                                    (2 * kSwingHalf))];
+    }
+    if ((newer_n - older_n).norm() <= kSwingHalf * parameters_.eps_g_n) {
+      gravity_n_ = (older_n + newer_n) / (2.0 * kSwingHalf);
+      finish(VertexOutcome::kConverged);
+      return Status::kConverged;
+    }
+  }
   if (estimate_.iterations >= parameters_.max_iterations) {
     finish(VertexOutcome::kIterationCap);
     return Status::kIterationCap;
