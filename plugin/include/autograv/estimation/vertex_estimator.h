@@ -93,7 +93,8 @@ class VertexEstimator {
   /// Estimates in each half of the swing rule's window: an estimate that has not met the n_G
   /// rule after twice this many iterations, and whose last two halves of this many estimates
   /// have means within eps_G, swings around its fixed point (a steep field, a jittery loop, high
-  /// friction); the vertex ends with the mean of both halves.
+  /// friction); the vertex ends with the mean of both halves. Dither method only: the paper's
+  /// method keeps its own stop rule.
   static constexpr int kSwingHalf = 8;
   /// See kStalledUpdates: an update at least this fraction of the previous one does not shrink.
   static constexpr double kStallRatio = 0.6;

@@ -385,8 +385,9 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     finish(VertexOutcome::kConverged);
     return Status::kConverged;
   }
+  // The swing rule; the paper's method keeps eqs. 7-13 as published.
   recent_n_[static_cast<std::size_t>(estimate_.iterations % (2 * kSwingHalf))] = updated_n;
-  if (estimate_.iterations >= 2 * kSwingHalf) {
+  if (parameters_.method == EstimationMethod::kDither && estimate_.iterations >= 2 * kSwingHalf) {
     Eigen::Vector3d older_n = Eigen::Vector3d::Zero(), newer_n = Eigen::Vector3d::Zero();
     for (int k = 0; k < kSwingHalf; ++k) {
       newer_n += recent_n_[static_cast<std::size_t>((estimate_.iterations - k) % (2 * kSwingHalf))];
