@@ -90,11 +90,11 @@ class VertexEstimator {
   /// on the simulated devices) per iteration and friction leaves updates of a few mN; against an
   /// end stop the steady state stays put and every update is K_P times the same gap.
   static constexpr int kStalledUpdates = 3;
-  /// Estimates in each half of the swing rule's window: an estimate that has not met the n_G
-  /// rule after twice this many iterations, and whose last two halves of this many estimates
-  /// have means within eps_G, swings around its fixed point (a steep field, a jittery loop, high
-  /// friction); the vertex ends with the mean of both halves. Dither method only: the paper's
-  /// method keeps its own stop rule.
+  /// Estimates in each half of the swing rules' window. A vertex that has iterated twice this
+  /// many times swings around its fixed point (a steep field, a jittery loop, high friction): it
+  /// ends when the n_G rule holds or when the means of its last two halves of this many
+  /// estimates agree within eps_G, and either way with the mean of both halves. Dither method
+  /// only: the paper's method keeps its own stop rule.
   static constexpr int kSwingHalf = 8;
   /// See kStalledUpdates: an update at least this fraction of the previous one does not shrink.
   static constexpr double kStallRatio = 0.6;
