@@ -23,14 +23,15 @@ namespace autograv {
 ///
 /// With EstimationMethod::kDither, eq. 10 also carries a zero-mean dither force and the steady
 /// state is that of the mean position over whole dither periods (SteadyStateDetector), so dry
-/// friction averages out of eq. 12 instead of biasing it by up to the breakaway force.
+/// friction averages out of eq. 12 instead of biasing it by up to the breakaway force; and an
+/// estimate that swings around its fixed point ends with the mean of the swing (kSwingHalf).
 class VertexEstimator {
  public:
   /// What step() did on this tick.
   enum class Status : std::uint8_t {
     kSettling,       ///< Holding X_i, waiting for the steady state of iteration j.
     kUpdated,        ///< This tick ended iteration j with an update (eq. 12).
-    kConverged,      ///< Done: n_G consecutive small updates.
+    kConverged,      ///< Done: n_G consecutive small updates, or a swing (kSwingHalf).
     kIterationCap,   ///< Done: max_iterations reached; the last estimate is kept.
     kNoSteadyState,  ///< Done: an iteration did not settle within max_step_duration_s, close
                      ///< to X_i.

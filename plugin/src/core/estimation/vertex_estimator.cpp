@@ -385,7 +385,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   // iterated 2 kSwingHalf times has circled its fixed point, and the mean over that circle is
   // nearer to it than any one estimate. The n_G rule meets such a swing where its steps are
   // smallest, at an end (high friction: sim:omni's vertex 60 ends 31 mN off in y with the last
-  // estimate, 5 mN with the mean).
+  // estimate, 6 mN with the mean).
   recent_n_[static_cast<std::size_t>(estimate_.iterations % (2 * kSwingHalf))] = updated_n;
   const bool swung =
       parameters_.method == EstimationMethod::kDither && estimate_.iterations >= 2 * kSwingHalf;
