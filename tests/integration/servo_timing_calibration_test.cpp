@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -86,9 +87,11 @@ INSTANTIATE_TEST_SUITE_P(EverySimulatedDevice, VertexStallTest,
                          ::testing::ValuesIn(sim::simulatedDeviceNames()));
 
 /// One vertex at `vertex_m` of sim:falcon (seed 1, typical friction), started at rest there with
-/// the manual initialization's G_hat_0 from the workspace centre, on a loop of `timing`.
+/// the manual initialization's G_hat_0 from the workspace centre, on a loop of `timing` (its
+/// lateness drawn from `clock_seed`).
 VertexEstimate runFalconVertex(const Eigen::Vector3d& vertex_m, sim::ServoTiming timing,
-                               double& error_rel) {
+                               double& error_rel, bool* stop_contact = nullptr,
+                               std::uint64_t clock_seed = 1) {
   auto device = sim::makeSimulatedDevice("sim:falcon", 1);
   device->open();
   device->calibrate();
@@ -101,7 +104,7 @@ VertexEstimate runFalconVertex(const Eigen::Vector3d& vertex_m, sim::ServoTiming
   device->resetState(vertex_m);
   VertexEstimator estimator(parameters, device->specifications().max_linear_force_n);
   estimator.start(vertex_m, initialization.gravity_n);
-  sim::ServoTimingModel clock(timing, 1, parameters.servo_period_s);
+  sim::ServoTimingModel clock(timing, clock_seed, parameters.servo_period_s);
   while (!estimator.finished() && clock.now_s() < 120.0) {
     const ServoSample sample = readServoSample(*device, clock.lastInterval_s());
     Eigen::Vector3d force_n;
@@ -111,6 +114,7 @@ VertexEstimate runFalconVertex(const Eigen::Vector3d& vertex_m, sim::ServoTiming
   }
   const Eigen::Vector3d truth_n = device->trueGravity(vertex_m);
   error_rel = (estimator.estimate().gravity_n - truth_n).norm() / truth_n.norm();
+  if (stop_contact != nullptr) *stop_contact = estimator.stopContact();
   return estimator.estimate();
 }
 
@@ -132,6 +136,56 @@ TEST(ServoTimingCalibrationTest, ASteepFieldVertexOnADesktopLoopConvergesAsOnAnE
   EXPECT_LT(desktop_error_rel, 0.01) << "exact " << 100 * exact_error_rel << " %";
   RecordProperty("exact_iterations", exact.iterations);
   RecordProperty("desktop_iterations", desktop.iterations);
+}
+
+// 1 mm inside sim:falcon's -x stop, where G_x changes by 0.05 N per mm. On a desktop loop a
+// steady state may be taken while the end-effector still creeps toward the vertex (at about
+// 0.4 mm/s under the dither): the step then looks held, as by a stop. Half of these clocks ended
+// the vertex there, 6-8 % off and marked unreachable, before a held step was looked at again
+// for at least VertexEstimator::kStopSecondLook_s.
+TEST(ServoTimingCalibrationTest, ACreepNextToAStopIsNotTakenForTheStop) {
+  const Eigen::Vector3d vertex_m(-0.0484, -0.0007, -0.0010);
+  for (const std::uint64_t clock_seed : {1, 4, 6, 8}) {
+    double error_rel = 0.0;
+    bool stop_contact = true;
+    const VertexEstimate estimate =
+        runFalconVertex(vertex_m, sim::ServoTiming::kDesktop, error_rel, &stop_contact, clock_seed);
+    EXPECT_EQ(estimate.outcome, VertexOutcome::kConverged) << "clock seed " << clock_seed;
+    EXPECT_FALSE(stop_contact) << "clock seed " << clock_seed;
+    EXPECT_LT(error_rel, 0.01) << "clock seed " << clock_seed;
+  }
+}
+
+// The whole default calibration of sim:falcon on a desktop loop measures its points as the exact
+// loop does: no point taken for a stop that the exact loop measures, and every swing's mean taken
+// over the swing alone (without the approach, vertex 80's mean was 1.4 % off in x).
+TEST(ServoTimingCalibrationTest, ADesktopLoopMeasuresEveryPointOfTheFalconAsTheExactLoopDoes) {
+  int converged[2] = {0, 0};
+  const sim::ServoTiming timings[2] = {sim::ServoTiming::kExact, sim::ServoTiming::kDesktop};
+  for (int t = 0; t < 2; ++t) {
+    auto device = sim::makeSimulatedDevice("sim:falcon", 1);
+    ASSERT_TRUE(device->open() && device->calibrate());
+    sim::CalibrationRunOptions options;  // as `autograv calibrate --device sim:falcon` runs it
+    options.grid_from_workspace = true;
+    options.initialization_center_m = device->workspaceCenter_m();
+    options.grid_resolution = Eigen::Vector3i::Constant(5);
+    options.parameters = sim::toolParameters(*device);
+    options.servo_timing = timings[t];
+    options.servo_timing_seed = 1;
+    const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
+    ASSERT_EQ(run.status, AutoCalibrator::Status::kFinished);
+    for (int index = 0; index < run.grid.vertexCount(); ++index) {
+      const VertexEstimate& vertex = run.vertices[static_cast<std::size_t>(index)];
+      if (vertex.outcome != VertexOutcome::kConverged) continue;
+      ++converged[t];
+      const Eigen::Vector3d truth_n =
+          device->trueGravity(vertex.measuredAt_m(run.grid.vertexPosition(index)));
+      EXPECT_LT((vertex.measuredGravity_n() - truth_n).norm(), 0.01 * truth_n.norm())
+          << sim::toString(timings[t]) << ", vertex " << index << ", " << vertex.iterations
+          << " iterations";
+    }
+  }
+  EXPECT_GE(converged[1], converged[0]);
 }
 
 TEST(ServoTimingAllocationTest, EstimatorsOnAJitteryLoopAllocateNothing) {

@@ -97,6 +97,9 @@ class VertexEstimator {
   /// estimates agree within eps_G, and either way with the mean of both halves. Dither method
   /// only: the paper's method keeps its own stop rule.
   static constexpr int kSwingHalf = 8;
+  /// An update of at least this many eps_G is a step of the approach to the fixed point, not of
+  /// a swing around it (those stay within a few eps_G): the swing's mean starts after it.
+  static constexpr double kApproachSteps = 10.0;
   /// See kStalledUpdates: an update at least this fraction of the previous one does not shrink.
   static constexpr double kStallRatio = 0.6;
   /// See kStalledUpdates: updates below this never count as stalled. Unit: [N]
@@ -119,10 +122,15 @@ class VertexEstimator {
   /// a spring 30 or more times stiffer than the hold (1500-2000 N/m on the simulators, a rigid
   /// body on hardware); a field that steep elsewhere (up to 9 K_P) still counts as free space.
   /// With the dither method only: without a dither, dry friction holds the end-effector still
-  /// too, until the force breaks it away. The
-  /// vertex then ends kUnreachable with stopContact() set, after two updates instead of
-  /// kStalledUpdates.
+  /// too, until the force breaks it away. A step that looks held is looked at again under the
+  /// same force (kStopSecondLook_s) and is a stop only if it still looks held. The vertex then
+  /// ends kUnreachable with stopContact() set, after two updates instead of kStalledUpdates.
   static constexpr double kStopFollowFraction = 0.1;
+  /// Shortest second look at a step that seemed held by a stop. A desktop loop's steady state
+  /// may come while the end-effector still creeps toward X_i under the dither (0.4 mm/s next to
+  /// sim:falcon's -x stop); in 0.5 s such a creep moves past kStopFollowFraction, a stop does
+  /// not (its settled position moves by 0.01-0.08 mm between the looks). Unit: [s]
+  static constexpr double kStopSecondLook_s = 0.5;
 
   /// True when the vertex ended against a stop (kStopFollowFraction). Real-time safe.
   bool stopContact() const noexcept { return stop_contact_; }
@@ -138,6 +146,8 @@ class VertexEstimator {
 
  private:
   void setGains(const Eigen::Vector3d& gravity_n) noexcept;
+  /// A new steady-state observation: detector and dither phase from zero.
+  void restartObservation(int required_steady) noexcept;
   void finish(VertexOutcome outcome) noexcept;
   Eigen::Vector3d ditherForce_n(double cell) const noexcept;
   Eigen::Vector3d ditherImpulse_ns(double from, double to) const noexcept;
@@ -168,10 +178,13 @@ class VertexEstimator {
   double last_update_n_ = 0.0;  // |G_hat_j - G_hat_{j-1}| of the previous update. Unit: [N]
   Eigen::Vector3d last_raw_update_n_ = Eigen::Vector3d::Zero();  // eq. (12)'s previous step. [N]
   std::array<Eigen::Vector3d, 2 * kSwingHalf> recent_n_{};       // last estimates, a ring. [N]
+  int swing_estimates_ = 0;  // estimates since the last large step, the last one included
   double relaxation_ = 1.0;  // fraction of eq. (12)'s step applied (kMinRelaxation..1)
   Eigen::Vector3d last_settled_m_ = Eigen::Vector3d::Zero();   // previous steady state. [m]
   Eigen::Vector3d last_previous_n_ = Eigen::Vector3d::Zero();  // G_hat before the last step. [N]
   bool stop_contact_ = false;
+  bool stop_second_look_ = false;  // a held step is being looked at again (kStopFollowFraction)
+  double second_look_start_periods_ = 0.0;  // elapsed_periods_ when the second look began
   Eigen::Vector3d contact_position_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d contact_direction_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d gravity_before_contact_n_ = Eigen::Vector3d::Zero();

@@ -127,17 +127,15 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   last_settled_m_.setZero();
   last_previous_n_ = initial_gravity_n;
   stop_contact_ = false;
+  stop_second_look_ = false;
+  swing_estimates_ = 0;
   contact_position_m_.setZero();
   contact_direction_.setZero();
   gravity_before_contact_n_ = initial_gravity_n;
   saturated_periods_ = 0.0;
   invalid_periods_ = 0.0;
   finished_ = false;
-  detector_.reset();
-  detector_.setRequired(requiredSteadyCount(false));
-  dither_periods_ = 0.0;
-  dither_started_ = false;
-  dither_debt_ns_.setZero();
+  restartObservation(requiredSteadyCount(false));
   dither_displacement_debt_.setZero();
   last_dither_n_.setZero();
   hold_started_ = false;
@@ -255,6 +253,14 @@ int VertexEstimator::requiredSteadyCount(bool last_update_small) const noexcept 
   return last_update_small ? parameters_.final_steady_windows : parameters_.steady_windows;
 }
 
+void VertexEstimator::restartObservation(int required_steady) noexcept {
+  detector_.reset();
+  detector_.setRequired(required_steady);
+  dither_periods_ = 0.0;  // the next window starts at phase 0 again
+  dither_started_ = false;
+  dither_debt_ns_.setZero();
+}
+
 void VertexEstimator::finish(VertexOutcome outcome) noexcept {
   estimate_.outcome = outcome;
   estimate_.gravity_n = gravity_n_;
@@ -308,6 +314,13 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     return Status::kSettling;
   }
 
+  if (stop_second_look_ &&
+      (elapsed_periods_ - second_look_start_periods_) * parameters_.servo_period_s <
+          kStopSecondLook_s) {
+    // Too early for the second look: a creeping end-effector needs time to show it moves.
+    restartObservation(requiredSteadyCount(true));
+    return Status::kSettling;
+  }
   // Steady state of iteration j: eq. (12), then gains for j+1 from G_hat_j (eq. 11).
   const Eigen::Vector3d settled_m = detector_.settledPosition_m();
   const Eigen::Vector3d previous_n = gravity_n_;
@@ -322,13 +335,35 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   const double step_ratio =
       both_large ? raw_update_n.dot(last_raw_update_n_) / (last_update_n_ * last_update_n_) : 0.0;
   const bool overshoot = both_large && step_ratio < -kOvershootRatio;
+  double relaxation = relaxation_;
   if (overshoot) {
-    relaxation_ = std::clamp(relaxation_ / (1.0 - step_ratio), kMinRelaxation, 1.0);
+    relaxation = std::clamp(relaxation_ / (1.0 - step_ratio), kMinRelaxation, 1.0);
   } else if (both_large && step_ratio > 0.0 && relaxation_ < 1.0) {
     // Steps that keep their direction: the relaxation was too strong (or the field changed
     // under the hold); let it back toward 1 by the same rule, at most doubling it.
-    relaxation_ = std::min(1.0, relaxation_ / (1.0 - std::min(step_ratio, 0.5)));
+    relaxation = std::min(1.0, relaxation_ / (1.0 - std::min(step_ratio, 0.5)));
   }
+  // A stop: this step pushes the way the last one did, no shorter, and the last one moved the
+  // steady state by far less than the hold's spring would have (kStopFollowFraction).
+  // Only with the dither: without it, dry friction holds the end-effector as a stop does until
+  // the force breaks it away, and the paper's method keeps its slower stall rule.
+  const double expected_move_m = relaxation * last_update_n_ / stiffness_n_per_m_;
+  const bool pushed_again =
+      parameters_.method == EstimationMethod::kDither && both_large && step_ratio >= kStallRatio;
+  const bool held_still =
+      pushed_again && (settled_m - last_settled_m_).norm() < kStopFollowFraction * expected_move_m;
+  if (held_still && !stop_second_look_) {
+    // A steady state taken early (a jittery loop's windows) looks the same while the
+    // end-effector still creeps toward X_i: look again under the same force, for at least
+    // kStopSecondLook_s and over the longer final windows, before calling it a stop. The step
+    // is not counted.
+    stop_second_look_ = true;
+    second_look_start_periods_ = elapsed_periods_;
+    restartObservation(requiredSteadyCount(true));
+    return Status::kSettling;
+  }
+  stop_second_look_ = false;
+  relaxation_ = relaxation;
   const Eigen::Vector3d updated_n = previous_n + relaxation_ * raw_update_n;
   last_error_m_ = (vertex_m_ - settled_m).norm();
   IterationRecord record;
@@ -342,11 +377,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   gravity_n_ = updated_n;
   estimate_.gravity_n = updated_n;
   const bool small_update = update_n <= parameters_.eps_g_n;
-  detector_.reset();
-  detector_.setRequired(requiredSteadyCount(small_update));
-  dither_periods_ = 0.0;  // the next window starts at phase 0 again
-  dither_started_ = false;
-  dither_debt_ns_.setZero();
+  restartObservation(requiredSteadyCount(small_update));
 
   small_updates_ = small_update ? small_updates_ + 1 : 0;
   // Against a stop every step points the same way and keeps its length; an overshoot is
@@ -355,15 +386,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
                        update_n >= kStallRatio * last_update_n_ &&
                        (!overshoot || relaxation_ <= kMinRelaxation);
   stalled_updates_ = stalled ? stalled_updates_ + 1 : 0;
-  // A stop: this step pushes the way the last one did, no shorter, and the last one moved the
-  // steady state by far less than the hold's spring would have (kStopFollowFraction).
-  const double expected_move_m = relaxation_ * last_update_n_ / stiffness_n_per_m_;
-  // Only with the dither: without it, dry friction holds the end-effector as a stop does until
-  // the force breaks it away, and the paper's method keeps its slower stall rule.
-  const bool pushed_again =
-      parameters_.method == EstimationMethod::kDither && both_large && step_ratio >= kStallRatio;
-  if (pushed_again &&
-      (settled_m - last_settled_m_).norm() < kStopFollowFraction * expected_move_m) {
+  if (held_still) {
     stop_contact_ = true;
     contact_position_m_ = settled_m;
     contact_direction_ = raw_update_n / update_n;
@@ -386,14 +409,18 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   // nearer to it than any one estimate. The n_G rule meets such a swing where its steps are
   // smallest, at an end (high friction: sim:omni's vertex 60 ends 31 mN off in y with the last
   // estimate, 6 mN with the mean).
-  recent_n_[static_cast<std::size_t>(estimate_.iterations % (2 * kSwingHalf))] = updated_n;
+  // The circle starts at the estimate after the last approach step (kApproachSteps eps_G or
+  // more): the approach to the fixed point is no part of it (sim:falcon desktop, vertex 80:
+  // 0.50 N in x on the way in, 0.35 N around the fixed point; a mean with it is 12 mN off).
+  swing_estimates_ = update_n >= kApproachSteps * parameters_.eps_g_n ? 1 : swing_estimates_ + 1;
+  recent_n_[static_cast<std::size_t>(swing_estimates_ % (2 * kSwingHalf))] = updated_n;
   const bool swung =
-      parameters_.method == EstimationMethod::kDither && estimate_.iterations >= 2 * kSwingHalf;
+      parameters_.method == EstimationMethod::kDither && swing_estimates_ >= 2 * kSwingHalf;
   Eigen::Vector3d older_n = Eigen::Vector3d::Zero(), newer_n = Eigen::Vector3d::Zero();
   if (swung) {
     for (int k = 0; k < kSwingHalf; ++k) {
-      newer_n += recent_n_[static_cast<std::size_t>((estimate_.iterations - k) % (2 * kSwingHalf))];
-      older_n += recent_n_[static_cast<std::size_t>((estimate_.iterations - kSwingHalf - k) %
+      newer_n += recent_n_[static_cast<std::size_t>((swing_estimates_ - k) % (2 * kSwingHalf))];
+      older_n += recent_n_[static_cast<std::size_t>((swing_estimates_ - kSwingHalf - k) %
                                                     (2 * kSwingHalf))];
     }
   }
