@@ -125,6 +125,7 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"parameters", parametersJson(outcome.parameters)}};
   addFieldErrorJson(report, outcome.field);
   report["servo_timing"] = sim::toString(outcome.servo_timing);
+  report["servo_timing_seed"] = outcome.servo_timing_seed;
   report["servo_loop"] = servoLoopJson(outcome.servo_timing, result.servo_loop);
   return report;
 }

@@ -17,8 +17,8 @@ namespace autograv::cli {
 
 /// What a finished calibration on a simulated device was run with, and the figures scored on it.
 struct CalibrationOutcome {
-  std::string map_path;    ///< Where the map was saved.
-  std::uint64_t seed = 1;  ///< The device's and the timing's seed.
+  std::string map_path;                                        ///< Where the map was saved.
+  std::uint64_t seed = 1;                                      ///< The device's seed.
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< The device's friction level.
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;    ///< How the servo ticks arrived.
   DeviceSpecifications specs;                                  ///< The device's.
@@ -28,6 +28,7 @@ struct CalibrationOutcome {
   sim::AccuracyReport accuracy{};              ///< At the measured points and 1000 random ones.
   sim::FieldErrorReport field{};               ///< Over the reachable workspace.
   sim::FrictionMeasurement device_friction{};  ///< Measured on a fresh copy of the device.
+  std::uint64_t servo_timing_seed = 1;         ///< The draw of the loop's late ticks.
 };
 
 /// Prints the summary lines of the run `result` that made `map`, on standard output.

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,7 @@ struct CalibrateOptions {
   SimulatedLoad load;
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
+  std::optional<std::uint64_t> servo_timing_seed;  // default: seed
 };
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
@@ -74,7 +76,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   run.redo_passes = options.redo_failed;
   run.explorer.boundary_directions = options.boundary_probes;
   run.servo_timing = options.servo_timing;
-  run.servo_timing_seed = options.seed;
+  run.servo_timing_seed = options.servo_timing_seed.value_or(options.seed);
 
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
@@ -180,6 +182,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   CalibrationOutcome outcome{options.out_path,     options.seed, options.friction,
                              options.servo_timing, specs,        parameters};
+  outcome.servo_timing_seed = run.servo_timing_seed;
   outcome.wall_s = wall_s;
   outcome.workspace_coverage = workspace_coverage;
   outcome.accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
@@ -203,6 +206,9 @@ void addCalibrateCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
   addServoTimingOption(*command, options->servo_timing);
+  command->add_option("--servo-timing-seed", options->servo_timing_seed,
+                      "Seed of the desktop or free loop's lateness (default: --seed): the same "
+                      "device with another draw of late ticks");
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->add_flag("--resume", options->resume,

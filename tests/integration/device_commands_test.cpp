@@ -102,5 +102,26 @@ TEST_F(DeviceCommandsTest, CalibrateSaysARealDeviceNeedsTheWizard) {
   EXPECT_NE(result.output.find("autograv wizard"), std::string::npos) << result.output;
 }
 
+// The same device on another draw of late ticks: --servo-timing-seed changes the loop and
+// nothing else, and the report says which draw it was (the README's spread over clock seeds).
+TEST_F(DeviceCommandsTest, CalibrateDrawsTheLoopsLatenessFromItsOwnSeed) {
+  const std::string command = kBinary +
+                              " calibrate --device sim:omega --grid 2 --side-mm 50 --seed 2 "
+                              "--servo-timing desktop --out " +
+                              dir_ + "/timed.json --report ";
+  const auto same = runCommand(command + dir_ + "/same.report.json");
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  const auto other = runCommand(command + dir_ + "/other.report.json --servo-timing-seed 5");
+  ASSERT_EQ(other.exit_code, 0) << other.output;
+  const nlohmann::json same_report = readJson(dir_ + "/same.report.json");
+  const nlohmann::json other_report = readJson(dir_ + "/other.report.json");
+  EXPECT_EQ(same_report["seed"], 2);
+  EXPECT_EQ(same_report["servo_timing_seed"], 2);  // by default, the device's seed
+  EXPECT_EQ(other_report["seed"], 2);
+  EXPECT_EQ(other_report["servo_timing_seed"], 5);
+  EXPECT_NE(same_report["servo_loop"]["max_lateness_ms"],
+            other_report["servo_loop"]["max_lateness_ms"]);
+}
+
 }  // namespace
 }  // namespace autograv
