@@ -70,11 +70,7 @@ TEST(CalibrationTest, CoarseGridsOnTheExploredWorkspaceRun) {
   for (const int resolution : {3, 4}) {
     auto device = sim::makeSimulatedDevice("sim:omni", 1);
     ASSERT_TRUE(device->open() && device->calibrate());
-    sim::CalibrationRunOptions options;
-    options.grid_from_workspace = true;
-    options.initialization_center_m = device->workspaceCenter_m();
-    options.grid_resolution = Eigen::Vector3i::Constant(resolution);
-    options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+    const sim::CalibrationRunOptions options = sim::defaultCalibrationOptions(*device, resolution);
     const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
     EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished) << resolution;
     EXPECT_EQ(run.grid.resolution(), Eigen::Vector3i::Constant(resolution));
@@ -90,11 +86,8 @@ TEST(CalibrationTest, CoarseGridsOnTheExploredWorkspaceRun) {
 TEST(CalibrationTest, HighFrictionSwingsEndWithTheirMean) {
   auto device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kHigh);
   ASSERT_TRUE(device->open() && device->calibrate());
-  sim::CalibrationRunOptions options;  // as `autograv calibrate --device sim:omni` runs it
-  options.grid_from_workspace = true;
-  options.initialization_center_m = device->workspaceCenter_m();
-  options.grid_resolution = Eigen::Vector3i::Constant(5);
-  options.parameters = sim::toolParameters(*device);
+  // As `autograv calibrate --device sim:omni --friction high` runs it.
+  const sim::CalibrationRunOptions options = sim::defaultCalibrationOptions(*device);
   const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
   ASSERT_EQ(run.status, AutoCalibrator::Status::kFinished);
   int swung = 0;
@@ -291,11 +284,7 @@ class DefaultCalibrationTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(DefaultCalibrationTest, MeasuresInsideTheWorkspaceAndMakesAMapWithoutHoles) {
   auto device = sim::makeSimulatedDevice(GetParam(), 1);
   ASSERT_TRUE(device->open());
-  sim::CalibrationRunOptions options;
-  options.grid_from_workspace = true;
-  options.initialization_center_m = device->workspaceCenter_m();
-  options.grid_resolution = Eigen::Vector3i::Constant(5);
-  options.parameters.k0_n_per_m = defaultInitializationStiffness(device->specifications());
+  const sim::CalibrationRunOptions options = sim::defaultCalibrationOptions(*device);
   const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
   EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
   ASSERT_FALSE(run.workspace.empty());

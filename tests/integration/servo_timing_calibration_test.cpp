@@ -165,11 +165,8 @@ TEST(ServoTimingCalibrationTest, ADesktopLoopMeasuresEveryPointOfTheFalconAsTheE
   for (int t = 0; t < 2; ++t) {
     auto device = sim::makeSimulatedDevice("sim:falcon", 1);
     ASSERT_TRUE(device->open() && device->calibrate());
-    sim::CalibrationRunOptions options;  // as `autograv calibrate --device sim:falcon` runs it
-    options.grid_from_workspace = true;
-    options.initialization_center_m = device->workspaceCenter_m();
-    options.grid_resolution = Eigen::Vector3i::Constant(5);
-    options.parameters = sim::toolParameters(*device);
+    // As `autograv calibrate --device sim:falcon --servo-timing T` runs it.
+    sim::CalibrationRunOptions options = sim::defaultCalibrationOptions(*device);
     options.servo_timing = timings[t];
     options.servo_timing_seed = 1;
     const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);

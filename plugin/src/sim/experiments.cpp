@@ -67,6 +67,16 @@ EstimationParameters toolParameters(const SimulatedDevice& device, EstimationMet
   return parameters;
 }
 
+CalibrationRunOptions defaultCalibrationOptions(const SimulatedDevice& device,
+                                                int grid_resolution) {
+  CalibrationRunOptions run;
+  run.grid_from_workspace = true;
+  run.initialization_center_m = device.workspaceCenter_m();
+  run.grid_resolution = Eigen::Vector3i::Constant(grid_resolution);
+  run.parameters = toolParameters(device);
+  return run;
+}
+
 DefaultCubeCalibration calibrateDefaultCube(SimulatedDevice& device,
                                             const DefaultCubeOptions& options) {
   const double side_m = defaultGridSide_m(device.specifications().workspace_radius_m);

@@ -34,6 +34,11 @@ std::unique_ptr<SimulatedDevice> openSimulatedDevice(
 EstimationParameters toolParameters(const SimulatedDevice& device,
                                     EstimationMethod method = EstimationMethod::kDither);
 
+/// The run `autograv calibrate --device D` makes (with --grid N): the workspace explored from
+/// the device's centre, an N x N x N grid fitted around it, toolParameters. Not real-time safe.
+CalibrationRunOptions defaultCalibrationOptions(const SimulatedDevice& device,
+                                                int grid_resolution = 5);
+
 /// How calibrateDefaultCube calibrates.
 struct DefaultCubeOptions {
   int resolution = 3;                                   ///< Vertices per axis.
