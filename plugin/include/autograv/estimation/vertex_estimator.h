@@ -24,7 +24,9 @@ namespace autograv {
 /// With EstimationMethod::kDither, eq. 10 also carries a zero-mean dither force and the steady
 /// state is that of the mean position over whole dither periods (SteadyStateDetector), so dry
 /// friction averages out of eq. 12 instead of biasing it by up to the breakaway force; and an
-/// estimate that swings around its fixed point ends with the mean of the swing (kSwingHalf).
+/// estimate that swings around its fixed point ends with the mean of the swing (kSwingHalf); a
+/// step that the end-effector does not follow is looked at again before it counts as a stop
+/// (kStopSecondLook_s).
 class VertexEstimator {
  public:
   /// What step() did on this tick.
