@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -26,6 +27,10 @@ class IdealPointMass {
   double wall_x_m = HUGE_VAL;              ///< Unit: [m]
   double wall_stiffness_n_per_m = 2000.0;  ///< Unit: [N/m]
   double wall_damping_n_s_per_m = 5.0;     ///< Unit: [N s/m]
+  /// The true inertia in units of the paper's |G|/g (1: the paper's model).
+  double mass_factor = 1.0;
+  /// Largest x the end-effector reached. Unit: [m]
+  double max_x_m = -HUGE_VAL;
 
   Eigen::Vector3d gravity(const Eigen::Vector3d& x) const {
     return gravity_at_origin_n + gradient_n_per_m * x;
@@ -36,7 +41,7 @@ class IdealPointMass {
     const double h = dt_s / substeps;
     for (int k = 0; k < substeps; ++k) {
       const Eigen::Vector3d g = gravity(position_m);
-      const double mass_kg = g.norm() / 9.81;
+      const double mass_kg = mass_factor * g.norm() / 9.81;
       Eigen::Vector3d net_n = force_n - g;
       if (position_m.x() > wall_x_m) {
         net_n.x() -= wall_stiffness_n_per_m * (position_m.x() - wall_x_m) +
@@ -55,6 +60,7 @@ class IdealPointMass {
         net_n[axis] = 0.0;
       }
       position_m += h * velocity_m_per_s;
+      max_x_m = std::max(max_x_m, position_m.x());
     }
   }
 };

@@ -9,6 +9,7 @@
 #include "autograv/error.h"
 #include "autograv/map/measurement_plan.h"
 #include "ideal_point_mass.h"
+#include "probed_workspaces.h"
 
 namespace autograv {
 namespace {
@@ -75,6 +76,84 @@ TEST(AutoCalibratorTest, APointAStopHoldsShortIsMeasuredBackFromTheStop) {
     EXPECT_LT((vertex.measured_gravity_n - f.device.gravity(vertex.measured_at_m)).norm(),
               2.0 * f.parameters.eps_g_n);
   }
+}
+
+TEST(AutoCalibratorTest, MovesAccelerateWithTheRoomBeyondTheirTarget) {
+  AutoCalibrator::Options options;
+  const double gentle = options.max_move_acceleration_m_per_s2;
+  const double deep = options.deep_move_acceleration_m_per_s2;
+  EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, 0.0), gentle);
+  EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, kBoundaryMargin_m), gentle);
+  EXPECT_NEAR(AutoCalibrator::moveAcceleration_m_per_s2(options, 1.5 * kBoundaryMargin_m),
+              1.5 * gentle, 1e-12);
+  EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, 0.1), deep);
+  // The saturation pre-check judges the quickest move.
+  const EstimationParameters parameters;
+  EXPECT_NEAR(AutoCalibrator::largestHoldStep_m(parameters, options),
+              AutoCalibrator::kMassUncertainty * deep / parameters.beta_per_s2, 1e-15);
+  options.deep_move_acceleration_m_per_s2 = 0.5 * gentle;  // never slower than the gentle moves
+  EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, 0.1), gentle);
+}
+
+// Calibrates a 3 x 3 x 3 grid whose +x face lies 4 mm inside a stop, on an arm three times
+// heavier than the paper's |G|/g (what AutoCalibrator::kMassUncertainty allows): the plan's
+// workspace is the cube the stop bounds.
+struct NextToAStop {
+  Fixture f;
+  explicit NextToAStop(const AutoCalibrator::Options& options)
+      : calibrator(f.grid, f.parameters, 12.0, options) {
+    const double half_width_m = 0.5 * f.grid.size_m().x() + kBoundaryMargin_m;
+    f.device.wall_x_m = f.grid.center_m().x() + half_width_m;
+    f.device.mass_factor = AutoCalibrator::kMassUncertainty;
+    f.device.position_m = f.grid.center_m();
+    calibrator.setPlan(
+        planMeasurements(f.grid, testing::probedCube(half_width_m, f.grid.center_m())));
+    calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+    for (long tick = 0; tick < 2'000'000; ++tick) {
+      Eigen::Vector3d force;
+      const AutoCalibrator::Status status = calibrator.step(f.device.sample(), force);
+      moving_s += status == AutoCalibrator::Status::kMoving ? kPeriod : 0.0;
+      f.device.advance(force, kPeriod);
+      if (status == AutoCalibrator::Status::kFinished) break;
+    }
+  }
+  AutoCalibrator calibrator;
+  double moving_s = 0.0;
+};
+
+TEST(AutoCalibratorTest, QuickMovesLeaveTheStopsAlone) {
+  AutoCalibrator::Options gentle_only;
+  gentle_only.deep_move_acceleration_m_per_s2 = gentle_only.max_move_acceleration_m_per_s2;
+  const NextToAStop gentle(gentle_only);
+  const NextToAStop quick{AutoCalibrator::Options()};
+  ASSERT_EQ(quick.calibrator.state(), AutoCalibrator::Status::kFinished);
+  ASSERT_EQ(gentle.calibrator.state(), AutoCalibrator::Status::kFinished);
+  RecordProperty("gentle_moving_s", std::to_string(gentle.moving_s));
+  RecordProperty("quick_moving_s", std::to_string(quick.moving_s));
+  RecordProperty("quick_max_x_beyond_face_mm",
+                 std::to_string((quick.f.device.max_x_m - quick.f.grid.maxCorner_m().x()) * 1e3));
+  // Along the faces and inward the moves take the deep acceleration; into a face, the gentle
+  // (every face of the cube is 4 mm beyond the grid's, so most moves end next to one).
+  EXPECT_LT(quick.moving_s, 0.9 * gentle.moving_s);
+  EXPECT_LT(quick.f.device.max_x_m, quick.f.device.wall_x_m);
+  EXPECT_EQ(quick.calibrator.stopRetreats(), 0);
+  for (int i = 0; i < quick.f.grid.vertexCount(); ++i) {
+    const VertexEstimate& vertex = quick.calibrator.vertices()[static_cast<std::size_t>(i)];
+    EXPECT_EQ(vertex.outcome, VertexOutcome::kConverged) << "vertex " << i;
+    const Eigen::Vector3d at_m = vertex.measuredAt_m(quick.f.grid.vertexPosition(i));
+    EXPECT_LT((vertex.measuredGravity_n() - quick.f.device.gravity(at_m)).norm(),
+              quick.f.parameters.eps_g_n)
+        << "vertex " << i;
+  }
+  // Every move at the deep acceleration would have overshot toward the stop 2.4 times as far
+  // (1.2 mm against 2.9 mm beyond the face, with the stop at 4 mm).
+  AutoCalibrator::Options quick_everywhere;
+  quick_everywhere.max_move_acceleration_m_per_s2 =
+      quick_everywhere.deep_move_acceleration_m_per_s2;
+  const NextToAStop rammed(quick_everywhere);
+  RecordProperty("rammed_max_x_beyond_face_mm",
+                 std::to_string((rammed.f.device.max_x_m - rammed.f.grid.maxCorner_m().x()) * 1e3));
+  EXPECT_GT(rammed.f.device.max_x_m, quick.f.device.max_x_m + 0.001);
 }
 
 TEST(AutoCalibratorTest, ExtrapolationSavesIterationsWithoutChangingTheResult) {
@@ -245,6 +324,18 @@ TEST(AutoCalibratorTest, DeviceFaultStopsTheRunWithZeroForce) {
 TEST(AutoCalibratorTest, StepAllocatesNothing) {
   Fixture f;
   f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  testing::AllocationCounter counter;
+  const AutoCalibrator::Status status = f.run(2'000'000);
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_EQ(status, AutoCalibrator::Status::kFinished);
+}
+
+TEST(AutoCalibratorTest, StepAllocatesNothingWhenTheMovesConsultTheWorkspace) {
+  Fixture f;
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.setPlan(planMeasurements(
+      f.grid, testing::probedSphere(f.grid.center_m(), 0.9 * f.grid.size_m().norm() / 2.0, 26)));
   f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
   testing::AllocationCounter counter;
   const AutoCalibrator::Status status = f.run(2'000'000);

@@ -10,15 +10,13 @@
 
 #include "autograv/error.h"
 #include "autograv/map/measurement_plan.h"
+#include "probed_workspaces.h"
 
 namespace autograv {
 namespace {
 
-// A sphere of `radius_m` probed along `count` directions.
-ExploredWorkspace probedSphere(const Eigen::Vector3d& center_m, double radius_m, int count) {
-  const std::vector<Eigen::Vector3d> directions = ExploredWorkspace::probeDirections(count);
-  return ExploredWorkspace(center_m, directions, std::vector<double>(directions.size(), radius_m));
-}
+using testing::probedCube;
+using testing::probedSphere;
 
 // How many of the boundary's triangles hold `u` in their cone.
 int conesHolding(const ExploredWorkspace& workspace, const Eigen::Vector3d& u) {
@@ -32,23 +30,6 @@ int conesHolding(const ExploredWorkspace& workspace, const Eigen::Vector3d& u) {
     holding += weights.minCoeff() >= -1e-9 ? 1 : 0;
   }
   return holding;
-}
-
-// The 26 directions to a cube's faces, edges and corners, reaching its faces.
-ExploredWorkspace probedCube(double half_width_m) {
-  std::vector<Eigen::Vector3d> directions;
-  std::vector<double> radii;
-  for (int i = -1; i <= 1; ++i) {
-    for (int j = -1; j <= 1; ++j) {
-      for (int k = -1; k <= 1; ++k) {
-        if (i == 0 && j == 0 && k == 0) continue;
-        const Eigen::Vector3d u = Eigen::Vector3d(i, j, k).normalized();
-        directions.push_back(u);
-        radii.push_back(half_width_m / u.cwiseAbs().maxCoeff());
-      }
-    }
-  }
-  return ExploredWorkspace(Eigen::Vector3d::Zero(), directions, radii);
 }
 
 TEST(ExploredWorkspaceTest, ProbeDirectionsAreUnitSpreadAndAPath) {
@@ -93,6 +74,28 @@ TEST(ExploredWorkspaceTest, ContainsAndPullInsideKeepTheMargin) {
   const ExploredWorkspace unknown;
   EXPECT_TRUE(unknown.contains(outside));
   EXPECT_EQ(unknown.pullInside(outside, 0.004), outside);
+}
+
+TEST(ExploredWorkspaceTest, ClearanceAlongAPathIsTheRoomBeyondThePointThatWay) {
+  // 4 mm from the +x face of a cube of half-width 50 mm.
+  const ExploredWorkspace cube = probedCube(0.05);
+  const Eigen::Vector3d point(0.046, 0.01, -0.02);
+  constexpr double kLimit = 0.008;
+  constexpr double kResolution = 5e-4;
+  const double toward_face = cube.clearanceAlong_m(point, Eigen::Vector3d::UnitX(), kLimit);
+  EXPECT_LE(toward_face, 0.004);
+  EXPECT_GT(toward_face, 0.004 - kResolution - 1e-12);
+  // Along the face, and away from it, the room is the whole limit.
+  EXPECT_EQ(cube.clearanceAlong_m(point, Eigen::Vector3d::UnitY(), kLimit), kLimit);
+  EXPECT_EQ(cube.clearanceAlong_m(point, -Eigen::Vector3d::UnitX(), kLimit), kLimit);
+  // Obliquely toward the face: 4 mm / cos(60 deg).
+  const Eigen::Vector3d oblique(0.5, std::sqrt(0.75), 0.0);
+  EXPECT_NEAR(cube.clearanceAlong_m(point, oblique, kLimit), 0.008, kResolution + 1e-12);
+  // Outside there is no room; an empty workspace knows of no stop.
+  EXPECT_EQ(
+      cube.clearanceAlong_m(Eigen::Vector3d(0.06, 0.0, 0.0), -Eigen::Vector3d::UnitX(), kLimit),
+      0.0);
+  EXPECT_EQ(ExploredWorkspace().clearanceAlong_m(point, Eigen::Vector3d::UnitX(), kLimit), kLimit);
 }
 
 TEST(ExploredWorkspaceTest, DepthIsMeasuredSquareToTheBoundaryNotAlongTheRay) {

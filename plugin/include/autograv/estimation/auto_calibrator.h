@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -35,10 +36,17 @@ class AutoCalibrator {
 
   /// How the device travels between vertices and where each vertex starts.
   struct Options {
-    /// Peak acceleration of the moves between vertices: a 50 mm move takes 0.62 s, and the gap
-    /// it leaves for the PD (largestHoldStep_m) is 3.2 mm, within the 4 mm by which the
-    /// measurement plan keeps its points inside the stops. Unit: [m/s^2]
+    /// Peak acceleration of a move into a point next to the stops: a 50 mm move takes 0.62 s,
+    /// and the gap it leaves for the PD, 3.2 mm, lies within the 4 mm (kBoundaryMargin_m) by
+    /// which the measurement plan keeps its points inside them. Unit: [m/s^2]
     double max_move_acceleration_m_per_s2 = 0.75;
+    /// Peak acceleration of a move whose target lies far from the stops in the direction of
+    /// travel. A move overshoots along its path: its acceleration grows with the room the
+    /// explored workspace leaves beyond the target along the path (MeasurementPlan::workspace),
+    /// from max_move_acceleration_m_per_s2 at kBoundaryMargin_m, so that the gap it may leave
+    /// stays the same share of that room, up to this (from twice the margin, 8 mm, on).
+    /// Unit: [m/s^2]
+    double deep_move_acceleration_m_per_s2 = 1.5;
     /// Shortest move. Unit: [s]
     double min_move_duration_s = 0.25;
     /// Start each vertex from what the measurements so far predict for its point (an affine fit
@@ -56,10 +64,21 @@ class AutoCalibrator {
   /// close, the `cell_m` of checkCalibrationPlan: the paper's worst case is a step of a whole cell
   /// (Sec. VI), but the moves here are minimum-jerk paths with their acceleration fed forward on
   /// the estimated mass, so the gap is what a mass kMassUncertainty times the estimate lags at
-  /// the peak acceleration. Unit: [m]. Real-time safe.
+  /// the peak acceleration of the quickest move. Unit: [m]. Real-time safe.
   static double largestHoldStep_m(const EstimationParameters& parameters,
                                   const Options& options) noexcept {
-    return kMassUncertainty * options.max_move_acceleration_m_per_s2 / parameters.beta_per_s2;
+    return kMassUncertainty *
+           std::max(options.max_move_acceleration_m_per_s2,
+                    options.deep_move_acceleration_m_per_s2) /
+           parameters.beta_per_s2;
+  }
+  /// Peak acceleration of a move that leaves `clearance_m` between its target and the stops
+  /// along its path (0: unknown, or next to a stop). Real-time safe. Units: [m], [m/s^2]
+  static double moveAcceleration_m_per_s2(const Options& options, double clearance_m) noexcept {
+    return std::clamp(
+        options.max_move_acceleration_m_per_s2 * clearance_m / kBoundaryMargin_m,
+        options.max_move_acceleration_m_per_s2,
+        std::max(options.max_move_acceleration_m_per_s2, options.deep_move_acceleration_m_per_s2));
   }
   /// Measurements the initial estimate of a vertex is fitted to (Options::
   /// extrapolate_initial_estimate): the nearest converged ones within kFitReachCells cells.
@@ -160,6 +179,8 @@ class AutoCalibrator {
 
   WorkspaceGrid grid_;
   std::vector<Eigen::Vector3d> targets_;  // per vertex: where it is measured
+  ExploredWorkspace workspace_;           // where the plan's points lie; empty: unknown
+  std::vector<bool> met_stop_;            // per vertex: its point was moved back from a stop
   EstimationParameters parameters_;
   double max_force_n_;
   Options options_;

@@ -19,6 +19,9 @@ struct MeasurementPlan {
   std::vector<Eigen::Vector3d> points_m;
   /// Per vertex: whether it is measured at all.
   std::vector<bool> measure;
+  /// The workspace the points were planned in (empty: none was explored), which bounds how far
+  /// a move into a point may overshoot it.
+  ExploredWorkspace workspace;
   int at_vertex = 0;   ///< Vertices measured where they are.
   int off_vertex = 0;  ///< Vertices measured at a point pulled inside the boundary.
   int skipped = 0;     ///< Vertices beyond reach, solved from the others.

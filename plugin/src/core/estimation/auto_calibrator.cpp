@@ -38,11 +38,13 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
       estimator_(parameters, max_force_n, options.continuous_force_n),
       vertices_(static_cast<std::size_t>(grid.vertexCount())),
       order_(grid.visitOrder(grid.center_m())) {
-  if (!(options.max_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
+  if (!(options.max_move_acceleration_m_per_s2 > 0.0) ||
+      !(options.deep_move_acceleration_m_per_s2 > 0.0) || !(options.min_move_duration_s > 0.0)) {
     throw Error(
-        "auto-calibrator: AutoCalibrator::Options::max_move_acceleration_m_per_s2 and "
-        "AutoCalibrator::Options::min_move_duration_s must be positive");
+        "auto-calibrator: AutoCalibrator::Options::max_move_acceleration_m_per_s2, "
+        "deep_move_acceleration_m_per_s2 and min_move_duration_s must be positive");
   }
+  met_stop_.assign(vertices_.size(), false);
   targets_.reserve(vertices_.size());
   for (int i = 0; i < grid.vertexCount(); ++i) targets_.push_back(grid.vertexPosition(i));
   // Reserve every history now so that finishing a vertex in the servo loop never allocates.
@@ -98,6 +100,7 @@ void AutoCalibrator::setPlan(const MeasurementPlan& plan) {
     throw Error(message.str());
   }
   targets_ = plan.points_m;
+  workspace_ = plan.workspace;
   std::vector<int> order;
   for (int index : order_) {
     const auto i = static_cast<std::size_t>(index);
@@ -142,10 +145,19 @@ void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
 
 void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
   const Eigen::Vector3d target_m = targets_[static_cast<std::size_t>(current_vertex_)];
-  move_.start(from_m, target_m,
-              MinimumJerkMove::durationFor((target_m - from_m).norm(),
-                                           options_.max_move_acceleration_m_per_s2,
-                                           options_.min_move_duration_s));
+  const double distance_m = (target_m - from_m).norm();
+  // Without an explored workspace nothing says where the stops are, and a point moved back from
+  // a stop has one 4 mm away: those moves keep the gentle acceleration.
+  double clearance_m = 0.0;
+  if (!workspace_.empty() && !met_stop_[static_cast<std::size_t>(current_vertex_)] &&
+      distance_m > 0.0) {
+    clearance_m = workspace_.clearanceAlong_m(target_m, (target_m - from_m) / distance_m,
+                                              2.0 * kBoundaryMargin_m);
+  }
+  move_.start(
+      from_m, target_m,
+      MinimumJerkMove::durationFor(distance_m, moveAcceleration_m_per_s2(options_, clearance_m),
+                                   options_.min_move_duration_s));
   move_periods_ = 0.0;
   state_ = Status::kMoving;
 }
@@ -349,6 +361,7 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
           outward_contact && !retreated_) {
         // A stop held the end-effector short of the point: measure it back from the stop.
         retreated_ = true;
+        met_stop_[static_cast<std::size_t>(current_vertex_)] = true;
         ++stop_retreats_;
         targets_[static_cast<std::size_t>(current_vertex_)] =
             estimator_.contactPosition_m() - kStopRetreat_m * estimator_.contactDirection();

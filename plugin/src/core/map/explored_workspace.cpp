@@ -277,6 +277,22 @@ bool ExploredWorkspace::contains(const Eigen::Vector3d& position_m,
   return depth_m(position_m) >= margin_m;
 }
 
+double ExploredWorkspace::clearanceAlong_m(const Eigen::Vector3d& position_m,
+                                           const Eigen::Vector3d& direction, double limit_m,
+                                           double resolution_m) const noexcept {
+  if (directions_.empty()) return limit_m;
+  // Stepped, not bisected: a star-shaped model may leave and re-enter along a line that misses
+  // its centre, and the first exit is the one that counts.
+  const int steps = static_cast<int>(std::ceil(limit_m / resolution_m));
+  double inside_m = 0.0;
+  for (int k = 0; k <= steps; ++k) {
+    const double s_m = std::min(limit_m, k * resolution_m);
+    if (!contains(position_m + s_m * direction)) return inside_m;
+    inside_m = s_m;
+  }
+  return inside_m;
+}
+
 Eigen::Vector3d ExploredWorkspace::pullInside(const Eigen::Vector3d& position_m,
                                               double margin_m) const noexcept {
   if (contains(position_m, margin_m)) return position_m;

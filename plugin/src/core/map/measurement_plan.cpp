@@ -20,6 +20,7 @@ MeasurementPlan planMeasurements(const WorkspaceGrid& grid, const ExploredWorksp
   MeasurementPlan plan;
   plan.points_m.resize(static_cast<std::size_t>(count));
   plan.measure.assign(static_cast<std::size_t>(count), false);
+  plan.workspace = workspace;
   for (int i = 0; i < count; ++i)
     plan.points_m[static_cast<std::size_t>(i)] = grid.vertexPosition(i);
   if (workspace.empty()) {
