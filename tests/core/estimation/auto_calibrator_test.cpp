@@ -145,8 +145,8 @@ TEST(AutoCalibratorTest, QuickMovesLeaveTheStopsAlone) {
               quick.f.parameters.eps_g_n)
         << "vertex " << i;
   }
-  // Every move at the deep acceleration would have overshot toward the stop 2.4 times as far
-  // (1.2 mm against 2.9 mm beyond the face, with the stop at 4 mm).
+  // Every move at the deep acceleration would have overshot toward the stop twice as far
+  // (2.4 mm against 1.2 mm beyond the face, with the stop at 4 mm).
   AutoCalibrator::Options quick_everywhere;
   quick_everywhere.max_move_acceleration_m_per_s2 =
       quick_everywhere.deep_move_acceleration_m_per_s2;
