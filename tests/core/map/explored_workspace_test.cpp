@@ -80,22 +80,41 @@ TEST(ExploredWorkspaceTest, ClearanceAlongAPathIsTheRoomBeyondThePointThatWay) {
   // 4 mm from the +x face of a cube of half-width 50 mm.
   const ExploredWorkspace cube = probedCube(0.05);
   const Eigen::Vector3d point(0.046, 0.01, -0.02);
-  constexpr double kLimit = 0.008;
-  constexpr double kResolution = 5e-4;
-  const double toward_face = cube.clearanceAlong_m(point, Eigen::Vector3d::UnitX(), kLimit);
-  EXPECT_LE(toward_face, 0.004);
-  EXPECT_GT(toward_face, 0.004 - kResolution - 1e-12);
+  constexpr double kLimit = 0.01;
+  EXPECT_NEAR(cube.clearanceAlong_m(point, Eigen::Vector3d::UnitX(), kLimit), 0.004, 1e-12);
   // Along the face, and away from it, the room is the whole limit.
   EXPECT_EQ(cube.clearanceAlong_m(point, Eigen::Vector3d::UnitY(), kLimit), kLimit);
   EXPECT_EQ(cube.clearanceAlong_m(point, -Eigen::Vector3d::UnitX(), kLimit), kLimit);
   // Obliquely toward the face: 4 mm / cos(60 deg).
   const Eigen::Vector3d oblique(0.5, std::sqrt(0.75), 0.0);
-  EXPECT_NEAR(cube.clearanceAlong_m(point, oblique, kLimit), 0.008, kResolution + 1e-12);
+  EXPECT_NEAR(cube.clearanceAlong_m(point, oblique, kLimit), 0.008, 1e-12);
+  // Through a corner region, where the line leaves through a triangle of the edge directions:
+  // what contains() says, to the resolution.
+  const Eigen::Vector3d corner_point(0.045, 0.045, 0.03);
+  const Eigen::Vector3d diagonal = Eigen::Vector3d(1.0, 1.0, 1.0).normalized();
+  const double diagonal_m = cube.clearanceAlong_m(corner_point, diagonal, kLimit);
+  EXPECT_TRUE(cube.contains(corner_point + (diagonal_m - 1e-9) * diagonal));
+  EXPECT_FALSE(cube.contains(corner_point + (diagonal_m + 1e-6) * diagonal));
   // Outside there is no room; an empty workspace knows of no stop.
   EXPECT_EQ(
       cube.clearanceAlong_m(Eigen::Vector3d(0.06, 0.0, 0.0), -Eigen::Vector3d::UnitX(), kLimit),
       0.0);
   EXPECT_EQ(ExploredWorkspace().clearanceAlong_m(point, Eigen::Vector3d::UnitX(), kLimit), kLimit);
+}
+
+TEST(ExploredWorkspaceTest, ClearanceWhereNoTriangleCoversTheLineIsSteppedThroughContains) {
+  // Probed over the upper half only: below, the model knows nothing but its shortest reach.
+  std::vector<Eigen::Vector3d> upper;
+  for (const Eigen::Vector3d& u : ExploredWorkspace::probeDirections(60)) {
+    if (u.z() > 0.1) upper.push_back(u);
+  }
+  const ExploredWorkspace cap(Eigen::Vector3d::Zero(), upper,
+                              std::vector<double>(upper.size(), 0.05));
+  const Eigen::Vector3d point(0.0, 0.0, -0.02);
+  constexpr double kResolution = 5e-4;
+  const double down_m = cap.clearanceAlong_m(point, -Eigen::Vector3d::UnitZ(), 0.1, kResolution);
+  EXPECT_TRUE(cap.contains(point - down_m * Eigen::Vector3d::UnitZ()));
+  EXPECT_FALSE(cap.contains(point - (down_m + kResolution) * Eigen::Vector3d::UnitZ()));
 }
 
 TEST(ExploredWorkspaceTest, DepthIsMeasuredSquareToTheBoundaryNotAlongTheRay) {

@@ -52,9 +52,9 @@ class ExploredWorkspace {
   /// the centre that lies `margin_m` inside the boundary (depth_m; the centre if the workspace is
   /// thinner than that). Real-time safe. Unit: [m]
   Eigen::Vector3d pullInside(const Eigen::Vector3d& position_m, double margin_m) const noexcept;
-  /// How far from `position_m` the boundary lies along `direction` (a unit vector), to
-  /// `resolution_m` and at most `limit_m`: 0 outside, `limit_m` when empty. Real-time safe. Unit:
-  /// [m]
+  /// How far from `position_m` the boundary lies along `direction` (a unit vector), at most
+  /// `limit_m`: 0 outside, `limit_m` when empty; to `resolution_m` where no boundary triangle
+  /// covers the line. Real-time safe; one pass over the triangles. Unit: [m]
   double clearanceAlong_m(const Eigen::Vector3d& position_m, const Eigen::Vector3d& direction,
                           double limit_m, double resolution_m = 5e-4) const noexcept;
   /// Smallest boundary distance. Unit: [m]

@@ -281,13 +281,24 @@ double ExploredWorkspace::clearanceAlong_m(const Eigen::Vector3d& position_m,
                                            const Eigen::Vector3d& direction, double limit_m,
                                            double resolution_m) const noexcept {
   if (directions_.empty()) return limit_m;
-  // Stepped, not bisected: a star-shaped model may leave and re-enter along a line that misses
-  // its centre, and the first exit is the one that counts.
-  const int steps = static_cast<int>(std::ceil(limit_m / resolution_m));
+  if (!contains(position_m)) return 0.0;
+  // Where the line leaves the model first: the nearest crossing of a triangle's plane, heading
+  // outward, inside that triangle's cone. One pass over the triangles, as contains() takes.
+  const Eigen::Vector3d offset = position_m - center_m_;
+  double exit_m = limit_m;
+  for (const Facet& facet : facets_) {
+    const double approach = facet.normal.dot(direction);
+    if (!(approach > 0.0)) continue;
+    const double t_m = (facet.offset_m - facet.normal.dot(offset)) / approach;
+    if (!(t_m >= 0.0) || t_m >= exit_m) continue;
+    const Eigen::Vector3d weights = facet.to_weights * (offset + t_m * direction);
+    if (weights.minCoeff() >= -1e-12) exit_m = t_m;
+  }
+  if (contains(position_m + std::max(0.0, exit_m - resolution_m) * direction)) return exit_m;
+  // Directions no triangle covers (a model of one hemisphere): step along the line instead.
   double inside_m = 0.0;
-  for (int k = 0; k <= steps; ++k) {
-    const double s_m = std::min(limit_m, k * resolution_m);
-    if (!contains(position_m + s_m * direction)) return inside_m;
+  for (double s_m = resolution_m; s_m < exit_m; s_m += resolution_m) {
+    if (!contains(position_m + s_m * direction)) break;
     inside_m = s_m;
   }
   return inside_m;
