@@ -87,12 +87,21 @@ TEST(AutoCalibratorTest, MovesAccelerateWithTheRoomBeyondTheirTarget) {
   EXPECT_NEAR(AutoCalibrator::moveAcceleration_m_per_s2(options, 1.5 * kBoundaryMargin_m),
               1.5 * gentle, 1e-12);
   EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, 0.1), deep);
+  // The room a move asks the workspace for is where the deep acceleration is reached.
+  EXPECT_NEAR(AutoCalibrator::deepMoveRoom_m(options), kBoundaryMargin_m * deep / gentle, 1e-15);
+  EXPECT_NEAR(
+      AutoCalibrator::moveAcceleration_m_per_s2(options, AutoCalibrator::deepMoveRoom_m(options)),
+      deep, 1e-12);
+  AutoCalibrator::Options brisk;
+  brisk.deep_move_acceleration_m_per_s2 = 4.0 * gentle;
+  EXPECT_NEAR(AutoCalibrator::deepMoveRoom_m(brisk), 4.0 * kBoundaryMargin_m, 1e-15);
   // The saturation pre-check judges the quickest move.
   const EstimationParameters parameters;
   EXPECT_NEAR(AutoCalibrator::largestHoldStep_m(parameters, options),
               AutoCalibrator::kMassUncertainty * deep / parameters.beta_per_s2, 1e-15);
   options.deep_move_acceleration_m_per_s2 = 0.5 * gentle;  // never slower than the gentle moves
   EXPECT_EQ(AutoCalibrator::moveAcceleration_m_per_s2(options, 0.1), gentle);
+  EXPECT_EQ(AutoCalibrator::deepMoveRoom_m(options), kBoundaryMargin_m);
 }
 
 // Calibrates a 3 x 3 x 3 grid whose +x face lies 4 mm inside a stop, on an arm three times

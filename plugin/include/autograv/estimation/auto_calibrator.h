@@ -73,6 +73,12 @@ class AutoCalibrator {
                     options.deep_move_acceleration_m_per_s2) /
            parameters.beta_per_s2;
   }
+  /// The room beyond a target from which a move takes the deep acceleration: 6.7 mm with the
+  /// default Options. Real-time safe. Unit: [m]
+  static double deepMoveRoom_m(const Options& options) noexcept {
+    return kBoundaryMargin_m * std::max(1.0, options.deep_move_acceleration_m_per_s2 /
+                                                 options.max_move_acceleration_m_per_s2);
+  }
   /// Peak acceleration of a move that leaves `clearance_m` between its target and the stops
   /// along its path (0: unknown, or next to a stop). Real-time safe. Units: [m], [m/s^2]
   static double moveAcceleration_m_per_s2(const Options& options, double clearance_m) noexcept {

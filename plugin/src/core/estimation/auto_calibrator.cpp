@@ -152,7 +152,7 @@ void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
   if (!workspace_.empty() && !met_stop_[static_cast<std::size_t>(current_vertex_)] &&
       distance_m > 0.0) {
     clearance_m = workspace_.clearanceAlong_m(target_m, (target_m - from_m) / distance_m,
-                                              2.0 * kBoundaryMargin_m);
+                                              deepMoveRoom_m(options_));
   }
   move_.start(
       from_m, target_m,
