@@ -82,7 +82,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
-  metadata.lookup_refinement = kDefaultLookupRefinement;
+  metadata.lookup_interpolant = kDefaultLookupInterpolant;
   const std::string checkpoint_path = options.out_path + ".partial";
   // Refuse now, not after minutes of calibration, when the files cannot be written.
   checkWritable(options.out_path, "map");
@@ -123,6 +123,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   ProgressBar progress("vertex");
   run.on_explored = [&](const ExploredWorkspace& workspace, const WorkspaceGrid& grid) {
     metadata.workspace = workspace;
+    metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
     std::printf("Explored: reach %.1f to %.1f mm from the centre; grid %s\n",
                 workspace.minRadius_m() * 1e3, workspace.maxRadius_m() * 1e3,
                 grid.describe().c_str());
@@ -145,7 +146,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     writeFileAtomically(checkpoint_path, mapToJson(map), "checkpoint");  // temp file + rename
   };
   run.on_vertex_finished = [&](const AutoCalibrator& calibrator, int) {
-    save_checkpoint(calibrator.makeMap(metadata));
+    save_checkpoint(calibrator.makeMap(checkpointMetadata(metadata)));
   };
   g_stop_requested.store(false);
   run.stop_requested = &g_stop_requested;
@@ -162,6 +163,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   const WorkspaceGrid& grid = result.grid;
   workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
+  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);

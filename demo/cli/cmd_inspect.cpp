@@ -68,15 +68,27 @@ void printWorkspace(const ExploredWorkspace& workspace) {
 
 void printLookup(const GravityMap& map) {
   const int k = map.metadata().lookup_refinement;
-  if (k <= 1) {
+  const bool conservative = map.lookupInterpolant() == LookupInterpolant::kConservative;
+  if (k <= 1 && !conservative) {
     printRow("lookup", "trilinear over the vertex values (refinement 1)");
     return;
   }
-  const Eigen::Vector3i n = (map.grid().resolution().array() - 1) * k + 1;
-  printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " +
-                         std::to_string(n.x()) + "x" + std::to_string(n.y()) + "x" +
-                         std::to_string(n.z()) +
-                         " grid of the thin-plate interpolant of every measurement");
+  const Eigen::Vector3i n = lookupResolution(map.grid(), k, map.lookupInterpolant());
+  const std::string lookup_grid =
+      std::to_string(n.x()) + "x" + std::to_string(n.y()) + "x" + std::to_string(n.z());
+  if (conservative) {
+    printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " + lookup_grid +
+                           " grid, one cell beyond the box, of the conservative fit (the gradient "
+                           "of one potential) to every measurement");
+  } else {
+    printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " + lookup_grid +
+                           " grid of the thin-plate interpolant of every measurement");
+  }
+  if (map.metadata().lookup_interpolant != map.lookupInterpolant()) {
+    printRow("", std::string("(the file asks for the ") +
+                     toString(map.metadata().lookup_interpolant) +
+                     " interpolant; its measurements cannot determine it)");
+  }
 }
 
 void runInspectCommand(const InspectOptions& options) {

@@ -97,6 +97,8 @@ DefaultCubeCalibration calibrateDefaultCube(SimulatedDevice& device,
   MapMetadata metadata;
   metadata.device_model = device.specifications().model_name;
   metadata.parameters = run.parameters;
+  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
+  metadata.lookup_interpolant = kDefaultLookupInterpolant;
   calibration.map = std::make_shared<const GravityMap>(grid, calibration.run.vertices, metadata);
   return calibration;
 }

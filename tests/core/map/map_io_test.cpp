@@ -206,7 +206,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
        "field /vertices/4/provenance:", "one of measured, filled"},
       {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
-       "field /vertices/4/provenance:", "missing (required by schema version 3)"},
+       "field /vertices/4/provenance:", "missing (required by schema version 4)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -231,8 +231,16 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
        "field /vertices/13/history/1/note:", "unexpected field"},
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
-      {"newer schema", [](json& d) { d["schema_version"] = 4; },
-       "field /schema_version:", "reads schema versions 1 to 3 only"},
+      {"newer schema", [](json& d) { d["schema_version"] = kMapSchemaVersion + 1; },
+       "field /schema_version:", "reads schema versions 1 to 4 only"},
+      {"unknown interpolant", [](json& d) { d["grid"]["lookup_interpolant"] = "spline"; },
+       "field /grid/lookup_interpolant:", "\"thin_plate\" or \"conservative\""},
+      {"interpolant in schema 3",
+       [](json& d) {
+         d["schema_version"] = 3;
+         d["grid"]["lookup_interpolant"] = "conservative";
+       },
+       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 3"},
       {"not a map", [](json& d) { d.erase("format"); },
        "field /format:", "not an autograv map file"},
       {"misspelt member", [](json& d) { d["grid"]["sizes_m"] = 0.1; },
@@ -457,14 +465,14 @@ GravityMap makeBoxMap() {
   return GravityMap(grid, std::move(vertices), metadata);
 }
 
-TEST(MapIoTest, BoxGridAndProvenanceRoundTripInSchema3) {
+TEST(MapIoTest, BoxGridAndProvenanceRoundTripInTheCurrentSchema) {
   TemporaryFolder folder;
   const GravityMap original = makeBoxMap();
   ASSERT_GT(original.filledCount(), 0);
   ASSERT_TRUE(original.isComplete());
   saveMap(original, folder.file("box.json"));
   const json document = json::parse(readText(folder.file("box.json")));
-  EXPECT_EQ(document.at("schema_version"), 3);
+  EXPECT_EQ(document.at("schema_version"), kMapSchemaVersion);
   EXPECT_EQ(document.at("grid").at("size_m"), json::array({0.16, 0.12, 0.07}));
   EXPECT_EQ(document.at("grid").at("resolution"), json::array({7, 5, 4}));
   EXPECT_EQ(document.at("vertices").at(0).at("outcome"), "unreachable");

@@ -806,11 +806,13 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
   EXPECT_EQ(rig.steps_seen, expected);
   EXPECT_EQ(rig.servo_allocations, 0u) << "over " << rig.servo_ticks << " servo ticks";
 
-  // The map (schema 3) carries the workspace; every measurement lies inside it.
+  // The map carries the workspace, and reads the field as the gradient of one potential (the
+  // library's default, as the tools'); every measurement lies inside the workspace.
   const GravityMap map = loadMap(path);
   ASSERT_EQ(map.metadata().workspace.directions().size(), kDefaultDirections);
   EXPECT_EQ(map.metadata().workspace.radii_m(), workspace.radii_m());
   EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
+  EXPECT_EQ(map.lookupInterpolant(), LookupInterpolant::kConservative);
   int measured = 0;
   for (int i = 0; i < map.grid().vertexCount(); ++i) {
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];

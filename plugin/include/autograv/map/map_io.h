@@ -7,10 +7,12 @@
 
 namespace autograv {
 
-/// Map file schema version written by saveMap. Schema 3 adds the explored workspace and the
-/// points measured off their vertices; schema 2 (box grids and where each vertex's value came
-/// from) and schema 1 (cubic grids) files still load. Other versions are refused.
-inline constexpr int kMapSchemaVersion = 3;
+/// Map file schema version written by saveMap. Schema 4 adds the lookup's interpolant
+/// (grid.lookup_interpolant: "thin_plate", the default, or "conservative"); schema 3 adds the
+/// explored workspace and the points measured off their vertices; schema 2 (box grids and where
+/// each vertex's value came from) and schema 1 (cubic grids) files still load. Other versions are
+/// refused.
+inline constexpr int kMapSchemaVersion = 4;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 
@@ -53,7 +55,8 @@ void checkWritable(const std::string& path, const std::string& what = "file");
 // File format (schema version 2), one JSON object:
 //   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
 //   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], size_m[3],
-//   resolution[3]} (extents and vertex counts along x, y, z), parameters {every
+//   resolution[3]} (extents and vertex counts along x, y, z; from schema 3 lookup_refinement,
+//   from schema 4 lookup_interpolant), parameters {every
 //   EstimationParameters field under its C++ name}, vertices[] (one object per grid vertex, in
 //   vertex-index order ix + nx (iy + ny iz): index, position_m[3], gravity_n[3], iterations,
 //   seconds, outcome (pending, converged, iteration_cap, no_steady_state, saturated,

@@ -83,8 +83,11 @@ struct WizardConfig {
   /// An explored workspace is refused (Fault, before the grid run) when it is thinner than this
   /// along an axis: something held the end-effector (a hand, an object, a wall). Unit: [m]
   double min_workspace_extent_m = 0.02;
-  /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement).
+  /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement), lowered on a
+  /// grid so fine that it would pass kMaxLookupVertices (lookupRefinementFor).
   int lookup_refinement = kDefaultLookupRefinement;
+  /// Interpolant written into the saved map (MapMetadata::lookup_interpolant).
+  LookupInterpolant lookup_interpolant = kDefaultLookupInterpolant;
   /// The estimation (paper Secs. II-III); the wizard checks them against the device at Check.
   EstimationParameters parameters;
   /// How the device travels between vertices.

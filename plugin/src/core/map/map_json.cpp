@@ -131,6 +131,9 @@ json mapToDocument(const GravityMap& map) {
   if (metadata.lookup_refinement != 1) {
     document["grid"]["lookup_refinement"] = metadata.lookup_refinement;
   }
+  if (metadata.lookup_interpolant != LookupInterpolant::kThinPlate) {
+    document["grid"]["lookup_interpolant"] = toString(metadata.lookup_interpolant);
+  }
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.

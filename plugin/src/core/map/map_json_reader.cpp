@@ -279,7 +279,10 @@ WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
         reader.integer(value, "/grid", "resolution", kMinResolution, kMaxResolution);
     return WorkspaceGrid(center, side, resolution);
   }
-  if (reader.schemaVersion() >= 3) {
+  if (reader.schemaVersion() >= 4) {
+    reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"},
+                         {"lookup_refinement", "lookup_interpolant"});
+  } else if (reader.schemaVersion() >= 3) {
     reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"},
                          {"lookup_refinement"});
   } else {
@@ -481,6 +484,14 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   if (document.at("grid").contains("lookup_refinement")) {
     metadata.lookup_refinement =
         reader.integer(document.at("grid"), "/grid", "lookup_refinement", 1, kMaxLookupRefinement);
+  }
+  if (document.at("grid").contains("lookup_interpolant")) {
+    const json& interpolant = document.at("grid").at("lookup_interpolant");
+    if (!interpolant.is_string() ||
+        !parseLookupInterpolant(interpolant.get<std::string>(), metadata.lookup_interpolant)) {
+      reader.expected("/grid/lookup_interpolant", "\"thin_plate\" or \"conservative\"",
+                      interpolant);
+    }
   }
 
   metadata.parameters = readParameters(reader, document.at("parameters"));

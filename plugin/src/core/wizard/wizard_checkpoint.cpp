@@ -74,7 +74,8 @@ MapMetadata CalibrationWizard::Impl::metadata() const {
                                                          : config_.device_serial;
   metadata.parameters = config_.parameters;
   metadata.workspace = workspace_;
-  metadata.lookup_refinement = config_.lookup_refinement;
+  metadata.lookup_refinement = lookupRefinementFor(grid_, config_.lookup_refinement);
+  metadata.lookup_interpolant = config_.lookup_interpolant;
   return metadata;  // created_utc is filled in by saveMap
 }
 
@@ -90,7 +91,8 @@ void CalibrationWizard::Impl::writeCheckpoint() {
       vertices.begin(), vertices.end(),
       [](const VertexEstimate& vertex) { return vertex.outcome == VertexOutcome::kConverged; }));
   try {
-    saveMap(GravityMap(grid_, std::move(vertices), metadata()), checkpoint_path_);
+    saveMap(GravityMap(grid_, std::move(vertices), checkpointMetadata(metadata())),
+            checkpoint_path_);
     checkpoint_written_ = true;
     checkpointed_converged_ = converged;
     checkpoint_error_.clear();

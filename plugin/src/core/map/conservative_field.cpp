@@ -1,0 +1,129 @@
+#include "autograv/map/conservative_field.h"
+
+#include <algorithm>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "autograv/error.h"
+
+namespace autograv {
+
+namespace {
+
+constexpr int kPolynomialTerms = 9;
+// Ridge on the kernel block, relative to the largest kernel entry: keeps the solve regular when
+// two points nearly coincide and moves no measurement by a measurable amount.
+constexpr double kRelativeRidge = 1e-9;
+
+/// The Hessian of |v|^5: the 3x3 block that ties a gradient measured at one point to the
+/// gradient at another, v apart (scaled units).
+Eigen::Matrix3d kernelBlock(const Eigen::Vector3d& v) noexcept {
+  const double r = v.norm();
+  return 5.0 * r * (r * r * Eigen::Matrix3d::Identity() + 3.0 * v * v.transpose());
+}
+
+/// Gradients of the quadratic potential's terms x, y, z, x^2, y^2, z^2, xy, xz, yz at v.
+Eigen::Matrix<double, 3, kPolynomialTerms> polynomialBlock(const Eigen::Vector3d& v) noexcept {
+  Eigen::Matrix<double, 3, kPolynomialTerms> block =
+      Eigen::Matrix<double, 3, kPolynomialTerms>::Zero();
+  block.leftCols<3>().setIdentity();
+  for (int a = 0; a < 3; ++a) block(a, 3 + a) = 2.0 * v[a];
+  block(0, 6) = v.y();
+  block(1, 6) = v.x();
+  block(0, 7) = v.z();
+  block(2, 7) = v.x();
+  block(1, 8) = v.z();
+  block(2, 8) = v.y();
+  return block;
+}
+
+}  // namespace
+
+ConservativeFieldFit::ConservativeFieldFit(const std::vector<Eigen::Vector3d>& points_m,
+                                           const std::vector<Eigen::Vector3d>& values_n) {
+  if (points_m.size() != values_n.size()) {
+    throw Error("conservative field fit: " + std::to_string(points_m.size()) + " points but " +
+                std::to_string(values_n.size()) + " values");
+  }
+  const int n = static_cast<int>(points_m.size());
+  if (n > kMaxMeasurements) {
+    throw Error("conservative field fit: " + std::to_string(n) +
+                " measurements; it takes at most " + std::to_string(kMaxMeasurements));
+  }
+  if (n < kMinMeasurements) {
+    throw Error("conservative field fit: " + std::to_string(n) +
+                " measurements; it needs at least " + std::to_string(kMinMeasurements));
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto at = static_cast<std::size_t>(i);
+    if (!points_m[at].allFinite() || !values_n[at].allFinite()) {
+      throw Error("conservative field fit: measurement " + std::to_string(i) + " is not finite");
+    }
+  }
+  origin_m_ = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points_m) origin_m_ += p;
+  origin_m_ /= n;
+  double extent_m = 0.0;
+  for (const Eigen::Vector3d& p : points_m) extent_m = std::max(extent_m, (p - origin_m_).norm());
+  if (!(extent_m > 0.0)) throw Error("conservative field fit: every measurement is at one point");
+  scale_per_m_ = 1.0 / extent_m;
+  points_.reserve(points_m.size());
+  for (const Eigen::Vector3d& p : points_m) points_.push_back(scaled(p));
+
+  const int size = 3 * n + kPolynomialTerms;
+  Eigen::MatrixXd system = Eigen::MatrixXd::Zero(size, size);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(size);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& xi = points_[static_cast<std::size_t>(i)];
+    for (int j = 0; j < n; ++j) {
+      system.block<3, 3>(3 * i, 3 * j) = kernelBlock(xi - points_[static_cast<std::size_t>(j)]);
+    }
+    const auto polynomial = polynomialBlock(xi);
+    system.block<3, kPolynomialTerms>(3 * i, 3 * n) = polynomial;
+    system.block<kPolynomialTerms, 3>(3 * n, 3 * i) = polynomial.transpose();
+    rhs.segment<3>(3 * i) = values_n[static_cast<std::size_t>(i)];
+  }
+  const double ridge = kRelativeRidge * system.topLeftCorner(3 * n, 3 * n).cwiseAbs().maxCoeff();
+  system.topLeftCorner(3 * n, 3 * n).diagonal().array() += ridge;
+  const Eigen::VectorXd solution = Eigen::PartialPivLU<Eigen::MatrixXd>(system).solve(rhs);
+  // A singular system (points on a line leave the quadratic potential undetermined) shows as a
+  // solution that is not finite or does not solve it.
+  const double residual = (system * solution - rhs).norm();
+  if (!solution.allFinite() || !(residual <= 1e-8 * std::max(rhs.norm(), 1e-300))) {
+    throw Error("conservative field fit: the " + std::to_string(n) +
+                " measurement points do not determine the field (they lie on a line, or "
+                "coincide)");
+  }
+  kernel_weights_ = solution.head(3 * n);
+  polynomial_weights_ = solution.tail(kPolynomialTerms);
+}
+
+Eigen::Vector3d ConservativeFieldFit::scaled(const Eigen::Vector3d& position_m) const noexcept {
+  return (position_m - origin_m_) * scale_per_m_;
+}
+
+Eigen::Vector3d ConservativeFieldFit::at(const Eigen::Vector3d& position_m) const noexcept {
+  const Eigen::Vector3d v = scaled(position_m);
+  Eigen::Vector3d value_n = polynomialBlock(v) * polynomial_weights_;
+  for (std::size_t j = 0; j < points_.size(); ++j) {
+    value_n += kernelBlock(v - points_[j]) * kernel_weights_.segment<3>(3 * static_cast<int>(j));
+  }
+  return value_n;
+}
+
+void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
+                         std::vector<Eigen::Vector3d>& points_m,
+                         std::vector<Eigen::Vector3d>& values_n) {
+  points_m.clear();
+  values_n.clear();
+  const int count = std::min(grid.vertexCount(), static_cast<int>(vertices.size()));
+  for (int index = 0; index < count; ++index) {
+    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    points_m.push_back(vertex.measuredAt_m(grid.vertexPosition(index)));
+    values_n.push_back(vertex.measuredGravity_n());
+  }
+}
+
+}  // namespace autograv

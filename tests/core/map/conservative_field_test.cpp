@@ -1,0 +1,270 @@
+// The conservative lookup: one potential fitted to every measurement, its gradient sampled on the
+// lookup grid, and written as schema 4.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "autograv/error.h"
+#include "autograv/map/conservative_field.h"
+#include "autograv/map/gravity_map.h"
+#include "autograv/map/map_io.h"
+#include "autograv/map/vertex_fill.h"
+
+namespace autograv {
+namespace {
+
+// G = A x + b with A symmetric: the gradient of a quadratic potential (a weight and a linear
+// spring). Unit: [N]
+Eigen::Vector3d quadraticPotentialField(const Eigen::Vector3d& x_m) {
+  Eigen::Matrix3d slope;
+  slope << 2.0, -1.0, 0.5, -1.0, 1.5, -2.0, 0.5, -2.0, 3.0;
+  return Eigen::Vector3d(0.1, -0.2, 1.0) + slope * x_m;
+}
+
+// The gradient of U = z + 0.01 (cos 20x + sin 15y cos 12z): a field that bends over the
+// workspace as a linkage's does, by up to a fifth of its magnitude. Unit: [N]
+Eigen::Vector3d curvedPotentialField(const Eigen::Vector3d& x_m) {
+  const double x = x_m.x();
+  const double y = x_m.y();
+  const double z = x_m.z();
+  return Eigen::Vector3d(-0.2 * std::sin(20.0 * x), 0.15 * std::cos(15.0 * y) * std::cos(12.0 * z),
+                         1.0 - 0.12 * std::sin(15.0 * y) * std::sin(12.0 * z));
+}
+
+std::vector<Eigen::Vector3d> scatteredPoints(int count, double half_m, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> coordinate(-half_m, half_m);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    points.emplace_back(coordinate(random), coordinate(random), coordinate(random));
+  }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> valuesAt(const std::vector<Eigen::Vector3d>& points,
+                                      Eigen::Vector3d (*field)(const Eigen::Vector3d&)) {
+  std::vector<Eigen::Vector3d> values;
+  for (const Eigen::Vector3d& p : points) values.push_back(field(p));
+  return values;
+}
+
+constexpr double kSphereRadius_m = 0.045;
+constexpr double kBoundaryMargin_m = 0.004;
+
+// A 5x5x5 map over a ball-shaped workspace as the calibration makes it: vertices 4 mm or more
+// inside the ball measured where they are, those within a cell beyond it measured 4 mm inside
+// along their ray, the rest unreachable; values filled as the calibration fills them.
+GravityMap ballMap(Eigen::Vector3d (*field)(const Eigen::Vector3d&),
+                   LookupInterpolant interpolant) {
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 5);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d at = grid.vertexPosition(i);
+    const double radius_m = at.norm();
+    if (radius_m <= kSphereRadius_m - kBoundaryMargin_m) {
+      v.outcome = VertexOutcome::kConverged;
+      v.gravity_n = field(at);
+    } else if (radius_m <= kSphereRadius_m + grid.maxSpacing_m()) {
+      v.outcome = VertexOutcome::kConverged;
+      v.measured_at_m = at * (kSphereRadius_m - kBoundaryMargin_m) / radius_m;
+      v.measured_gravity_n = field(v.measured_at_m);
+    } else {
+      v.outcome = VertexOutcome::kUnreachable;
+    }
+  }
+  fillUnreachableVertices(grid, vertices);
+  MapMetadata metadata;
+  metadata.device_model = "test";
+  metadata.created_utc = "2026-12-04T12:00:00Z";
+  metadata.lookup_refinement = kDefaultLookupRefinement;
+  metadata.lookup_interpolant = interpolant;
+  return GravityMap(grid, std::move(vertices), metadata);
+}
+
+// The 99th percentile of the lookup's relative error at points uniform over the ball.
+double ballErrorP99(const GravityMap& map, Eigen::Vector3d (*field)(const Eigen::Vector3d&)) {
+  std::vector<double> errors;
+  for (const Eigen::Vector3d& p : scatteredPoints(6000, kSphereRadius_m, 11)) {
+    if (p.norm() > kSphereRadius_m) continue;
+    errors.push_back((map.gravityAt(p) - field(p)).norm() / field(p).norm());
+  }
+  std::sort(errors.begin(), errors.end());
+  return errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
+}
+
+TEST(ConservativeFieldFitTest, ReproducesEveryMeasurementAndAnyQuadraticPotentialsField) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(40, 0.05, 3);
+  const ConservativeFieldFit fit(points, valuesAt(points, quadraticPotentialField));
+  EXPECT_EQ(fit.measurementCount(), 40);
+  // Between the points and 5 cm beyond them: exact.
+  for (const Eigen::Vector3d& p : scatteredPoints(300, 0.10, 4)) {
+    EXPECT_LT((fit.at(p) - quadraticPotentialField(p)).norm(), 1e-8) << p.transpose();
+  }
+  const ConservativeFieldFit curved(points, valuesAt(points, curvedPotentialField));
+  for (const Eigen::Vector3d& p : points) {
+    EXPECT_LT((curved.at(p) - curvedPotentialField(p)).norm(), 1e-8) << p.transpose();
+  }
+}
+
+TEST(ConservativeFieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(6, 0.05, 5);
+  const std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
+  const auto refusal = [](const std::vector<Eigen::Vector3d>& p,
+                          const std::vector<Eigen::Vector3d>& v) -> std::string {
+    try {
+      ConservativeFieldFit fit(p, v);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  EXPECT_NE(refusal(points, {values.begin(), values.end() - 1}).find("6 points but 5 values"),
+            std::string::npos);
+  EXPECT_NE(refusal({points.begin(), points.begin() + 3}, {values.begin(), values.begin() + 3})
+                .find("3 measurements; it needs at least 4"),
+            std::string::npos);
+  std::vector<Eigen::Vector3d> not_finite = values;
+  not_finite[2].y() = std::nan("");
+  EXPECT_NE(refusal(points, not_finite).find("measurement 2 is not finite"), std::string::npos);
+  std::vector<Eigen::Vector3d> on_a_line;
+  for (int i = 0; i < 6; ++i) on_a_line.emplace_back(0.01 * i, 0.02 * i, -0.01 * i);
+  EXPECT_NE(refusal(on_a_line, values).find("do not determine the field"), std::string::npos);
+  const std::vector<Eigen::Vector3d> one_point(6, Eigen::Vector3d(0.01, 0.0, 0.0));
+  EXPECT_NE(refusal(one_point, values).find("every measurement is at one point"),
+            std::string::npos);
+}
+
+TEST(ConservativeFieldFitTest, TheMapFollowsACurvedFieldNearTheStopsBetterThanTheThinPlate) {
+  const GravityMap thin_plate = ballMap(curvedPotentialField, LookupInterpolant::kThinPlate);
+  const GravityMap conservative = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
+  ASSERT_EQ(thin_plate.lookupInterpolant(), LookupInterpolant::kThinPlate);
+  ASSERT_EQ(conservative.lookupInterpolant(), LookupInterpolant::kConservative);
+  const double thin_plate_p99 = ballErrorP99(thin_plate, curvedPotentialField);
+  const double conservative_p99 = ballErrorP99(conservative, curvedPotentialField);
+  RecordProperty("thin_plate_p99_percent", std::to_string(100.0 * thin_plate_p99));
+  RecordProperty("conservative_p99_percent", std::to_string(100.0 * conservative_p99));
+  EXPECT_LT(conservative_p99, 0.5 * thin_plate_p99)
+      << "thin plate " << thin_plate_p99 << ", conservative " << conservative_p99;
+  // An affine field that is a potential's gradient stays exact everywhere in the ball.
+  EXPECT_LT(ballErrorP99(ballMap(quadraticPotentialField, LookupInterpolant::kConservative),
+                         quadraticPotentialField),
+            1e-8);
+}
+
+TEST(ConservativeFieldFitTest, MapValuesNotMeasuredWhereTheyStandFollowTheFit) {
+  const GravityMap map = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> values;
+  collectMeasurements(map.grid(), map.vertices(), points, values);
+  const ConservativeFieldFit fit(points, values);
+  int filled = 0;
+  for (int i = 0; i < map.grid().vertexCount(); ++i) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d at = map.grid().vertexPosition(i);
+    if (v.provenance == VertexProvenance::kFilled) {
+      ++filled;
+      EXPECT_LT((v.gravity_n - fit.at(at)).norm(), 1e-12) << i;
+    } else if (v.outcome == VertexOutcome::kConverged) {
+      EXPECT_EQ(v.gravity_n, curvedPotentialField(at)) << i;  // measured values stay
+    }
+    // The lookup gives the vertex's value where it stands.
+    EXPECT_LT((map.gravityAt(at) - v.gravity_n).norm(), 1e-8) << i;
+  }
+  EXPECT_GT(filled, 40);
+  bool inside = false;
+  double sum = 0.0;
+  testing::AllocationCounter counter;
+  for (int k = 0; k < 10000; ++k) {
+    const Eigen::Vector3d x(-0.06 + 1.2e-5 * k, 0.01, -0.02);
+    sum += map.gravityAt(x).z() + map.gravityAt(x, 0.005, inside).z();
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_TRUE(std::isfinite(sum));
+}
+
+TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
+  const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 3);
+  std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    VertexEstimate& v = vertices[static_cast<std::size_t>(i)];
+    v.outcome = i < 3 ? VertexOutcome::kConverged : VertexOutcome::kUnreachable;
+    v.gravity_n = curvedPotentialField(grid.vertexPosition(i));
+  }
+  fillUnreachableVertices(grid, vertices);
+  MapMetadata metadata;
+  metadata.lookup_interpolant = LookupInterpolant::kConservative;
+  metadata.lookup_refinement = 2;
+  const GravityMap map(grid, vertices, metadata);
+  EXPECT_EQ(map.lookupInterpolant(), LookupInterpolant::kThinPlate);
+  EXPECT_EQ(map.metadata().lookup_interpolant, LookupInterpolant::kConservative);
+  for (int i = 0; i < grid.vertexCount(); ++i) {
+    EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].gravity_n,
+              vertices[static_cast<std::size_t>(i)].gravity_n);
+  }
+}
+
+TEST(ConservativeFieldFitTest, RoundTripsInSchema4WithTheSameLookup) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "autograv_conservative_map.json").string();
+  const GravityMap original = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
+  saveMap(original, path);
+  const GravityMap loaded = loadMap(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(loaded.metadata().lookup_interpolant, LookupInterpolant::kConservative);
+  EXPECT_EQ(loaded.lookupInterpolant(), LookupInterpolant::kConservative);
+  EXPECT_EQ(loaded.metadata().lookup_refinement, kDefaultLookupRefinement);
+  for (int i = 0; i < original.grid().vertexCount(); ++i) {
+    EXPECT_EQ(loaded.vertices()[static_cast<std::size_t>(i)].gravity_n,
+              original.vertices()[static_cast<std::size_t>(i)].gravity_n)
+        << i;
+  }
+  for (const Eigen::Vector3d& p : scatteredPoints(200, 0.06, 9)) {
+    EXPECT_EQ(loaded.gravityAt(p), original.gravityAt(p)) << p.transpose();
+  }
+  EXPECT_STREQ(toString(LookupInterpolant::kConservative), "conservative");
+  LookupInterpolant parsed = LookupInterpolant::kConservative;
+  EXPECT_TRUE(parseLookupInterpolant("thin_plate", parsed));
+  EXPECT_EQ(parsed, LookupInterpolant::kThinPlate);
+  EXPECT_FALSE(parseLookupInterpolant("spline", parsed));
+}
+
+TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 4), 4);
+  // An 8x8x8 grid: 37^3 lookup vertices at 4 (one grid cell of padding per side), 28^3 at 3.
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 8), 4), 3);
+  // A 9x9x9 grid has more vertices than a fit takes: the thin plate's refinement.
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 9), 4), 2);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 10), 4), 2);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 9), 4,
+                                LookupInterpolant::kThinPlate),
+            4);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 40), 4), 1);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 0), 1);
+  for (const int resolution : {3, 8, 9, 17, 33}) {
+    const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, resolution);
+    std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+    for (int i = 0; i < grid.vertexCount(); ++i) {
+      vertices[static_cast<std::size_t>(i)].outcome = VertexOutcome::kConverged;
+      vertices[static_cast<std::size_t>(i)].gravity_n =
+          curvedPotentialField(grid.vertexPosition(i));
+    }
+    MapMetadata metadata;
+    metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
+    metadata.lookup_interpolant = kDefaultLookupInterpolant;
+    const GravityMap map(grid, vertices, metadata);
+    // Past ConservativeFieldFit::kMaxMeasurements (512, an 8x8x8 grid's) the thin plate.
+    EXPECT_EQ(map.lookupInterpolant(),
+              resolution <= 8 ? LookupInterpolant::kConservative : LookupInterpolant::kThinPlate)
+        << resolution;
+  }
+}
+
+}  // namespace
+}  // namespace autograv
