@@ -45,7 +45,9 @@ struct RetareResult {
 RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap& map,
                        const RetareOptions& options);
 
-/// `map` with every vertex's estimate moved by `shift_n` (histories kept as measured).
+/// `map` with every vertex's estimate, and every measurement made off a vertex, moved by
+/// `shift_n` (histories kept as measured): a constant shift is the gradient of a linear
+/// potential, so the conservative lookup moves by exactly `shift_n` everywhere too.
 /// Not real-time safe. Unit: [N]
 GravityMap shiftedMap(const GravityMap& map, const Eigen::Vector3d& shift_n);
 

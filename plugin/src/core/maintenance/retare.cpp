@@ -10,7 +10,11 @@ namespace autograv {
 
 GravityMap shiftedMap(const GravityMap& map, const Eigen::Vector3d& shift_n) {
   std::vector<VertexEstimate> vertices = map.vertices();
-  for (VertexEstimate& vertex : vertices) vertex.gravity_n += shift_n;
+  // Every value the lookup is made from: a map's off-vertex measurements feed its fit too.
+  for (VertexEstimate& vertex : vertices) {
+    vertex.gravity_n += shift_n;
+    if (vertex.measuredOffVertex()) vertex.measured_gravity_n += shift_n;
+  }
   return GravityMap(map.grid(), std::move(vertices), map.metadata());
 }
 
