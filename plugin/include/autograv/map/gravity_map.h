@@ -44,9 +44,9 @@ struct MapMetadata {
   /// What the end-effector was found to reach before the grid run (empty for maps made before
   /// the exploration existed, or without it).
   ExploredWorkspace workspace;
-  /// The lookup's cells per grid cell along each axis. 1: the paper's trilinear interpolation of
-  /// the vertex values. k > 1: trilinear on a grid k times finer whose values are the thin-plate
-  /// interpolant of every measurement (refinedVertexValues), which follows a curved field
+  /// The lookup's cells per grid cell along each axis. 1 with the thin plate: the paper's
+  /// trilinear interpolation of the vertex values. Otherwise trilinear on a grid k times finer
+  /// whose values are the lookup_interpolant of every measurement, which follows a curved field
   /// between the vertices where the coarse cells cut its corners; the same cost per lookup.
   int lookup_refinement = 1;
   /// How the lookup grid's values are made from the measurements. A map with fewer than
@@ -66,7 +66,7 @@ inline constexpr LookupInterpolant kDefaultLookupInterpolant = LookupInterpolant
 /// Largest lookup refinement a map accepts.
 inline constexpr int kMaxLookupRefinement = 8;
 /// Most vertices of a refined lookup grid (a 33 x 33 x 33 grid): its values take one sparse solve
-/// when the map is built.
+/// (thin plate) or a sum over the measurements per vertex (conservative) when the map is built.
 inline constexpr long kMaxLookupVertices = 35937;
 
 /// `metadata` for a checkpoint: the paper's trilinear lookup, which costs nothing to build. A
