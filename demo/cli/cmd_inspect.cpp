@@ -67,7 +67,7 @@ void printWorkspace(const ExploredWorkspace& workspace) {
 }
 
 void printLookup(const GravityMap& map) {
-  const int k = map.metadata().lookup_refinement;
+  const int k = map.lookupRefinement();
   const bool conservative = map.lookupInterpolant() == LookupInterpolant::kConservative;
   if (k <= 1 && !conservative) {
     printRow("lookup", "trilinear over the vertex values (refinement 1)");
@@ -86,8 +86,9 @@ void printLookup(const GravityMap& map) {
   }
   if (map.metadata().lookup_interpolant != map.lookupInterpolant()) {
     printRow("", std::string("(the file asks for the ") +
-                     toString(map.metadata().lookup_interpolant) +
-                     " interpolant; its measurements cannot determine it)");
+                     toString(map.metadata().lookup_interpolant) + " interpolant at refinement " +
+                     std::to_string(map.metadata().lookup_refinement) +
+                     "; its measurements cannot determine it)");
   }
 }
 

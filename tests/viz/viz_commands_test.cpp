@@ -145,7 +145,7 @@ TEST_F(VizCommandsTest, InspectShowsTheWorkspaceAndEachKindOfValue) {
   const double counted_cm3 = inside_points * kStep_m * kStep_m * kStep_m * 1e6;
   EXPECT_NEAR(volume_cm3, counted_cm3, 0.03 * counted_cm3);
   EXPECT_LT(volume_cm3, 396.0);
-  EXPECT_NE(run.output.find("refinement 4: trilinear on a 25x25x25 grid, one cell beyond the box, "
+  EXPECT_NE(run.output.find("refinement 6: trilinear on a 37x37x37 grid, one cell beyond the box, "
                             "of the conservative fit"),
             std::string::npos)
       << run.output;

@@ -200,10 +200,14 @@ TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
   fillUnreachableVertices(grid, vertices);
   MapMetadata metadata;
   metadata.lookup_interpolant = LookupInterpolant::kConservative;
-  metadata.lookup_refinement = 2;
+  metadata.lookup_refinement = kDefaultLookupRefinement;
   const GravityMap map(grid, vertices, metadata);
   EXPECT_EQ(map.lookupInterpolant(), LookupInterpolant::kThinPlate);
   EXPECT_EQ(map.metadata().lookup_interpolant, LookupInterpolant::kConservative);
+  // The thin plate at the refinement of the maps before the fit: its sparse solve at 6 would
+  // take seconds.
+  EXPECT_EQ(map.lookupRefinement(), kMaxThinPlateFallbackRefinement);
+  EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
   for (int i = 0; i < grid.vertexCount(); ++i) {
     EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].gravity_n,
               vertices[static_cast<std::size_t>(i)].gravity_n);
@@ -236,9 +240,14 @@ TEST(ConservativeFieldFitTest, RoundTripsInSchema4WithTheSameLookup) {
 }
 
 TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
-  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 4), 4);
-  // An 8x8x8 grid: 37^3 lookup vertices at 4 (one grid cell of padding per side), 28^3 at 3.
-  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 8), 4), 3);
+  // One grid cell of padding per side: 37^3 lookup vertices on a 5x5x5 grid at 6; a 6x6x6
+  // grid would take 43^3 at 6, 36^3 at 5; an 8x8x8 grid 43^3 at 5, 37^3 at 4.
+  EXPECT_EQ(lookupResolution(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6,
+                             LookupInterpolant::kConservative),
+            Eigen::Vector3i::Constant(37));
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6), 6);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 6), 6), 5);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 8), 6), 4);
   // A 9x9x9 grid has more vertices than a fit takes: the thin plate's refinement.
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 9), 4), 2);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 10), 4), 2);

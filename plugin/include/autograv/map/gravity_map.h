@@ -52,22 +52,31 @@ struct MapMetadata {
   /// How the lookup grid's values are made from the measurements. A map with fewer than
   /// ConservativeFieldFit::kMinMeasurements or more than kMaxMeasurements measurements, with
   /// measurements that do not determine the fit, or whose padded lookup grid would pass
-  /// kMaxLookupVertices, falls back to kThinPlate (GravityMap::lookupInterpolant says which one
-  /// it uses).
+  /// kMaxLookupVertices, falls back to kThinPlate at a refinement of at most
+  /// kMaxThinPlateFallbackRefinement (GravityMap::lookupInterpolant and lookupRefinement say
+  /// what it uses).
   LookupInterpolant lookup_interpolant = LookupInterpolant::kThinPlate;
 };
 
-/// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): four
-/// lookup cells per grid cell follow the conservative fit to within a few tenths of a percent
-/// of the field where it bends most (README, "Why the map is right near the stops").
-inline constexpr int kDefaultLookupRefinement = 4;
+/// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): six
+/// lookup cells per grid cell follow the conservative fit to within a few hundredths of a
+/// percent of its field-wide p99 (README, "Why the map is right near the stops").
+inline constexpr int kDefaultLookupRefinement = 6;
 /// The interpolant of the maps that calibrations make.
 inline constexpr LookupInterpolant kDefaultLookupInterpolant = LookupInterpolant::kConservative;
 /// Largest lookup refinement a map accepts.
 inline constexpr int kMaxLookupRefinement = 8;
-/// Most vertices of a refined lookup grid (a 33 x 33 x 33 grid): its values take one sparse solve
-/// (thin plate) or a sum over the measurements per vertex (conservative) when the map is built.
-inline constexpr long kMaxLookupVertices = 35937;
+/// Most vertices of a refined lookup grid (a 37 x 37 x 37 grid, 1.6 MB: a 5x5x5 grid at
+/// refinement 6 with its cell of padding): its values take one sparse solve (thin plate) or a
+/// sum over the measurements per vertex (conservative, 0.2 s for a 5x5x5 map) when the map is
+/// built.
+inline constexpr long kMaxLookupVertices = 50653;
+
+/// Most lookup refinement of a map that asks for the conservative fit but falls back to the thin
+/// plate (GravityMap::lookupRefinement): that of the maps before schema 4. The thin plate's
+/// refined values take a sparse solve that grows fast with the refinement (a 5x5x5 grid: 0.03 s
+/// at 2, 0.35 s at 4, 9.5 s at 6).
+inline constexpr int kMaxThinPlateFallbackRefinement = 2;
 
 /// `metadata` for a checkpoint: the paper's trilinear lookup, which costs nothing to build. A
 /// checkpoint is read for its vertices and workspace (a resumed run saves its map with the
@@ -133,6 +142,9 @@ class GravityMap {
   /// The interpolant the lookup uses: metadata().lookup_interpolant, or kThinPlate where the
   /// measurements could not determine a conservative fit.
   LookupInterpolant lookupInterpolant() const noexcept { return lookup_interpolant_; }
+  /// The refinement the lookup uses: metadata().lookup_refinement, or at most
+  /// kMaxThinPlateFallbackRefinement where the conservative fit fell back to the thin plate.
+  int lookupRefinement() const noexcept { return lookup_refinement_; }
   /// True when every vertex has converged, or was found unreachable and filled from measured
   /// neighbours: the map has no holes.
   bool isComplete() const noexcept;
@@ -142,6 +154,7 @@ class GravityMap {
   std::vector<VertexEstimate> vertices_;
   MapMetadata metadata_;
   LookupInterpolant lookup_interpolant_ = LookupInterpolant::kThinPlate;
+  int lookup_refinement_ = 1;
 
   /// The conservative fit of the vertices' measurements, or none where they cannot determine one.
   std::optional<ConservativeFieldFit> conservativeFit() const;
@@ -149,7 +162,7 @@ class GravityMap {
   static void checkEstimate(const Eigen::Vector3d& gravity_n, std::size_t index,
                             const char* what = "vertex");
 
-  // The lookup's view of the grid (refined by metadata.lookup_refinement), computed once: no
+  // The lookup's view of the grid (refined by lookup_refinement_), computed once: no
   // division per query.
   Eigen::Vector3i lookup_resolution_;
   Eigen::Vector3d lookup_min_corner_m_;    ///< Unit: [m]

@@ -32,18 +32,24 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
     throw Error(message.str());
   }
   for (std::size_t i = 0; i < vertices_.size(); ++i) checkEstimate(vertices_[i].gravity_n, i);
-  const int refinement = metadata_.lookup_refinement;
+  int refinement = metadata_.lookup_refinement;
   if (refinement < 1 || refinement > kMaxLookupRefinement) {
     throw Error("gravity map: MapMetadata::lookup_refinement must lie in 1.." +
                 std::to_string(kMaxLookupRefinement) + ", got " + std::to_string(refinement));
   }
   std::optional<ConservativeFieldFit> fit;
-  if (metadata_.lookup_interpolant == LookupInterpolant::kConservative &&
-      lookupResolution(grid_, refinement, LookupInterpolant::kConservative).cast<long>().prod() <=
-          kMaxLookupVertices) {
-    fit = conservativeFit();
+  if (metadata_.lookup_interpolant == LookupInterpolant::kConservative) {
+    if (lookupResolution(grid_, refinement, LookupInterpolant::kConservative).cast<long>().prod() <=
+        kMaxLookupVertices) {
+      fit = conservativeFit();
+    }
+    if (fit) {
+      lookup_interpolant_ = LookupInterpolant::kConservative;
+    } else {
+      refinement = std::min(refinement, kMaxThinPlateFallbackRefinement);
+    }
   }
-  if (fit) lookup_interpolant_ = LookupInterpolant::kConservative;
+  lookup_refinement_ = refinement;
   const Eigen::Vector3i fine = lookupResolution(grid_, refinement, lookup_interpolant_);
   // The finer grid's values are one solve and a sum per vertex: bounded so that a map file
   // cannot ask for minutes of it.
