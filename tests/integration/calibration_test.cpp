@@ -288,8 +288,9 @@ TEST_P(DefaultCalibrationTest, MeasuresInsideTheWorkspaceAndMakesAMapWithoutHole
   const sim::CalibrationRunResult run = sim::runSimulatedCalibration(*device, options);
   EXPECT_EQ(run.status, AutoCalibrator::Status::kFinished);
   ASSERT_FALSE(run.workspace.empty());
-  MapMetadata metadata;
-  metadata.lookup_refinement = kDefaultLookupRefinement;
+  MapMetadata metadata;  // what the tools write
+  metadata.lookup_refinement = lookupRefinementFor(run.grid, kDefaultLookupRefinement);
+  metadata.lookup_interpolant = kDefaultLookupInterpolant;
   const GravityMap map(run.grid, run.vertices, metadata);
   EXPECT_TRUE(map.isComplete());
   EXPECT_EQ(run.force_limit_ticks, 0u);

@@ -83,7 +83,8 @@ GravityMap ballMap(Eigen::Vector3d (*field)(const Eigen::Vector3d&),
   MapMetadata metadata;
   metadata.device_model = "test";
   metadata.created_utc = "2026-12-04T12:00:00Z";
-  metadata.lookup_refinement = kDefaultLookupRefinement;
+  // What the tools write for each interpolant.
+  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, interpolant);
   metadata.lookup_interpolant = interpolant;
   return GravityMap(grid, std::move(vertices), metadata);
 }
@@ -206,7 +207,7 @@ TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
   EXPECT_EQ(map.metadata().lookup_interpolant, LookupInterpolant::kConservative);
   // The thin plate at the refinement of the maps before the fit: its sparse solve at 6 would
   // take seconds.
-  EXPECT_EQ(map.lookupRefinement(), kMaxThinPlateFallbackRefinement);
+  EXPECT_EQ(map.lookupRefinement(), kThinPlateRefinement);
   EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
   for (int i = 0; i < grid.vertexCount(); ++i) {
     EXPECT_EQ(map.vertices()[static_cast<std::size_t>(i)].gravity_n,
@@ -248,12 +249,14 @@ TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6), 6);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 6), 6), 5);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 8), 6), 4);
-  // A 9x9x9 grid has more vertices than a fit takes: the thin plate's refinement.
+  // A 9x9x9 grid has more vertices than a fit takes: the thin plate's refinement, while its
+  // sparse solve stays within seconds (23^3 lookup vertices on a 12x12x12 grid, 25^3 on 13x13x13).
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 9), 4), 2);
-  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 10), 4), 2);
-  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 9), 4,
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 12), 6), 2);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 13), 6), 1);
+  EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6,
                                 LookupInterpolant::kThinPlate),
-            4);
+            kThinPlateRefinement);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 40), 4), 1);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 0), 1);
   for (const int resolution : {3, 8, 9, 17, 33}) {

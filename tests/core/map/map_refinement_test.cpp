@@ -74,7 +74,7 @@ TEST(MapRefinementTest, MeasurementsOffTheirVerticesReproduceAnAffineField) {
 
 TEST(MapRefinementTest, AFinerLookupFollowsACurvedFieldBetterAndKeepsTheVertices) {
   const GravityMap coarse = measuredMap(curvedField, 1);
-  const GravityMap fine = measuredMap(curvedField, kDefaultLookupRefinement);
+  const GravityMap fine = measuredMap(curvedField, kThinPlateRefinement);
   double coarse_sum = 0.0, fine_sum = 0.0;
   std::mt19937 random(3);
   std::uniform_real_distribution<double> inside(-0.03, 0.03);
@@ -94,7 +94,7 @@ TEST(MapRefinementTest, AFinerLookupFollowsACurvedFieldBetterAndKeepsTheVertices
 }
 
 TEST(MapRefinementTest, TheRefinedLookupAllocatesNothing) {
-  const GravityMap map = measuredMap(curvedField, kDefaultLookupRefinement);
+  const GravityMap map = measuredMap(curvedField, kThinPlateRefinement);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   bool inside = false;
   testing::AllocationCounter counter;
@@ -122,6 +122,25 @@ TEST(MapRefinementTest, ARefinementOutOfRangeIsRefused) {
     EXPECT_NE(std::string(error.what()).find("MapMetadata::lookup_refinement"), std::string::npos)
         << error.what();
   }
+}
+
+TEST(MapRefinementTest, AThinPlateLookupThatWouldTakeMinutesToBuildIsRefused) {
+  // 33^3 lookup vertices: the sparse solve would take over a minute at every load.
+  try {
+    measuredMap(curvedField, kMaxLookupRefinement);
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("makes more than " + std::to_string(kMaxThinPlateLookupVertices)),
+              std::string::npos)
+        << error.what();
+  }
+  // The finest thin-plate lookup the tools ever wrote (a 16x16x16 grid at refinement 2) loads.
+  EXPECT_LE(lookupResolution(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 16), 2,
+                             LookupInterpolant::kThinPlate)
+                .cast<long>()
+                .prod(),
+            kMaxThinPlateLookupVertices);
 }
 
 TEST(MapRefinementTest, WorkspaceMeasurementsAndRefinementRoundTripInSchema3) {

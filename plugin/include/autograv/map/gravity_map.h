@@ -53,7 +53,7 @@ struct MapMetadata {
   /// ConservativeFieldFit::kMinMeasurements or more than kMaxMeasurements measurements, with
   /// measurements that do not determine the fit, or whose padded lookup grid would pass
   /// kMaxLookupVertices, falls back to kThinPlate at a refinement of at most
-  /// kMaxThinPlateFallbackRefinement (GravityMap::lookupInterpolant and lookupRefinement say
+  /// kThinPlateRefinement (GravityMap::lookupInterpolant and lookupRefinement say
   /// what it uses).
   LookupInterpolant lookup_interpolant = LookupInterpolant::kThinPlate;
 };
@@ -72,11 +72,20 @@ inline constexpr int kMaxLookupRefinement = 8;
 /// built.
 inline constexpr long kMaxLookupVertices = 50653;
 
-/// Most lookup refinement of a map that asks for the conservative fit but falls back to the thin
-/// plate (GravityMap::lookupRefinement): that of the maps before schema 4. The thin plate's
-/// refined values take a sparse solve that grows fast with the refinement (a 5x5x5 grid: 0.03 s
-/// at 2, 0.35 s at 4, 9.5 s at 6).
-inline constexpr int kMaxThinPlateFallbackRefinement = 2;
+/// Most vertices of a refined thin-plate lookup grid a map accepts (a 31 x 31 x 31 grid: a 16x16x16
+/// grid at refinement 2, the finest the tools ever wrote). Its values take a sparse solve that
+/// grows fast with the grid: 0.3 s at 17^3, 3 s at 23^3, 9.5 s at 25^3, 40 s at 31^3.
+inline constexpr long kMaxThinPlateLookupVertices = 29791;
+/// Most vertices of the refined thin-plate lookup grids the tools write (lookupRefinementFor): a
+/// 23 x 23 x 23 grid, about 3 s to build.
+inline constexpr long kToolsThinPlateLookupVertices = 12167;
+
+/// The lookup refinement of thin-plate maps: the most the tools ask for with the thin plate
+/// (lookupRefinementFor), and the most a map that asks for the conservative fit but falls back to
+/// the thin plate reads (GravityMap::lookupRefinement); that of the maps before schema 4. The
+/// thin plate's refined values take a sparse solve that grows fast with the refinement (a 5x5x5
+/// grid: 0.03 s at 2, 0.35 s at 4, 9.5 s at 6).
+inline constexpr int kThinPlateRefinement = 2;
 
 /// `metadata` for a checkpoint: the paper's trilinear lookup, which costs nothing to build. A
 /// checkpoint is read for its vertices and workspace (a resumed run saves its map with the
@@ -90,9 +99,9 @@ Eigen::Vector3i lookupResolution(const WorkspaceGrid& grid, int refinement,
 
 /// The largest refinement up to `wanted` whose lookup grid over `grid` stays within
 /// kMaxLookupVertices (1 at least): what the tools ask for, so that a fine grid gets a map too.
-/// For the conservative interpolant on a grid of more than ConservativeFieldFit::kMaxMeasurements
-/// vertices (whose map may fall back to the thin plate, a sparse solve that grows fast with the
-/// refinement: about 10 s at 3 on a 9x9x9 grid) at most 2.
+/// Where the map reads the thin plate (asked for, or a grid of more vertices than
+/// ConservativeFieldFit::kMaxMeasurements) at most kThinPlateRefinement, within
+/// kToolsThinPlateLookupVertices: 2 up to a 12x12x12 grid, 1 from 13x13x13 on.
 int lookupRefinementFor(const WorkspaceGrid& grid, int wanted,
                         LookupInterpolant interpolant = kDefaultLookupInterpolant) noexcept;
 
@@ -143,7 +152,7 @@ class GravityMap {
   /// measurements could not determine a conservative fit.
   LookupInterpolant lookupInterpolant() const noexcept { return lookup_interpolant_; }
   /// The refinement the lookup uses: metadata().lookup_refinement, or at most
-  /// kMaxThinPlateFallbackRefinement where the conservative fit fell back to the thin plate.
+  /// kThinPlateRefinement where the conservative fit fell back to the thin plate.
   int lookupRefinement() const noexcept { return lookup_refinement_; }
   /// True when every vertex has converged, or was found unreachable and filled from measured
   /// neighbours: the map has no holes.

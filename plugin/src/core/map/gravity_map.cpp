@@ -46,17 +46,18 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
     if (fit) {
       lookup_interpolant_ = LookupInterpolant::kConservative;
     } else {
-      refinement = std::min(refinement, kMaxThinPlateFallbackRefinement);
+      refinement = std::min(refinement, kThinPlateRefinement);
     }
   }
   lookup_refinement_ = refinement;
   const Eigen::Vector3i fine = lookupResolution(grid_, refinement, lookup_interpolant_);
   // The finer grid's values are one solve and a sum per vertex: bounded so that a map file
   // cannot ask for minutes of it.
-  if ((refinement > 1 || fit) && fine.cast<long>().prod() > kMaxLookupVertices) {
+  const long most_vertices = fit ? kMaxLookupVertices : kMaxThinPlateLookupVertices;
+  if ((refinement > 1 || fit) && fine.cast<long>().prod() > most_vertices) {
     throw Error("gravity map: MapMetadata::lookup_refinement " + std::to_string(refinement) +
                 " on a grid of " + grid_.describe() + " makes more than " +
-                std::to_string(kMaxLookupVertices) +
+                std::to_string(most_vertices) +
                 " lookup vertices; use a smaller refinement for so fine a grid");
   }
   std::vector<Eigen::Vector3d> values;
@@ -144,13 +145,13 @@ Eigen::Vector3i lookupResolution(const WorkspaceGrid& grid, int refinement,
 int lookupRefinementFor(const WorkspaceGrid& grid, int wanted,
                         LookupInterpolant interpolant) noexcept {
   int refinement = std::clamp(wanted, 1, kMaxLookupRefinement);
-  if (interpolant == LookupInterpolant::kConservative &&
-      grid.vertexCount() > ConservativeFieldFit::kMaxMeasurements) {
-    refinement = std::min(refinement, 2);
-  }
+  const bool thin_plate = interpolant == LookupInterpolant::kThinPlate ||
+                          grid.vertexCount() > ConservativeFieldFit::kMaxMeasurements;
+  if (thin_plate) refinement = std::min(refinement, kThinPlateRefinement);
+  const LookupInterpolant read = thin_plate ? LookupInterpolant::kThinPlate : interpolant;
+  const long most_vertices = thin_plate ? kToolsThinPlateLookupVertices : kMaxLookupVertices;
   for (; refinement > 1; --refinement) {
-    if (lookupResolution(grid, refinement, interpolant).cast<long>().prod() <= kMaxLookupVertices)
-      break;
+    if (lookupResolution(grid, refinement, read).cast<long>().prod() <= most_vertices) break;
   }
   return refinement;
 }

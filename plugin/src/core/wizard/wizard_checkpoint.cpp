@@ -74,7 +74,8 @@ MapMetadata CalibrationWizard::Impl::metadata() const {
                                                          : config_.device_serial;
   metadata.parameters = config_.parameters;
   metadata.workspace = workspace_;
-  metadata.lookup_refinement = lookupRefinementFor(grid_, config_.lookup_refinement);
+  metadata.lookup_refinement =
+      lookupRefinementFor(grid_, config_.lookup_refinement, config_.lookup_interpolant);
   metadata.lookup_interpolant = config_.lookup_interpolant;
   return metadata;  // created_utc is filled in by saveMap
 }
