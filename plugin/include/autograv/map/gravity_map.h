@@ -66,10 +66,9 @@ inline constexpr int kDefaultLookupRefinement = 6;
 inline constexpr LookupInterpolant kDefaultLookupInterpolant = LookupInterpolant::kConservative;
 /// Largest lookup refinement a map accepts.
 inline constexpr int kMaxLookupRefinement = 8;
-/// Most vertices of a refined lookup grid (a 37 x 37 x 37 grid, 1.6 MB: a 5x5x5 grid at
-/// refinement 6 with its cell of padding): its values take one sparse solve (thin plate) or a
-/// sum over the measurements per vertex (conservative, 0.2 s for a 5x5x5 map) when the map is
-/// built.
+/// Most vertices of a conservative lookup grid (a 37 x 37 x 37 grid, 1.6 MB: a 5x5x5 grid at
+/// refinement 6 with its cell of padding): each value is a sum over the measurements when the
+/// map is built (0.1 s for a 5x5x5 map, 0.6 s for an 8x8x8 one).
 inline constexpr long kMaxLookupVertices = 50653;
 
 /// Most vertices of a refined thin-plate lookup grid a map accepts (a 31 x 31 x 31 grid: a 16x16x16
@@ -97,7 +96,7 @@ MapMetadata checkpointMetadata(MapMetadata metadata);
 Eigen::Vector3i lookupResolution(const WorkspaceGrid& grid, int refinement,
                                  LookupInterpolant interpolant) noexcept;
 
-/// The largest refinement up to `wanted` whose lookup grid over `grid` stays within
+/// The largest refinement up to `wanted` whose conservative lookup grid over `grid` stays within
 /// kMaxLookupVertices (1 at least): what the tools ask for, so that a fine grid gets a map too.
 /// Where the map reads the thin plate (asked for, or a grid of more vertices than
 /// ConservativeFieldFit::kMaxMeasurements) at most kThinPlateRefinement, within
