@@ -545,7 +545,8 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   std::optional<sim::FieldErrorReport> field;
   std::optional<sim::AccuracyReport> accuracy;
   if (simulation != nullptr && status.map_saved && wizard.savedMap()) {
-    field = sim::measureFieldError(*wizard.savedMap(), *simulation, 4000, options.seed);
+    field = sim::measureFieldError(*wizard.savedMap(), *simulation, sim::kFieldErrorSamples,
+                                   options.seed);
     accuracy = sim::measureAccuracy(*wizard.savedMap(), *simulation, 1000, options.seed);
     report["max_error_rel"] = accuracy->max_error_rel;
     report["worst_vertex"] = accuracy->worst_vertex;
