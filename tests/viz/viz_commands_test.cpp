@@ -9,9 +9,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "autograv/map/conservative_field.h"
 #include "autograv/map/map_io.h"
 #include "autograv/viz/image.h"
 #include "viz_test_support.h"
@@ -150,6 +152,45 @@ TEST_F(VizCommandsTest, InspectShowsTheWorkspaceAndEachKindOfValue) {
             std::string::npos)
       << run.output;
   EXPECT_EQ(run.output.find("filled"), std::string::npos) << run.output;
+
+  // How the measurements agree with one another: each one from the fit of the others, with the
+  // same figures the library gives.
+  std::vector<Eigen::Vector3d> points_m;
+  std::vector<Eigen::Vector3d> values_n;
+  std::vector<int> vertex_of;
+  for (int i = 0; i < map.grid().vertexCount(); ++i) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
+    if (v.outcome != VertexOutcome::kConverged) continue;
+    points_m.push_back(v.measuredAt_m(map.grid().vertexPosition(i)));
+    values_n.push_back(v.measuredGravity_n());
+    vertex_of.push_back(i);
+  }
+  const std::vector<Eigen::Vector3d> residuals_n = leaveOneOutResiduals_n(points_m, values_n);
+  std::size_t largest = 0;
+  double largest_ratio = 0.0;
+  for (std::size_t k = 0; k < residuals_n.size(); ++k) {
+    const double ratio = residuals_n[k].norm() / values_n[k].norm();
+    if (ratio > largest_ratio) {
+      largest_ratio = ratio;
+      largest = k;
+    }
+  }
+  char agreement[96];
+  std::snprintf(agreement, sizeof agreement, "largest %.2f %% of |G_hat|", 100.0 * largest_ratio);
+  EXPECT_NE(run.output.find("leave-one-out          each measurement from the fit of the others: "
+                            "median "),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find(agreement), std::string::npos) << run.output;
+  if (largest_ratio > 0.01) {
+    EXPECT_NE(run.output.find("least sure at vertex " + std::to_string(vertex_of[largest]) + " "),
+              std::string::npos)
+        << run.output;
+  } else {
+    EXPECT_NE(run.output.find("every measurement agrees with the others within 1 % of |G_hat|"),
+              std::string::npos)
+        << run.output;
+  }
 
   // A map made without an exploration says so, in the same words.
   const CommandRun plain = autograv("inspect " + kMap);

@@ -114,6 +114,42 @@ TEST(ConservativeFieldFitTest, ReproducesEveryMeasurementAndAnyQuadraticPotentia
   }
 }
 
+// The leave-one-out residuals from one inverse are those of n refits, and they point at the
+// measurement that disagrees with the others: the one carrying a 30 mN error.
+TEST(ConservativeFieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMeasurement) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(30, 0.05, 5);
+  std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
+  constexpr std::size_t kOff = 17;
+  values[kOff] += Eigen::Vector3d(0.0, 0.03, 0.0);
+  const std::vector<Eigen::Vector3d> residuals_n = leaveOneOutResiduals_n(points, values);
+  ASSERT_EQ(residuals_n.size(), points.size());
+  std::size_t largest = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::vector<Eigen::Vector3d> others = points;
+    std::vector<Eigen::Vector3d> other_values = values;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
+    other_values.erase(other_values.begin() + static_cast<std::ptrdiff_t>(i));
+    const Eigen::Vector3d refit_n =
+        ConservativeFieldFit(others, other_values).at(points[i]) - values[i];
+    EXPECT_LT((residuals_n[i] - refit_n).norm(), 1e-6 + 1e-4 * refit_n.norm())
+        << "measurement " << i;
+    if (residuals_n[i].norm() > residuals_n[largest].norm()) largest = i;
+  }
+  EXPECT_EQ(largest, kOff);
+  // The others predict the true field there, so the residual is the error, less what the fit of
+  // a curved field misses.
+  EXPECT_NEAR(residuals_n[kOff].y(), -0.03, 0.01);
+  // A field the fit reproduces exactly leaves nothing to predict.
+  for (const Eigen::Vector3d& r :
+       leaveOneOutResiduals_n(points, valuesAt(points, quadraticPotentialField))) {
+    EXPECT_LT(r.norm(), 1e-6);
+  }
+  EXPECT_THROW(
+      leaveOneOutResiduals_n(std::vector<Eigen::Vector3d>(points.begin(), points.begin() + 3),
+                             std::vector<Eigen::Vector3d>(values.begin(), values.begin() + 3)),
+      Error);
+}
+
 TEST(ConservativeFieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
   const std::vector<Eigen::Vector3d> points = scatteredPoints(6, 0.05, 5);
   const std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);

@@ -57,6 +57,18 @@ class ConservativeFieldFit {
   Eigen::VectorXd polynomial_weights_;   ///< The quadratic potential's nine. Unit: [N]
 };
 
+/// How far each measurement lies from what the others predict: the conservative fit of all the
+/// measurements but measurement i, evaluated at point i, minus value i (leave-one-out). Large
+/// where the field bends faster than the measurements around it follow, or where a measurement
+/// disagrees with its neighbours: where more measurements would help the map most. Needs no
+/// ground truth. One dense factorization and inverse of the fit's 3 n + 9 unknowns (Rippa's
+/// identity, per 3x3 block: residual i = -[(M^-1)_ii]^-1 c_i, with M the fit's system and c its
+/// kernel weights), not n refits. Throws autograv::Error as the ConservativeFieldFit constructor
+/// does, and when a measurement cannot be left out (the others no longer determine a fit).
+/// Not real-time safe. Units: [m], [N]
+std::vector<Eigen::Vector3d> leaveOneOutResiduals_n(const std::vector<Eigen::Vector3d>& points_m,
+                                                    const std::vector<Eigen::Vector3d>& values_n);
+
 /// The measurements of a map: every converged vertex, at the point it was measured
 /// (VertexEstimate::measuredAt_m) with the value measured there. Units: [m], [N]
 void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include <Eigen/LU>
 
@@ -40,20 +41,35 @@ Eigen::Matrix<double, 3, kPolynomialTerms> polynomialBlock(const Eigen::Vector3d
 
 }  // namespace
 
-ConservativeFieldFit::ConservativeFieldFit(const std::vector<Eigen::Vector3d>& points_m,
-                                           const std::vector<Eigen::Vector3d>& values_n) {
+namespace {
+
+/// The fit's linear system in scaled coordinates: the kernel blocks between every pair of
+/// measurements, bordered by the quadratic potential's gradients, with the measured values on the
+/// right (kernel weights first, three per point, then the nine polynomial weights).
+struct FitSystem {
+  Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();
+  double scale_per_m = 1.0;
+  std::vector<Eigen::Vector3d> points;  ///< Scaled.
+  Eigen::MatrixXd matrix;
+  Eigen::VectorXd rhs;
+};
+
+FitSystem buildSystem(const std::vector<Eigen::Vector3d>& points_m,
+                      const std::vector<Eigen::Vector3d>& values_n) {
   if (points_m.size() != values_n.size()) {
     throw Error("conservative field fit: " + std::to_string(points_m.size()) + " points but " +
                 std::to_string(values_n.size()) + " values");
   }
   const int n = static_cast<int>(points_m.size());
-  if (n > kMaxMeasurements) {
+  if (n > ConservativeFieldFit::kMaxMeasurements) {
     throw Error("conservative field fit: " + std::to_string(n) +
-                " measurements; it takes at most " + std::to_string(kMaxMeasurements));
+                " measurements; it takes at most " +
+                std::to_string(ConservativeFieldFit::kMaxMeasurements));
   }
-  if (n < kMinMeasurements) {
+  if (n < ConservativeFieldFit::kMinMeasurements) {
     throw Error("conservative field fit: " + std::to_string(n) +
-                " measurements; it needs at least " + std::to_string(kMinMeasurements));
+                " measurements; it needs at least " +
+                std::to_string(ConservativeFieldFit::kMinMeasurements));
   }
   for (int i = 0; i < n; ++i) {
     const auto at = static_cast<std::size_t>(i);
@@ -61,42 +77,86 @@ ConservativeFieldFit::ConservativeFieldFit(const std::vector<Eigen::Vector3d>& p
       throw Error("conservative field fit: measurement " + std::to_string(i) + " is not finite");
     }
   }
-  origin_m_ = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points_m) origin_m_ += p;
-  origin_m_ /= n;
+  FitSystem fit;
+  for (const Eigen::Vector3d& p : points_m) fit.origin_m += p;
+  fit.origin_m /= n;
   double extent_m = 0.0;
-  for (const Eigen::Vector3d& p : points_m) extent_m = std::max(extent_m, (p - origin_m_).norm());
+  for (const Eigen::Vector3d& p : points_m)
+    extent_m = std::max(extent_m, (p - fit.origin_m).norm());
   if (!(extent_m > 0.0)) throw Error("conservative field fit: every measurement is at one point");
-  scale_per_m_ = 1.0 / extent_m;
-  points_.reserve(points_m.size());
-  for (const Eigen::Vector3d& p : points_m) points_.push_back(scaled(p));
+  fit.scale_per_m = 1.0 / extent_m;
+  fit.points.reserve(points_m.size());
+  for (const Eigen::Vector3d& p : points_m)
+    fit.points.push_back((p - fit.origin_m) * fit.scale_per_m);
 
   const int size = 3 * n + kPolynomialTerms;
-  Eigen::MatrixXd system = Eigen::MatrixXd::Zero(size, size);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(size);
+  fit.matrix = Eigen::MatrixXd::Zero(size, size);
+  fit.rhs = Eigen::VectorXd::Zero(size);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d& xi = points_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d& xi = fit.points[static_cast<std::size_t>(i)];
     for (int j = 0; j < n; ++j) {
-      system.block<3, 3>(3 * i, 3 * j) = kernelBlock(xi - points_[static_cast<std::size_t>(j)]);
+      fit.matrix.block<3, 3>(3 * i, 3 * j) =
+          kernelBlock(xi - fit.points[static_cast<std::size_t>(j)]);
     }
     const auto polynomial = polynomialBlock(xi);
-    system.block<3, kPolynomialTerms>(3 * i, 3 * n) = polynomial;
-    system.block<kPolynomialTerms, 3>(3 * n, 3 * i) = polynomial.transpose();
-    rhs.segment<3>(3 * i) = values_n[static_cast<std::size_t>(i)];
+    fit.matrix.block<3, kPolynomialTerms>(3 * i, 3 * n) = polynomial;
+    fit.matrix.block<kPolynomialTerms, 3>(3 * n, 3 * i) = polynomial.transpose();
+    fit.rhs.segment<3>(3 * i) = values_n[static_cast<std::size_t>(i)];
   }
-  const double ridge = kRelativeRidge * system.topLeftCorner(3 * n, 3 * n).cwiseAbs().maxCoeff();
-  system.topLeftCorner(3 * n, 3 * n).diagonal().array() += ridge;
-  const Eigen::VectorXd solution = Eigen::PartialPivLU<Eigen::MatrixXd>(system).solve(rhs);
-  // A singular system (points on a line leave the quadratic potential undetermined) shows as a
-  // solution that is not finite or does not solve it.
-  const double residual = (system * solution - rhs).norm();
-  if (!solution.allFinite() || !(residual <= 1e-8 * std::max(rhs.norm(), 1e-300))) {
-    throw Error("conservative field fit: the " + std::to_string(n) +
+  const double ridge =
+      kRelativeRidge * fit.matrix.topLeftCorner(3 * n, 3 * n).cwiseAbs().maxCoeff();
+  fit.matrix.topLeftCorner(3 * n, 3 * n).diagonal().array() += ridge;
+  return fit;
+}
+
+/// Solves `fit`, and refuses a system its points leave singular: points on a line leave the
+/// quadratic potential undetermined, which shows as a solution that is not finite or does not
+/// solve the system.
+Eigen::VectorXd solveSystem(const FitSystem& fit, const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
+  const Eigen::VectorXd solution = lu.solve(fit.rhs);
+  const double residual = (fit.matrix * solution - fit.rhs).norm();
+  if (!solution.allFinite() || !(residual <= 1e-8 * std::max(fit.rhs.norm(), 1e-300))) {
+    throw Error("conservative field fit: the " + std::to_string(fit.points.size()) +
                 " measurement points do not determine the field (they lie on a line, or "
                 "coincide)");
   }
-  kernel_weights_ = solution.head(3 * n);
+  return solution;
+}
+
+}  // namespace
+
+ConservativeFieldFit::ConservativeFieldFit(const std::vector<Eigen::Vector3d>& points_m,
+                                           const std::vector<Eigen::Vector3d>& values_n) {
+  FitSystem fit = buildSystem(points_m, values_n);
+  const Eigen::VectorXd solution =
+      solveSystem(fit, Eigen::PartialPivLU<Eigen::MatrixXd>(fit.matrix));
+  origin_m_ = fit.origin_m;
+  scale_per_m_ = fit.scale_per_m;
+  points_ = std::move(fit.points);
+  kernel_weights_ = solution.head(3 * measurementCount());
   polynomial_weights_ = solution.tail(kPolynomialTerms);
+}
+
+std::vector<Eigen::Vector3d> leaveOneOutResiduals_n(const std::vector<Eigen::Vector3d>& points_m,
+                                                    const std::vector<Eigen::Vector3d>& values_n) {
+  const FitSystem fit = buildSystem(points_m, values_n);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(fit.matrix);
+  const Eigen::VectorXd solution = solveSystem(fit, lu);
+  const Eigen::MatrixXd inverse = lu.inverse();
+  std::vector<Eigen::Vector3d> residuals_n;
+  residuals_n.reserve(points_m.size());
+  for (std::size_t i = 0; i < points_m.size(); ++i) {
+    const int row = 3 * static_cast<int>(i);
+    const Eigen::Matrix3d block = inverse.block<3, 3>(row, row);
+    const Eigen::FullPivLU<Eigen::Matrix3d> block_lu(block);
+    const Eigen::Vector3d residual_n = -block_lu.solve(solution.segment<3>(row).eval());
+    if (!block_lu.isInvertible() || !residual_n.allFinite()) {
+      throw Error("conservative field fit: measurement " + std::to_string(i) +
+                  " cannot be left out: the others do not determine the field");
+    }
+    residuals_n.push_back(residual_n);
+  }
+  return residuals_n;
 }
 
 Eigen::Vector3d ConservativeFieldFit::scaled(const Eigen::Vector3d& position_m) const noexcept {
