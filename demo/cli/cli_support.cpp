@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "autograv/error.h"
+#include "autograv/map/conservative_field.h"
 #include "autograv/map/map_io.h"
 
 namespace autograv::cli {
@@ -181,6 +182,49 @@ void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& fiel
   report["shell_field_error_p90_rel"] = field.shell_p90_rel;
   report["shell_field_error_p99_rel"] = field.shell_p99_rel;
   report["shell_field_error_max_rel"] = field.shell_max_rel;
+}
+
+AgreementText describeAgreement(const GravityMap& map) {
+  AgreementText text;
+  MeasurementAgreement agreement;
+  try {
+    agreement = measurementAgreement(map.grid(), map.vertices());
+  } catch (const Error& error) {
+    text.summary = std::string("not available: ") + error.what();
+    return text;
+  }
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "median %.2f %%, 90th percentile %.2f %%, largest %.2f %% of |G_hat|",
+                100.0 * agreement.median_rel, 100.0 * agreement.p90_rel, 100.0 * agreement.max_rel);
+  text.summary = line;
+  for (int vertex : agreement.least_sure_vertices) {
+    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(vertex)];
+    const Eigen::Vector3d at_mm = v.measuredAt_m(map.grid().vertexPosition(vertex)) * 1e3;
+    std::snprintf(line, sizeof line, "%s vertex %d [%.0f, %.0f, %.0f] mm",
+                  text.least_sure.empty() ? "least sure at" : ",", vertex, at_mm.x(), at_mm.y(),
+                  at_mm.z());
+    text.least_sure += line;
+  }
+  std::snprintf(line, sizeof line,
+                "every measurement agrees with the others within %.0f %% of |G_hat|",
+                100.0 * MeasurementAgreement::kWorthMeasuring);
+  text.least_sure = text.least_sure.empty()
+                        ? std::string(line)
+                        : text.least_sure + " (more measurements near them would help most)";
+  return text;
+}
+
+void addAgreementJson(nlohmann::json& report, const GravityMap& map) {
+  try {
+    const MeasurementAgreement agreement = measurementAgreement(map.grid(), map.vertices());
+    report["leave_one_out_median_rel"] = agreement.median_rel;
+    report["leave_one_out_p90_rel"] = agreement.p90_rel;
+    report["leave_one_out_max_rel"] = agreement.max_rel;
+    report["least_sure_vertices"] = agreement.least_sure_vertices;
+  } catch (const Error& error) {
+    report["leave_one_out_unavailable"] = error.what();
+  }
 }
 
 }  // namespace autograv::cli

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "autograv/devices/device_registry.h"
+#include "autograv/map/gravity_map.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
@@ -94,5 +95,19 @@ void printFieldError(const sim::FieldErrorReport& field);
 /// Adds the field error to a JSON report: field_samples, field_error_{p50,p90,p99,max}_rel and
 /// the same with shell_ for the points near the stops.
 void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& field);
+
+/// How a map's measurements agree with one another (measurementAgreement), as the commands print
+/// it: `summary` "median ... %, 90th percentile ... %, largest ... % of |G_hat|", `least_sure`
+/// the vertices where more measurements would help most, with their points, or that every
+/// measurement agrees; `summary` says why when the map's measurements cannot be judged.
+struct AgreementText {
+  std::string summary;
+  std::string least_sure;
+};
+AgreementText describeAgreement(const GravityMap& map);
+
+/// Adds the agreement to a JSON report: leave_one_out_{median,p90,max}_rel and
+/// least_sure_vertices, or leave_one_out_unavailable with the reason.
+void addAgreementJson(nlohmann::json& report, const GravityMap& map);
 
 }  // namespace autograv::cli

@@ -5,14 +5,12 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "autograv/error.h"
-#include "autograv/map/conservative_field.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_summary.h"
 #include "autograv/map/value_kind.h"
+#include "cli_support.h"
 #include "commands.h"
 
 namespace autograv::cli {
@@ -95,55 +93,6 @@ void printLookup(const GravityMap& map) {
   }
 }
 
-// How well the measurements agree with one another, from the map alone: each one predicted by
-// the conservative fit of the others (leaveOneOutResiduals_n). Large where the field bends faster
-// than the measurements around it follow, so where more measurements would help most.
-void printLeaveOneOut(const GravityMap& map) {
-  std::vector<Eigen::Vector3d> points_m;
-  std::vector<Eigen::Vector3d> values_n;
-  std::vector<int> vertex_of;
-  const WorkspaceGrid& grid = map.grid();
-  for (int i = 0; i < grid.vertexCount(); ++i) {
-    const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
-    if (v.outcome != VertexOutcome::kConverged) continue;
-    points_m.push_back(v.measuredAt_m(grid.vertexPosition(i)));
-    values_n.push_back(v.measuredGravity_n());
-    vertex_of.push_back(i);
-  }
-  std::vector<Eigen::Vector3d> residuals_n;
-  try {
-    residuals_n = leaveOneOutResiduals_n(points_m, values_n);
-  } catch (const Error& error) {
-    printRow("leave-one-out", std::string("not available: ") + error.what());
-    return;
-  }
-  std::vector<std::pair<double, std::size_t>> relative;
-  for (std::size_t k = 0; k < residuals_n.size(); ++k) {
-    relative.emplace_back(residuals_n[k].norm() / std::max(values_n[k].norm(), 1e-9), k);
-  }
-  std::sort(relative.begin(), relative.end());
-  std::vector<double> ratios;
-  for (const auto& entry : relative) ratios.push_back(entry.first);
-  const double p90 = ratios[static_cast<std::size_t>(0.9 * static_cast<double>(ratios.size() - 1))];
-  printRow("leave-one-out", format("each measurement from the fit of the others: median %.2f %%, "
-                                   "90th percentile %.2f %%, largest %.2f %% of |G_hat|",
-                                   100.0 * median(ratios), 100.0 * p90, 100.0 * ratios.back()));
-  // Beyond the measurements' own error (up to about 1 % of |G_hat| next to an Omni's stops), a
-  // residual says the field bends there faster than the measurements around it follow.
-  constexpr double kWorthMeasuring = 0.01;
-  std::string worst;
-  for (std::size_t n = 0; n < 3 && n < relative.size(); ++n) {
-    const auto& [ratio, k] = relative[relative.size() - 1 - n];
-    if (ratio <= kWorthMeasuring) break;
-    const Eigen::Vector3d at = points_m[k] * 1e3;
-    worst += format(worst.empty() ? "least sure at vertex %.0f [%.0f, %.0f, %.0f] mm"
-                                  : ", vertex %.0f [%.0f, %.0f, %.0f] mm",
-                    vertex_of[k], at.x(), at.y(), at.z());
-  }
-  printRow("", worst.empty() ? "every measurement agrees with the others within 1 % of |G_hat|"
-                             : worst + " (more measurements near them would help most)");
-}
-
 void runInspectCommand(const InspectOptions& options) {
   // loadMap validates everything, the checksum included: what is printed is what a device would
   // use. No device model is expected here, so maps of every model can be inspected.
@@ -194,7 +143,9 @@ void runInspectCommand(const InspectOptions& options) {
                          std::to_string(summary.solved) + " solved from the measurements");
   printWorkspace(metadata.workspace);
   printLookup(map);
-  printLeaveOneOut(map);
+  const AgreementText agreement = describeAgreement(map);
+  printRow("leave-one-out", "each measurement from the fit of the others: " + agreement.summary);
+  if (!agreement.least_sure.empty()) printRow("", agreement.least_sure);
   if (!norms_n.empty()) {
     const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
     printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,

@@ -121,6 +121,12 @@ TEST_F(DeviceCommandsTest, CalibrateDrawsTheLoopsLatenessFromItsOwnSeed) {
   EXPECT_EQ(other_report["servo_timing_seed"], 5);
   EXPECT_NE(same_report["servo_loop"]["max_lateness_ms"],
             other_report["servo_loop"]["max_lateness_ms"]);
+  // How the measurements agree with one another, for a map with no ground truth to compare.
+  ASSERT_TRUE(same_report.contains("leave_one_out_max_rel")) << same_report.dump(2);
+  EXPECT_GE(same_report["leave_one_out_max_rel"].get<double>(),
+            same_report["leave_one_out_p90_rel"].get<double>());
+  EXPECT_LT(same_report["leave_one_out_max_rel"].get<double>(), 0.05);
+  EXPECT_TRUE(same_report["least_sure_vertices"].is_array());
 }
 
 }  // namespace

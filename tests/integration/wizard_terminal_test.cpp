@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "autograv/map/map_io.h"
 #include "run_command.h"
@@ -385,6 +386,13 @@ TEST_F(WizardTerminalTest, WithoutATerminalItNeedsTheAutoHand) {
   }
   EXPECT_TRUE(std::filesystem::exists(folder + "/report.json"));
   EXPECT_EQ(loadMap(folder + "/m.json").convergedCount(), 8);
+  // The saved map's measurements judged against one another, on screen and in the report.
+  EXPECT_NE(run.output.find("leave-one-out"), std::string::npos) << run.output;
+  std::ifstream report_file(folder + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(report_file);
+  EXPECT_TRUE(report.contains("leave_one_out_median_rel") ||
+              report.contains("leave_one_out_unavailable"))
+      << report.dump(2);
 }
 
 // A checkpoint or map with a number beyond the range of double is bad input like any other: the

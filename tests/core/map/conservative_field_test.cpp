@@ -150,6 +150,28 @@ TEST(ConservativeFieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMe
       Error);
 }
 
+// A map's agreement names the vertex whose measurement the others do not predict, and nothing
+// when they all agree.
+TEST(ConservativeFieldFitTest, AgreementNamesTheVertexTheOthersDoNotPredict) {
+  GravityMap agreeing = ballMap(quadraticPotentialField, LookupInterpolant::kConservative);
+  const MeasurementAgreement clean = measurementAgreement(agreeing.grid(), agreeing.vertices());
+  EXPECT_GT(clean.measurements, 20);
+  EXPECT_LT(clean.max_rel, 1e-6);
+  EXPECT_TRUE(clean.least_sure_vertices.empty());
+
+  std::vector<VertexEstimate> vertices = agreeing.vertices();
+  const int off = agreeing.grid().vertexIndex(2, 2, 2);  // the centre, measured where it is
+  ASSERT_EQ(vertices[static_cast<std::size_t>(off)].outcome, VertexOutcome::kConverged);
+  vertices[static_cast<std::size_t>(off)].gravity_n += Eigen::Vector3d(0.05, 0.0, 0.0);
+  const MeasurementAgreement spoilt = measurementAgreement(agreeing.grid(), vertices);
+  ASSERT_FALSE(spoilt.least_sure_vertices.empty());
+  EXPECT_EQ(spoilt.least_sure_vertices.front(), off);
+  EXPECT_LE(static_cast<int>(spoilt.least_sure_vertices.size()), MeasurementAgreement::kListed);
+  EXPECT_GT(spoilt.max_rel, MeasurementAgreement::kWorthMeasuring);
+  EXPECT_LE(spoilt.median_rel, spoilt.p90_rel);
+  EXPECT_LE(spoilt.p90_rel, spoilt.max_rel);
+}
+
 TEST(ConservativeFieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
   const std::vector<Eigen::Vector3d> points = scatteredPoints(6, 0.05, 5);
   const std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);

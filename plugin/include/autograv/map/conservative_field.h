@@ -69,6 +69,29 @@ class ConservativeFieldFit {
 std::vector<Eigen::Vector3d> leaveOneOutResiduals_n(const std::vector<Eigen::Vector3d>& points_m,
                                                     const std::vector<Eigen::Vector3d>& values_n);
 
+/// How the measurements of a map agree with one another: each converged vertex's measurement
+/// against the fit of all the others (leaveOneOutResiduals_n), over |G_hat| there.
+struct MeasurementAgreement {
+  /// A residual beyond the measurements' own error (up to about 1 % of |G_hat| next to an Omni's
+  /// stops) says the field bends there faster than the measurements around it follow.
+  static constexpr double kWorthMeasuring = 0.01;
+  /// How many of the worst vertices least_sure_vertices lists at most.
+  static constexpr int kListed = 3;
+  int measurements = 0;     ///< Converged vertices.
+  double median_rel = 0.0;  ///< Median of |residual| / |G_hat|.
+  double p90_rel = 0.0;     ///< 90th percentile.
+  double max_rel = 0.0;     ///< Largest.
+  /// Vertices whose residual passes kWorthMeasuring, largest first (at most kListed): where more
+  /// measurements would help the map most.
+  std::vector<int> least_sure_vertices;
+};
+
+/// The agreement of the converged vertices' measurements. Throws autograv::Error as
+/// leaveOneOutResiduals_n does (fewer than ConservativeFieldFit::kMinMeasurements or more than
+/// kMaxMeasurements of them, or points that do not determine a fit). Not real-time safe.
+MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,
+                                          const std::vector<VertexEstimate>& vertices);
+
 /// The measurements of a map: every converged vertex, at the point it was measured
 /// (VertexEstimate::measuredAt_m) with the value measured there. Units: [m], [N]
 void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,

@@ -172,6 +172,42 @@ Eigen::Vector3d ConservativeFieldFit::at(const Eigen::Vector3d& position_m) cons
   return value_n;
 }
 
+MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,
+                                          const std::vector<VertexEstimate>& vertices) {
+  std::vector<Eigen::Vector3d> points_m;
+  std::vector<Eigen::Vector3d> values_n;
+  std::vector<int> vertex_of;
+  const int count = std::min(grid.vertexCount(), static_cast<int>(vertices.size()));
+  for (int index = 0; index < count; ++index) {
+    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    points_m.push_back(vertex.measuredAt_m(grid.vertexPosition(index)));
+    values_n.push_back(vertex.measuredGravity_n());
+    vertex_of.push_back(index);
+  }
+  const std::vector<Eigen::Vector3d> residuals_n = leaveOneOutResiduals_n(points_m, values_n);
+  std::vector<std::pair<double, int>> ratios;  // |residual| / |G_hat|, vertex
+  for (std::size_t k = 0; k < residuals_n.size(); ++k) {
+    ratios.emplace_back(residuals_n[k].norm() / std::max(values_n[k].norm(), 1e-12), vertex_of[k]);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const auto quantile = [&ratios](double q) {
+    return ratios[static_cast<std::size_t>(q * static_cast<double>(ratios.size() - 1))].first;
+  };
+  MeasurementAgreement agreement;
+  agreement.measurements = static_cast<int>(ratios.size());
+  agreement.median_rel = quantile(0.5);
+  agreement.p90_rel = quantile(0.9);
+  agreement.max_rel = ratios.back().first;
+  for (auto worst = ratios.rbegin();
+       worst != ratios.rend() && worst->first > MeasurementAgreement::kWorthMeasuring &&
+       static_cast<int>(agreement.least_sure_vertices.size()) < MeasurementAgreement::kListed;
+       ++worst) {
+    agreement.least_sure_vertices.push_back(worst->second);
+  }
+  return agreement;
+}
+
 void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
                          std::vector<Eigen::Vector3d>& points_m,
                          std::vector<Eigen::Vector3d>& values_n) {
