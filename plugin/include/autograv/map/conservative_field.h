@@ -93,9 +93,11 @@ MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,
                                           const std::vector<VertexEstimate>& vertices);
 
 /// The measurements of a map: every converged vertex, at the point it was measured
-/// (VertexEstimate::measuredAt_m) with the value measured there. Units: [m], [N]
+/// (VertexEstimate::measuredAt_m) with the value measured there, and, when `vertex_of` is given,
+/// each measurement's vertex index. Units: [m], [N]
 void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
                          std::vector<Eigen::Vector3d>& points_m,
-                         std::vector<Eigen::Vector3d>& values_n);
+                         std::vector<Eigen::Vector3d>& values_n,
+                         std::vector<int>* vertex_of = nullptr);
 
 }  // namespace autograv

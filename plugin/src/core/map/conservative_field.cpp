@@ -177,14 +177,7 @@ MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,
   std::vector<Eigen::Vector3d> points_m;
   std::vector<Eigen::Vector3d> values_n;
   std::vector<int> vertex_of;
-  const int count = std::min(grid.vertexCount(), static_cast<int>(vertices.size()));
-  for (int index = 0; index < count; ++index) {
-    const VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
-    if (vertex.outcome != VertexOutcome::kConverged) continue;
-    points_m.push_back(vertex.measuredAt_m(grid.vertexPosition(index)));
-    values_n.push_back(vertex.measuredGravity_n());
-    vertex_of.push_back(index);
-  }
+  collectMeasurements(grid, vertices, points_m, values_n, &vertex_of);
   const std::vector<Eigen::Vector3d> residuals_n = leaveOneOutResiduals_n(points_m, values_n);
   std::vector<std::pair<double, int>> ratios;  // |residual| / |G_hat|, vertex
   for (std::size_t k = 0; k < residuals_n.size(); ++k) {
@@ -210,15 +203,17 @@ MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,
 
 void collectMeasurements(const WorkspaceGrid& grid, const std::vector<VertexEstimate>& vertices,
                          std::vector<Eigen::Vector3d>& points_m,
-                         std::vector<Eigen::Vector3d>& values_n) {
+                         std::vector<Eigen::Vector3d>& values_n, std::vector<int>* vertex_of) {
   points_m.clear();
   values_n.clear();
+  if (vertex_of != nullptr) vertex_of->clear();
   const int count = std::min(grid.vertexCount(), static_cast<int>(vertices.size()));
   for (int index = 0; index < count; ++index) {
     const VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
     if (vertex.outcome != VertexOutcome::kConverged) continue;
     points_m.push_back(vertex.measuredAt_m(grid.vertexPosition(index)));
     values_n.push_back(vertex.measuredGravity_n());
+    if (vertex_of != nullptr) vertex_of->push_back(index);
   }
 }
 
