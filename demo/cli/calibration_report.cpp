@@ -46,9 +46,7 @@ void printCalibrationOutcome(const CalibrationOutcome& outcome,
   std::printf("%-34s %s: breakaway %.1f mN, sliding %.1f mN\n", "device friction",
               sim::toString(outcome.friction), outcome.device_friction.breakaway_force_n * 1e3,
               outcome.device_friction.coulomb_force_n * 1e3);
-  const AgreementText agreement = describeAgreement(map);
-  std::printf("%-34s %s\n", "leave-one-out (no ground truth)", agreement.summary.c_str());
-  if (!agreement.least_sure.empty()) std::printf("%-34s %s\n", "", agreement.least_sure.c_str());
+  printAgreement("leave-one-out (no ground truth)", describeAgreement(map, outcome.agreement));
   std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
               100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
   std::printf("%-34s %.1f N/m (beta |G| / (2 g) = %.1f N/m)\n", "Lipschitz constant c (measured)",
@@ -127,7 +125,7 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"initial_gravity_n", vectorJson(result.initialization.gravity_n)},
       {"parameters", parametersJson(outcome.parameters)}};
   addFieldErrorJson(report, outcome.field);
-  addAgreementJson(report, map);
+  addAgreementJson(report, outcome.agreement);
   report["servo_timing"] = sim::toString(outcome.servo_timing);
   report["servo_timing_seed"] = outcome.servo_timing_seed;
   report["servo_loop"] = servoLoopJson(outcome.servo_timing, result.servo_loop);

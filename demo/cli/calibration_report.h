@@ -12,6 +12,7 @@
 #include "autograv/sim/friction.h"
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
+#include "cli_support.h"
 
 namespace autograv::cli {
 
@@ -29,6 +30,7 @@ struct CalibrationOutcome {
   sim::FieldErrorReport field{};               ///< Over the reachable workspace.
   sim::FrictionMeasurement device_friction{};  ///< Measured on a fresh copy of the device.
   std::uint64_t servo_timing_seed = 1;         ///< The draw of the loop's late ticks.
+  MapAgreement agreement{};                    ///< How the map's measurements agree.
 };
 
 /// Prints the summary lines of the run `result` that made `map`, on standard output.

@@ -8,7 +8,6 @@
 #include <sstream>
 
 #include "autograv/error.h"
-#include "autograv/map/conservative_field.h"
 #include "autograv/map/map_io.h"
 
 namespace autograv::cli {
@@ -184,15 +183,23 @@ void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& fiel
   report["shell_field_error_max_rel"] = field.shell_max_rel;
 }
 
-AgreementText describeAgreement(const GravityMap& map) {
-  AgreementText text;
-  MeasurementAgreement agreement;
+MapAgreement judgeAgreement(const GravityMap& map) {
+  MapAgreement judged;
   try {
-    agreement = measurementAgreement(map.grid(), map.vertices());
+    judged.agreement = measurementAgreement(map.grid(), map.vertices());
   } catch (const Error& error) {
-    text.summary = std::string("not available: ") + error.what();
+    judged.unavailable = error.what();
+  }
+  return judged;
+}
+
+AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged) {
+  AgreementText text;
+  if (!judged.agreement) {
+    text.summary = "not available: " + judged.unavailable;
     return text;
   }
+  const MeasurementAgreement& agreement = *judged.agreement;
   char line[256];
   std::snprintf(line, sizeof line,
                 "median %.2f %%, 90th percentile %.2f %%, largest %.2f %% of |G_hat|",
@@ -215,16 +222,20 @@ AgreementText describeAgreement(const GravityMap& map) {
   return text;
 }
 
-void addAgreementJson(nlohmann::json& report, const GravityMap& map) {
-  try {
-    const MeasurementAgreement agreement = measurementAgreement(map.grid(), map.vertices());
-    report["leave_one_out_median_rel"] = agreement.median_rel;
-    report["leave_one_out_p90_rel"] = agreement.p90_rel;
-    report["leave_one_out_max_rel"] = agreement.max_rel;
-    report["least_sure_vertices"] = agreement.least_sure_vertices;
-  } catch (const Error& error) {
-    report["leave_one_out_unavailable"] = error.what();
+void printAgreement(const char* label, const AgreementText& text) {
+  std::printf("%-34s %s\n", label, text.summary.c_str());
+  if (!text.least_sure.empty()) std::printf("%-34s %s\n", "", text.least_sure.c_str());
+}
+
+void addAgreementJson(nlohmann::json& report, const MapAgreement& judged) {
+  if (!judged.agreement) {
+    report["leave_one_out_unavailable"] = judged.unavailable;
+    return;
   }
+  report["leave_one_out_median_rel"] = judged.agreement->median_rel;
+  report["leave_one_out_p90_rel"] = judged.agreement->p90_rel;
+  report["leave_one_out_max_rel"] = judged.agreement->max_rel;
+  report["least_sure_vertices"] = judged.agreement->least_sure_vertices;
 }
 
 }  // namespace autograv::cli

@@ -3,12 +3,14 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "autograv/devices/device_registry.h"
+#include "autograv/map/conservative_field.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/sim/experiments.h"
@@ -96,18 +98,28 @@ void printFieldError(const sim::FieldErrorReport& field);
 /// the same with shell_ for the points near the stops.
 void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& field);
 
-/// How a map's measurements agree with one another (measurementAgreement), as the commands print
-/// it: `summary` "median ... %, 90th percentile ... %, largest ... % of |G_hat|", `least_sure`
-/// the vertices where more measurements would help most, with their points, or that every
-/// measurement agrees; `summary` says why when the map's measurements cannot be judged.
+/// How a map's measurements agree with one another (measurementAgreement), judged once for what
+/// a command prints and reports: the agreement, or why the measurements cannot be judged.
+struct MapAgreement {
+  std::optional<MeasurementAgreement> agreement;
+  std::string unavailable;  ///< Why not, when agreement is empty.
+};
+MapAgreement judgeAgreement(const GravityMap& map);
+
+/// The same as the commands print it: `summary` "median ... %, 90th percentile ... %, largest
+/// ... % of |G_hat|" (or why not), `least_sure` the vertices where more measurements would help
+/// most, with their points, or that every measurement agrees (empty when not judged).
 struct AgreementText {
   std::string summary;
   std::string least_sure;
 };
-AgreementText describeAgreement(const GravityMap& map);
+AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged);
+
+/// Prints `text` as two summary lines under `label`, as calibrate and wizard show their figures.
+void printAgreement(const char* label, const AgreementText& text);
 
 /// Adds the agreement to a JSON report: leave_one_out_{median,p90,max}_rel and
 /// least_sure_vertices, or leave_one_out_unavailable with the reason.
-void addAgreementJson(nlohmann::json& report, const GravityMap& map);
+void addAgreementJson(nlohmann::json& report, const MapAgreement& judged);
 
 }  // namespace autograv::cli

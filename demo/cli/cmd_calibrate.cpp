@@ -190,6 +190,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   outcome.accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
   // The field where the hand can be, judged against the simulation's truth (scoring only).
   outcome.field = sim::measureFieldError(map, *device, sim::kFieldErrorSamples, options.seed);
+  outcome.agreement = judgeAgreement(map);
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
   auto bench = openSimulatedDevice(options.device, options.seed, options.friction);

@@ -143,7 +143,7 @@ void runInspectCommand(const InspectOptions& options) {
                          std::to_string(summary.solved) + " solved from the measurements");
   printWorkspace(metadata.workspace);
   printLookup(map);
-  const AgreementText agreement = describeAgreement(map);
+  const AgreementText agreement = describeAgreement(map, judgeAgreement(map));
   printRow("leave-one-out", "each measurement from the fit of the others: " + agreement.summary);
   if (!agreement.least_sure.empty()) printRow("", agreement.least_sure);
   if (!norms_n.empty()) {

@@ -229,7 +229,8 @@ struct ForceWatch {
 void printResults(const WizardStatus& status, const ForceWatch& force,
                   const DeviceSpecifications& specifications,
                   const std::optional<sim::FieldErrorReport>& field,
-                  const std::optional<sim::AccuracyReport>& accuracy, const GravityMap* map) {
+                  const std::optional<sim::AccuracyReport>& accuracy,
+                  const AgreementText* agreement) {
   std::printf("%-34s %s\n", "map", status.map_path.c_str());
   std::printf("%-34s %d / %d\n", "vertices converged", status.converged, status.vertex_count);
   if (!status.workspace.empty()) {
@@ -247,13 +248,8 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
                 100.0 * accuracy->max_error_rel, accuracy->worst_vertex,
                 accuracy->max_error_n * 1e3);
   }
-  if (map != nullptr) {
-    // Where the measurements disagree with one another: no ground truth needed, so on hardware
-    // too.
-    const AgreementText agreement = describeAgreement(*map);
-    std::printf("%-34s %s\n", "leave-one-out", agreement.summary.c_str());
-    if (!agreement.least_sure.empty()) std::printf("%-34s %s\n", "", agreement.least_sure.c_str());
-  }
+  // Where the measurements disagree with one another: no ground truth needed, so on hardware too.
+  if (agreement != nullptr) printAgreement("leave-one-out", *agreement);
   if (field) {
     printFieldError(*field);
     std::printf("%-34s %.1f s above %.2f N, %llu ticks at the force limit\n", "force on the device",
@@ -560,11 +556,16 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     report["max_error_n"] = accuracy->max_error_n;
     addFieldErrorJson(report, *field);
   }
-  if (status.map_saved && wizard.savedMap()) addAgreementJson(report, *wizard.savedMap());
+  std::optional<AgreementText> agreement;
+  if (status.map_saved && wizard.savedMap()) {
+    const MapAgreement judged = judgeAgreement(*wizard.savedMap());
+    addAgreementJson(report, judged);
+    agreement = describeAgreement(*wizard.savedMap(), judged);
+  }
   writeJsonReport(options.report_path, report);
   if (status.map_saved) {
     printResults(status, force_watch, specifications, field, accuracy,
-                 wizard.savedMap() ? wizard.savedMap().get() : nullptr);
+                 agreement ? &*agreement : nullptr);
   }
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +

@@ -39,10 +39,6 @@ Eigen::Matrix<double, 3, kPolynomialTerms> polynomialBlock(const Eigen::Vector3d
   return block;
 }
 
-}  // namespace
-
-namespace {
-
 /// The fit's linear system in scaled coordinates: the kernel blocks between every pair of
 /// measurements, bordered by the quadratic potential's gradients, with the measured values on the
 /// right (kernel weights first, three per point, then the nine polynomial weights).
