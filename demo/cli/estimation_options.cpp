@@ -28,8 +28,16 @@ void addEstimationOptions(CLI::App& command, EstimationParameters& p,
       .add_option_function<double>(
           "--dither-mn", [&p](double millinewtons) { p.dither_amplitude_n = millinewtons * 1e-3; },
           "Dither amplitude per axis for --method dither [mN] (default: 9 % of the device's max "
-          "force)")
+          "force, lowered at each point so that |G_hat| plus the dither stays within the "
+          "continuous force rating, but not below 230 mN)")
       ->check(CLI::NonNegativeNumber);
+  command
+      .add_option("--dither-hz", p.dither_frequency_hz,
+                  "Dither base frequency for --method dither [Hz]: x and y at f, z at 3f, one "
+                  "averaging window per period; above the hold's bandwidth (about 4 Hz) and at "
+                  "most a quarter of the 1 kHz servo rate")
+      ->check(CLI::Range(5.0, 250.0))
+      ->capture_default_str();
   command.add_option("--alpha", p.alpha_per_s, "PD damping alpha, K_D = alpha M [1/s]")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

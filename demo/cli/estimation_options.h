@@ -13,10 +13,10 @@
 namespace autograv::cli {
 
 /// Resets `parameters` to the defaults of `default_method` (EstimationParameters::paper() for the
-/// paper's, EstimationParameters{} for the dither method) and adds --method, --alpha, --beta, --k0,
-/// --n-s,
-/// --eps-s, --n-g, --eps-g, --max-iterations and --dither-mn to `command`, in the paper's units
-/// (N/mm, mm/s, grams-force, mN) and writing SI values into `parameters`.
+/// paper's, EstimationParameters{} for the dither method) and adds --method, --alpha, --beta,
+/// --k0, --n-s, --eps-s, --n-g, --eps-g, --max-iterations, --dither-mn and --dither-hz to
+/// `command`, in the paper's units (N/mm, mm/s, grams-force, mN, Hz) and writing SI values into
+/// `parameters`.
 void addEstimationOptions(CLI::App& command, EstimationParameters& parameters,
                           EstimationMethod default_method = EstimationMethod::kDither);
 

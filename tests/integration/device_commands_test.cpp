@@ -129,5 +129,31 @@ TEST_F(DeviceCommandsTest, CalibrateDrawsTheLoopsLatenessFromItsOwnSeed) {
   EXPECT_TRUE(same_report["least_sure_vertices"].is_array());
 }
 
+// --dither-hz reaches the estimator and the map records it; a frequency the 1 kHz loop cannot
+// carry is refused before the device moves.
+TEST_F(DeviceCommandsTest, CalibrateDithersAtTheFrequencyItIsGiven) {
+  const auto slower = runCommand(kBinary +
+                                 " calibrate --device sim:omega --grid 2 --side-mm 50 "
+                                 "--dither-hz 12.5 --out " +
+                                 dir_ + "/slower.json");
+  ASSERT_EQ(slower.exit_code, 0) << slower.output;
+  const nlohmann::json map = readJson(dir_ + "/slower.json");
+  EXPECT_DOUBLE_EQ(map.at("parameters").at("dither_frequency_hz").get<double>(), 12.5);
+  // Each iteration reads at least three windows of one 80 ms dither period (two agreeing pairs);
+  // at the default 20 Hz the shortest take 0.2 s.
+  for (const auto& vertex : map.at("vertices")) {
+    for (const auto& iteration : vertex.at("history")) {
+      EXPECT_GE(iteration.at("duration_s").get<double>(), 3 * 0.08 - 1e-9) << vertex.dump();
+    }
+  }
+
+  const auto too_fast = runCommand(
+      kBinary + " calibrate --device sim:omega --dither-hz 400 --out " + dir_ + "/too_fast.json");
+  EXPECT_NE(too_fast.exit_code, 0);
+  EXPECT_NE(too_fast.output.find("--dither-hz"), std::string::npos) << too_fast.output;
+  EXPECT_EQ(too_fast.output.find("Exploring"), std::string::npos) << too_fast.output;
+  EXPECT_FALSE(fs::exists(dir_ + "/too_fast.json"));
+}
+
 }  // namespace
 }  // namespace autograv
