@@ -238,4 +238,21 @@ void addAgreementJson(nlohmann::json& report, const MapAgreement& judged) {
   report["least_sure_vertices"] = judged.agreement->least_sure_vertices;
 }
 
+std::optional<RealTimePriority> enterServoPriority(const DeviceHandle& device) {
+  if (device.simulation) return std::nullopt;
+  const RealTimePriority priority = enterRealTimePriority();
+  warnIfNormalPriority(priority);
+  return priority;
+}
+
+void warnIfNormalPriority(const RealTimePriority& priority) {
+  if (!priority.granted) std::fprintf(stderr, "servo thread: %s\n", describe(priority).c_str());
+}
+
+void addServoPriorityJson(nlohmann::json& report, const std::optional<RealTimePriority>& priority) {
+  if (!priority) return;
+  report["servo_real_time_priority"] = priority->granted;
+  report["servo_priority"] = describe(*priority);
+}
+
 }  // namespace autograv::cli

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "autograv/device/real_time_priority.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/map/conservative_field.h"
 #include "autograv/map/gravity_map.h"
@@ -121,5 +122,14 @@ void printAgreement(const char* label, const AgreementText& text);
 /// Adds the agreement to a JSON report: leave_one_out_{median,p90,max}_rel and
 /// least_sure_vertices, or leave_one_out_unavailable with the reason.
 void addAgreementJson(nlohmann::json& report, const MapAgreement& judged);
+
+/// For a servo loop on hardware: raises the calling thread, which is about to run the loop, to
+/// real-time priority where the system permits (enterRealTimePriority) and says on stderr what to
+/// do when it does not. None for a simulation, whose loop keeps simulated time.
+std::optional<RealTimePriority> enterServoPriority(const DeviceHandle& device);
+/// The stderr line for a servo thread that was refused real-time priority; nothing otherwise.
+void warnIfNormalPriority(const RealTimePriority& priority);
+/// servo_real_time_priority and servo_priority, when the loop ran on hardware.
+void addServoPriorityJson(nlohmann::json& report, const std::optional<RealTimePriority>& priority);
 
 }  // namespace autograv::cli

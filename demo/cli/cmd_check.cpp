@@ -27,17 +27,18 @@ void runCheckCommand(const MaintenanceOptions& options, const CLI::App& command,
       makeTickSource(setup.device, setup.parameters.servo_period_s, /*real_time=*/false);
   const MapCheckResult result = checkMap(*setup.device.device, *ticks, setup.map, check);
   std::printf("%s: %s\n", setup.device.name.c_str(), inCommandLineTerms(result.reason).c_str());
-  writeJsonReport(options.report_path,
-                  {{"device", setup.device.name},
-                   {"map", setup.map_path},
-                   {"fit", toString(result.fit)},
-                   {"fits", result.fit == MapFit::kFits},
-                   {"reason", inCommandLineTerms(result.reason)},
-                   {"max_error_rel", result.max_error_rel},
-                   {"payload_estimate_g", result.payload_kg * 1e3},
-                   {"tilt_estimate_deg", result.tilt_rad * 180.0 / 3.14159265358979323846},
-                   {"vertices", result.measurement.vertices},
-                   {"simulated_seconds", result.measurement.seconds}});
+  nlohmann::json report = {{"device", setup.device.name},
+                           {"map", setup.map_path},
+                           {"fit", toString(result.fit)},
+                           {"fits", result.fit == MapFit::kFits},
+                           {"reason", inCommandLineTerms(result.reason)},
+                           {"max_error_rel", result.max_error_rel},
+                           {"payload_estimate_g", result.payload_kg * 1e3},
+                           {"tilt_estimate_deg", result.tilt_rad * 180.0 / 3.14159265358979323846},
+                           {"vertices", result.measurement.vertices},
+                           {"simulated_seconds", result.measurement.seconds}};
+  addServoPriorityJson(report, setup.servo_priority);
+  writeJsonReport(options.report_path, report);
   if (result.fit != MapFit::kFits) throw CLI::RuntimeError(1);  // exit status 1, reason printed
 }
 

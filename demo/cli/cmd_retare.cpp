@@ -84,6 +84,7 @@ void runRetareCommand(const RetareCommandOptions& options, const CLI::App& comma
     std::printf("against %s: worst vertex differs by %.3f %% of |G|\n",
                 options.compare_path.c_str(), 100.0 * difference);
   }
+  addServoPriorityJson(report, setup.servo_priority);
   writeJsonReport(options.common.report_path, report);
 }
 

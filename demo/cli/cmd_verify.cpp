@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,8 @@ void runVerifyCommand(const VerifyOptions& options) {
   } else {
     wall_ticks = std::make_unique<WallClockTickSource>(period_s);
   }
+  // Hardware: this thread runs the servo loop, at real-time priority where the system permits.
+  const std::optional<RealTimePriority> servo_priority = enterServoPriority(handle);
   TickSource& ticks = simulated_ticks ? static_cast<TickSource&>(*simulated_ticks) : *wall_ticks;
 
   const bool from_workspace = !map->metadata().workspace.empty();
@@ -224,6 +227,7 @@ void runVerifyCommand(const VerifyOptions& options) {
               "drift median on / off", ratio, options.max_drift_ratio, report.caught_releases,
               drift_ok ? "ok" : "TOO HIGH");
   if (simulated_ticks) printServoLoop(options.servo_timing, simulated_ticks->loopSummary());
+  if (servo_priority) std::printf("%-34s %s\n", "servo thread", describe(*servo_priority).c_str());
   std::string fault_kinds;
   std::uint64_t faults = 0;
   nlohmann::json fault_counts = nlohmann::json::object();
@@ -313,6 +317,7 @@ void runVerifyCommand(const VerifyOptions& options) {
   addPercentilesJson(json, "residual_force", residual_rel, "_rel");
   addPercentilesJson(json, "drift", on, "_mm", 1e3);
   addPercentilesJson(json, "drift_off", off, "_mm", 1e3);
+  addServoPriorityJson(json, servo_priority);
   if (simulation) {
     json["friction"] = sim::toString(options.friction);
     json["truth_is_simulation_only"] = true;

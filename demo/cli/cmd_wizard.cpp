@@ -8,15 +8,18 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "autograv/device/real_time_priority.h"
 #include "autograv/device/wall_clock_tick_source.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
@@ -230,7 +233,7 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
                   const DeviceSpecifications& specifications,
                   const std::optional<sim::FieldErrorReport>& field,
                   const std::optional<sim::AccuracyReport>& accuracy,
-                  const AgreementText* agreement) {
+                  const AgreementText* agreement, const std::string& servo_priority) {
   std::printf("%-34s %s\n", "map", status.map_path.c_str());
   std::printf("%-34s %d / %d\n", "vertices converged", status.converged, status.vertex_count);
   if (!status.workspace.empty()) {
@@ -243,6 +246,7 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
                 status.workspace.minRadius_m() * 1e3, status.workspace.maxRadius_m() * 1e3);
   }
   std::printf("%-34s %.1f s\n", "device time", status.time_s);
+  if (!servo_priority.empty()) std::printf("%-34s %s\n", "servo thread", servo_priority.c_str());
   if (accuracy) {
     std::printf("%-34s %.2f %% (vertex %d), worst |G_hat - G| %.1f mN\n", "worst measured point",
                 100.0 * accuracy->max_error_rel, accuracy->worst_vertex,
@@ -314,17 +318,24 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
 
 /// The servo loop of a hardware device on its own thread, paced by the wall clock, while the
 /// terminal thread runs service() and draws (CalibrationWizard's threading contract). A null
-/// wizard starts nothing: simulations are stepped in the frame loop, deterministically.
+/// wizard starts nothing: simulations are stepped in the frame loop, deterministically. The
+/// thread asks for real-time priority before its first tick (a loop at normal priority ticks up
+/// to a millisecond late, which the calibration pays for next to the stops); the constructor
+/// returns once it has an answer.
 class ServoThread {
  public:
   ServoThread(CalibrationWizard* wizard, double period_s) {
     if (wizard == nullptr) return;
-    thread_ = std::thread([this, wizard, period_s] {
+    std::promise<RealTimePriority> granted;
+    std::future<RealTimePriority> answer = granted.get_future();
+    thread_ = std::thread([this, wizard, period_s, granted = std::move(granted)]() mutable {
+      granted.set_value(enterRealTimePriority());
       WallClockTickSource ticks(period_s);
       while (!stop_.load(std::memory_order_relaxed) && ticks.waitForNextTick()) {
         wizard->servoTick();
       }
     });
+    priority_ = answer.get();
   }
   ~ServoThread() { stop(); }
   ServoThread(const ServoThread&) = delete;
@@ -333,10 +344,13 @@ class ServoThread {
     stop_.store(true);
     if (thread_.joinable()) thread_.join();
   }
+  /// What the servo thread got; none for a simulation.
+  const std::optional<RealTimePriority>& priority() const noexcept { return priority_; }
 
  private:
   std::atomic<bool> stop_{false};
   std::thread thread_;
+  std::optional<RealTimePriority> priority_;
 };
 
 void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
@@ -443,6 +457,8 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     std::fprintf(stderr, "%s\n", retare_offer.c_str());
   }
   ServoThread servo(simulation == nullptr ? &wizard : nullptr, period_s);
+  const std::string servo_priority = servo.priority() ? describe(*servo.priority()) : "";
+  if (servo.priority()) warnIfNormalPriority(*servo.priority());
 
   installInterruptHandlers();
   struct HandlersGuard {
@@ -543,6 +559,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   report["continuous_force_n"] = continuousForceRating_n(specifications);
   report["seconds_above_continuous_force"] = force_watch.seconds_above_continuous;
   report["force_limit_ticks"] = force_watch.limit_ticks;
+  addServoPriorityJson(report, servo.priority());
   // On a simulation, the field where the hand can be against its ground truth (scoring only),
   // as `autograv calibrate` reports it.
   std::optional<sim::FieldErrorReport> field;
@@ -565,7 +582,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   writeJsonReport(options.report_path, report);
   if (status.map_saved) {
     printResults(status, force_watch, specifications, field, accuracy,
-                 agreement ? &*agreement : nullptr);
+                 agreement ? &*agreement : nullptr, servo_priority);
   }
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +

@@ -32,7 +32,8 @@ MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI
                                 : loadMap(path, MapLoadOptions{specifications.model_name, false});
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, specifications);
-  return {std::move(device), std::move(map), path, parameters};
+  std::optional<RealTimePriority> servo_priority = enterServoPriority(device);
+  return {std::move(device), std::move(map), path, parameters, servo_priority};
 }
 
 double maxVertexDifferenceRel(const GravityMap& a, const GravityMap& b) {

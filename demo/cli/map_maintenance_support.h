@@ -3,10 +3,12 @@
 // What `autograv retare` and `autograv check` share: the device, the map it should fit, and the
 // estimation parameters for a few vertices of that map.
 
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "autograv/device/real_time_priority.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/gravity_map.h"
@@ -34,10 +36,13 @@ struct MaintenanceSetup {
   GravityMap map;                   ///< The map to check or re-tare.
   std::string map_path;             ///< Where it came from.
   EstimationParameters parameters;  ///< The command line's, with the device's defaults.
+  /// What the calling thread, the servo loop's, got on hardware; none for a simulation.
+  std::optional<RealTimePriority> servo_priority;
 };
 
-/// Opens the device and finds its map (the file given, else the library's). Throws
-/// autograv::Error when either fails, saying what to do.
+/// Opens the device and finds its map (the file given, else the library's), and on hardware
+/// raises the calling thread, which runs the servo loop, to real-time priority where permitted.
+/// Throws autograv::Error when the device or the map fails, saying what to do.
 MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command);
 
 /// Largest |a - b| / |b| over the vertices of two maps on the same grid; throws autograv::Error

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "autograv/device/real_time_priority.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/error.h"
@@ -384,9 +385,9 @@ void DemoSession::stopRealTime() {
 
 void DemoSession::servoThreadMain() {
   if (options_.realtime_priority) {
-    bool memory_locked = false;
-    realtime_priority_.store(enterRealTime(memory_locked));
-    memory_locked_.store(memory_locked);
+    const RealTimePriority priority = enterRealTimePriority(/*lock_memory=*/true);
+    realtime_priority_.store(priority.granted);
+    memory_locked_.store(priority.memory_locked);
   }
   const auto period_ns = std::llround(options_.servo_period_s * 1e9);
   timing_ = ServoTiming(period_ns);

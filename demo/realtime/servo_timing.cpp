@@ -1,11 +1,8 @@
 #include "servo_timing.h"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/mman.h>
-
 #include <algorithm>
-#include <cstddef>
+
+#include "autograv/device/real_time_priority.h"
 
 namespace autograv::demo {
 
@@ -51,20 +48,9 @@ ServoTiming::Report ServoTiming::report() const noexcept {
   return report;
 }
 
-bool enterRealTime(bool& memory_locked) noexcept {
-  sched_param parameter{};
-  parameter.sched_priority = std::min(80, sched_get_priority_max(SCHED_FIFO));
-  const bool realtime = pthread_setschedparam(pthread_self(), SCHED_FIFO, &parameter) == 0;
-  memory_locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
-  volatile unsigned char stack[256 * 1024];
-  for (std::size_t i = 0; i < sizeof stack; i += 4096) stack[i] = 0;
-  return realtime;
-}
-
 ReferenceLoop::ReferenceLoop(std::int64_t period_ns) : timing_(period_ns) {
   thread_ = std::thread([this, period_ns] {
-    bool memory_locked = false;
-    realtime_ = enterRealTime(memory_locked);
+    realtime_ = enterRealTimePriority(/*lock_memory=*/true).granted;
     runPaced(period_ns, stop_, timing_, [] {});
   });
 }

@@ -53,13 +53,6 @@ class ServoTiming {
   std::int64_t burst_start_ns_ = 0;
 };
 
-/// Raises the calling thread to SCHED_FIFO (priority 80, or the system's highest below it) and
-/// keeps the process's memory resident, where the system permits either, then touches the stack
-/// the loop will use: a page fault in a servo loop waits on the memory map, which other threads
-/// hold while they map buffers. Returns true when SCHED_FIFO was granted; `memory_locked` tells
-/// whether mlockall succeeded. Not real-time safe (call once, before the loop).
-bool enterRealTime(bool& memory_locked) noexcept;
-
 /// Runs `tick()` on absolute deadlines (start + k period, steady clock) until `stop` is set,
 /// recording each tick's start and work in `timing`: a late tick does not push the ones after
 /// it. Runs on the calling thread.
