@@ -209,9 +209,10 @@ void addCalibrateCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
   addServoTimingOption(*command, options->servo_timing);
-  command->add_option("--servo-timing-seed", options->servo_timing_seed,
-                      "Seed of the desktop or free loop's lateness (default: --seed): the same "
-                      "device with another draw of late ticks");
+  command->add_option(
+      "--servo-timing-seed", options->servo_timing_seed,
+      "Seed of the desktop, realtime or free loop's lateness (default: --seed): the same "
+      "device with another draw of late ticks");
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   command->add_option("--report", options->report_path, "Write a JSON report here");
   command->add_flag("--resume", options->resume,

@@ -12,14 +12,15 @@
 
 namespace autograv::cli {
 
-/// Adds --servo-timing exact|desktop|free to `command`: how the simulated servo loop's ticks
-/// arrive, written into `timing` (exact, today's figures, when the option is not given). The one
-/// definition shared by calibrate, verify, wizard and bench.
+/// Adds --servo-timing exact|desktop|realtime|free to `command`: how the simulated servo loop's
+/// ticks arrive, written into `timing` (exact, today's figures, when the option is not given). The
+/// one definition shared by calibrate, verify, wizard and bench.
 inline CLI::Option* addServoTimingOption(CLI::App& command, sim::ServoTiming& timing) {
   return addChoiceOption(
       command, "--servo-timing", timing, sim::parseServoTiming, sim::servoTimingNames(),
       "How the simulated servo ticks arrive: exact (1 kHz, the published figures), desktop "
-      "(1 kHz, late by 0-1 ms, 1 % by 3-5 ms, a 20 ms stall every 10-30 s) or free "
+      "(1 kHz, late by 0-1 ms, 1 % by 3-5 ms, a 20 ms stall every 10-30 s), realtime (the same "
+      "thread at SCHED_FIFO: late by 0-0.2 ms, 0.1 % by 3-5 ms, the same stalls) or free "
       "(free-running at 2-8 kHz)");
 }
 

@@ -22,20 +22,22 @@ const char* toString(ServoTiming timing) noexcept {
       return "exact";
     case ServoTiming::kDesktop:
       return "desktop";
+    case ServoTiming::kRealTime:
+      return "realtime";
     case ServoTiming::kFree:
       return "free";
   }
   return "unknown";
 }
 
-std::vector<std::string> servoTimingNames() { return {"exact", "desktop", "free"}; }
+std::vector<std::string> servoTimingNames() { return {"exact", "desktop", "realtime", "free"}; }
 
 ServoTiming parseServoTiming(const std::string& name) {
   for (const ServoTiming timing :
-       {ServoTiming::kExact, ServoTiming::kDesktop, ServoTiming::kFree}) {
+       {ServoTiming::kExact, ServoTiming::kDesktop, ServoTiming::kRealTime, ServoTiming::kFree}) {
     if (name == toString(timing)) return timing;
   }
-  throw Error("unknown servo timing '" + name + "'; valid: exact, desktop, free");
+  throw Error("unknown servo timing '" + name + "'; valid: exact, desktop, realtime, free");
 }
 
 ServoTimingModel::ServoTimingModel(ServoTiming timing, std::uint64_t seed, double nominal_period_s)
@@ -65,17 +67,19 @@ double ServoTimingModel::nextInterval_s() noexcept {
       last_lateness_s_ = 0.0;
       now_s_ = static_cast<double>(ticks_) * nominal_period_s_;
       return last_interval_s_;
-    case ServoTiming::kDesktop: {
+    case ServoTiming::kDesktop:
+    case ServoTiming::kRealTime: {
+      const bool real_time = timing_ == ServoTiming::kRealTime;
       const double deadline_s = static_cast<double>(ticks_) * nominal_period_s_;
       const double draw = uniform();
       double lateness_s = 0.0;
       if (deadline_s >= next_stall_s_) {
         lateness_s = kStall_s;
         next_stall_s_ += kStallSpacingMin_s + draw * (kStallSpacingMax_s - kStallSpacingMin_s);
-      } else if (draw < kRareLateFraction) {
+      } else if (draw < (real_time ? kRealTimeRareLateFraction : kRareLateFraction)) {
         lateness_s = 3e-3 + 2e-3 * uniform();
       } else {
-        lateness_s = 1e-3 * uniform();
+        lateness_s = (real_time ? kRealTimeLateness_s : kLateness_s) * uniform();
       }
       // Absolute deadlines: a tick after a late one is due at its own deadline, which may have
       // passed already (then it runs at once).

@@ -46,6 +46,7 @@ class LoopRate {
   double longestPeriod_s() const {
     switch (timing_) {
       case sim::ServoTiming::kDesktop:  // a stall, after a tick that was late already
+      case sim::ServoTiming::kRealTime:
         return sim::ServoTimingModel::kStall_s + 1e-3;
       case sim::ServoTiming::kFree:
         return 1.2 / sim::ServoTimingModel::kFreeMinRate_hz;
@@ -94,6 +95,7 @@ std::vector<LoopRate> rates() {
           LoopRate(10000.0, false),
           LoopRate(0.0, true),
           LoopRate(sim::ServoTiming::kDesktop),
+          LoopRate(sim::ServoTiming::kRealTime),
           LoopRate(sim::ServoTiming::kFree)};
 }
 
