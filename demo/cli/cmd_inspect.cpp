@@ -167,6 +167,18 @@ void runInspectCommand(const InspectOptions& options) {
   printRow("", format("step %g..%g s, max %g iterations, servo period %g ms", p.min_step_duration_s,
                       p.max_step_duration_s, p.max_iterations, p.servo_period_s * 1e3));
   printRow("", format("Lipschitz prior %g N/m", p.lipschitz_prior_n_per_m));
+  if (p.method == EstimationMethod::kDither) {
+    const std::string amplitude = p.dither_amplitude_n > 0.0
+                                      ? format("%g mN per axis", p.dither_amplitude_n * 1e3)
+                                      : std::string(
+                                            "picked at each point within the continuous "
+                                            "rating");
+    printRow("",
+             format("method dither: %g Hz, amplitude ", p.dither_frequency_hz) + amplitude +
+                 format(", %g and %g steady windows", p.steady_windows, p.final_steady_windows));
+  } else {
+    printRow("", "method paper (eqs. 7-13 as published, no dither)");
+  }
 
   const std::size_t kMaxListed = 20;
   if (!options.list_vertices && !not_converged.empty()) {

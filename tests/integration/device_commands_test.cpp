@@ -147,6 +147,12 @@ TEST_F(DeviceCommandsTest, CalibrateDithersAtTheFrequencyItIsGiven) {
     }
   }
 
+  const auto inspect = runCommand(kBinary + " inspect " + dir_ + "/slower.json");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+  EXPECT_NE(inspect.output.find("method dither: 12.5 Hz, amplitude picked at each point"),
+            std::string::npos)
+      << inspect.output;
+
   const auto too_fast = runCommand(
       kBinary + " calibrate --device sim:omega --dither-hz 400 --out " + dir_ + "/too_fast.json");
   EXPECT_NE(too_fast.exit_code, 0);
