@@ -30,14 +30,25 @@ const char* toString(ServoTiming timing) noexcept {
   return "unknown";
 }
 
-std::vector<std::string> servoTimingNames() { return {"exact", "desktop", "realtime", "free"}; }
+namespace {
+// Every kind of loop, in the order the names are listed: one list for the names and the parser.
+constexpr ServoTiming kTimings[] = {ServoTiming::kExact, ServoTiming::kDesktop,
+                                    ServoTiming::kRealTime, ServoTiming::kFree};
+}  // namespace
+
+std::vector<std::string> servoTimingNames() {
+  std::vector<std::string> names;
+  for (const ServoTiming timing : kTimings) names.emplace_back(toString(timing));
+  return names;
+}
 
 ServoTiming parseServoTiming(const std::string& name) {
-  for (const ServoTiming timing :
-       {ServoTiming::kExact, ServoTiming::kDesktop, ServoTiming::kRealTime, ServoTiming::kFree}) {
+  std::string valid;
+  for (const ServoTiming timing : kTimings) {
     if (name == toString(timing)) return timing;
+    valid += (valid.empty() ? "" : ", ") + std::string(toString(timing));
   }
-  throw Error("unknown servo timing '" + name + "'; valid: exact, desktop, realtime, free");
+  throw Error("unknown servo timing '" + name + "'; valid: " + valid);
 }
 
 ServoTimingModel::ServoTimingModel(ServoTiming timing, std::uint64_t seed, double nominal_period_s)

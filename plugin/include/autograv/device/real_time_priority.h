@@ -21,8 +21,8 @@ constexpr int kServoThreadPriority = 80;
 /// a servo loop uses so that its pages are resident. With `lock_memory` also locks the process's
 /// memory (mlockall): no page fault waits on the disk, but under a small RLIMIT_MEMLOCK later
 /// allocations may fail, so only a program that allocates up front should ask. A refusal leaves
-/// the thread as it was: a desktop loop at normal priority ticks 0-1 ms late, and on sim:omni
-/// that costs the field next to the stops twice what 0-0.1 ms does (README, "Servo timing").
+/// the thread as it was: a loop at normal priority on a busy desktop ticks up to milliseconds
+/// late, which costs the field next to the stops (README, "Real-time priority").
 /// Call once from the servo thread, before its loop. Not real-time safe.
 RealTimePriority enterRealTimePriority(bool lock_memory = false) noexcept;
 

@@ -50,8 +50,7 @@ class ServoTimingModel {
   /// Interval that ended the latest tick; the nominal period before the first. Unit: [s]
   double lastInterval_s() const noexcept { return last_interval_s_; }
   /// How late the latest tick was: after its deadline (kDesktop, kRealTime), after the loop's
-  /// current
-  /// nominal period (kFree), 0 for kExact. Unit: [s]
+  /// current nominal period (kFree), 0 for kExact. Unit: [s]
   double lastLateness_s() const noexcept { return last_lateness_s_; }
   /// Time of the latest tick since construction. Unit: [s]
   double now_s() const noexcept { return now_s_; }
