@@ -169,8 +169,9 @@ TEST(CalibrationTest, OmniVerticesThatMissedTheirSteadyStateConvergeOnASecondVis
   // Seed 1 at low friction: a vertex ends no_steady_state on the first pass (one-count encoder
   // dither against eps_S = 0.1 mm/s); one more visit settles it (seeds 3, 4, 6, 13 and 15 do
   // the same). The redo pass is what is tested, not the estimator's accuracy through friction,
-  // hence the low friction.
-  auto device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kLow);
+  // hence the low friction, and the ideal actuators that this seed's vertex was found on.
+  auto device = sim::makeSimulatedDevice("sim:omni", 1, sim::FrictionLevel::kLow,
+                                         {1, sim::ActuatorTolerance::kIdeal});
   ASSERT_TRUE(device->open());
   sim::CalibrationRunOptions options =
       optionsFor(*device, defaultGridSide_m(device->specifications().workspace_radius_m), 5);

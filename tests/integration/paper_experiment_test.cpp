@@ -15,8 +15,12 @@ TEST(PaperExperimentTest, ConvergesToTheTrueApparentMassWithinTwoPercent) {
         sim::runPaperExperiment(*device, EstimationParameters::paper());
     ASSERT_TRUE(result.initialization.ok) << result.initialization.message;
     EXPECT_EQ(result.estimate.outcome, VertexOutcome::kConverged) << "seed " << seed;
-    // The simulated Omega is built so that M(X_D) is the 214 g the paper measured.
-    EXPECT_NEAR(result.mass_true_kg, sim::kPaperMeasuredMass_kg, 1e-3);
+    // The simulated Omega is built so that M(X_D) is the 214 g the paper measured; what holds its
+    // unit 1 is that weight through its motors' gains, as a real unit's is (the paper's estimate
+    // read 217 g).
+    const double gain_bound = sim::actuatorGainBound("sim:omega", sim::ActuatorTolerance::kTypical);
+    EXPECT_NEAR(result.mass_true_kg, sim::kPaperMeasuredMass_kg,
+                gain_bound * sim::kPaperMeasuredMass_kg + 1e-3);
     const double mass_kg = result.estimate.gravity_n.norm() / kStandardGravity;
     EXPECT_LE(std::abs(mass_kg - result.mass_true_kg) / result.mass_true_kg, 0.02)
         << "seed " << seed;

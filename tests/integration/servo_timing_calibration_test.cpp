@@ -76,7 +76,10 @@ TEST_P(VertexStallTest, AStallInTheMiddleOfAVertexNeitherSpoilsTheEstimateNorFau
     const VertexRun stalled = runVertex(GetParam(), stall_at_s, 0.020);
     EXPECT_EQ(stalled.estimate.outcome, VertexOutcome::kConverged)
         << GetParam() << " stall at " << stall_at_s << " s";
-    EXPECT_LT(std::abs(stalled.error_rel - exact.error_rel), 0.003)
+    // Within half a percent of |G|: a stall moves the steady state a window reads as friction
+    // does, no more (one vertex through typical friction scatters by that much on its own, and
+    // a whole calibration's worst measured point is about 1.3 %).
+    EXPECT_LT(std::abs(stalled.error_rel - exact.error_rel), 0.005)
         << GetParam() << " stall at " << stall_at_s << " s: error " << 100 * stalled.error_rel
         << " % against " << 100 * exact.error_rel << " %";
     EXPECT_LT(stalled.estimate.seconds, 1.5 * exact.estimate.seconds + 1.0) << GetParam();

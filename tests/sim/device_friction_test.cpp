@@ -33,9 +33,10 @@ double encoderCount_m(const std::string& name) {
   return name == "sim:omni" ? kOmniCount_m : kOmegaCount_m;
 }
 
-std::unique_ptr<SimulatedDevice> openDevice(const std::string& name, FrictionLevel level,
-                                            std::uint64_t seed = 3) {
-  auto device = makeSimulatedDevice(name, seed, level);
+std::unique_ptr<SimulatedDevice> openDevice(
+    const std::string& name, FrictionLevel level, std::uint64_t seed = 3,
+    ActuatorTolerance actuators = ActuatorTolerance::kTypical) {
+  auto device = makeSimulatedDevice(name, seed, level, {1, actuators});
   EXPECT_TRUE(device->open());
   EXPECT_TRUE(device->calibrate());
   return device;
@@ -145,7 +146,8 @@ TEST(DeviceFrictionTest, PreSlidingIsSmallAndSpringsBack) {
 
 TEST(DeviceFrictionTest, DacQuantizationAndOnePeriodDelayShowInTheAppliedForce) {
   for (const std::string name : {"sim:omni", "sim:omega"}) {
-    auto device = openDevice(name, FrictionLevel::kTypical);
+    // Ideal actuators: what reaches the end-effector is the quantized command itself.
+    auto device = openDevice(name, FrictionLevel::kTypical, 3, ActuatorTolerance::kIdeal);
     const Eigen::Vector3d first(0.1234567, -0.2345678, 0.3456789);
     ASSERT_TRUE(device->setForce(first));
     EXPECT_EQ(device->appliedForce_n(), Eigen::Vector3d::Zero()) << name;  // not there yet

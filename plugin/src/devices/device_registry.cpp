@@ -21,6 +21,7 @@ bool startsWith(const std::string& text, const std::string& prefix) {
 std::string knownNames() {
   std::string names;
   for (const std::string& name : sim::simulatedDeviceNames()) names += name + ", ";
+  for (const std::string& name : sim::testDeviceNames()) names += name + ", ";
   return names + "chai3d:N" + (detail::chai3dBuilt() ? "" : " (needs a build with CHAI3D)");
 }
 
@@ -37,11 +38,12 @@ std::vector<DeviceListing> listDevices() {
   return listings;
 }
 
-DeviceHandle makeDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction) {
+DeviceHandle makeDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction,
+                        const sim::SimulatedUnit& unit) {
   if (startsWith(name, "sim:")) {
     DeviceHandle handle;
     handle.name = name;
-    handle.simulation = sim::makeSimulatedDevice(name, seed, friction);
+    handle.simulation = sim::makeSimulatedDevice(name, seed, friction, unit);
     handle.device = handle.simulation;
     return handle;
   }
@@ -59,8 +61,9 @@ DeviceHandle makeDevice(const std::string& name, std::uint64_t seed, sim::Fricti
   throw Error("unknown device '" + name + "'; valid names: " + knownNames());
 }
 
-DeviceHandle openDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction) {
-  DeviceHandle handle = makeDevice(name, seed, friction);
+DeviceHandle openDevice(const std::string& name, std::uint64_t seed, sim::FrictionLevel friction,
+                        const sim::SimulatedUnit& unit) {
+  DeviceHandle handle = makeDevice(name, seed, friction, unit);
   if (!handle.device->open()) throw Error("device " + name + ": open() failed");
   if (!handle.device->calibrate()) {
     throw Error("device " + name +

@@ -302,7 +302,8 @@ double DeltaDevice::kineticEnergy_j(const Eigen::Vector3d& theta_rad,
 Eigen::Vector3d DeltaDevice::trueGravity(const Eigen::Vector3d& position_m) const {
   Pose at{};
   requirePose(position_m, at, "trueGravity");
-  return loadedGravity_n(at.jacobian.transpose().inverse() * gravityTorque(at));
+  const Eigen::Matrix3d jacobian_t = at.jacobian.transpose();
+  return commandDelivering_n(jacobian_t, loadedGravity_n(jacobian_t.inverse() * gravityTorque(at)));
 }
 
 Eigen::Vector3d DeltaDevice::mechanismGravity_n() const noexcept {

@@ -53,8 +53,9 @@ SweepRow runSweepCell(const FrictionSweepOptions& options, const std::string& na
 }  // namespace
 
 std::unique_ptr<SimulatedDevice> openSimulatedDevice(const std::string& name, std::uint64_t seed,
-                                                     FrictionLevel friction) {
-  auto device = makeSimulatedDevice(name, seed, friction);
+                                                     FrictionLevel friction,
+                                                     const SimulatedUnit& unit) {
+  auto device = makeSimulatedDevice(name, seed, friction, unit);
   if (!device->open()) throw Error("device " + name + ": open() failed");
   if (!device->calibrate()) throw Error("device " + name + ": calibrate() failed");
   return device;

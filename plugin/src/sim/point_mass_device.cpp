@@ -75,6 +75,41 @@ PointMassParameters omegaParameters(FrictionLevel friction) {
   return parameters;
 }
 
+namespace {
+
+/// The Omega-like mechanism as a test device: a workspace of `shape` and the swirl that no
+/// potential explains. Its centre is the workspace centre, so the paper's reference point and
+/// the gradient's figures stay those of the preset.
+PointMassParameters swirlParameters(FrictionLevel friction, WorkspaceShape shape,
+                                    const Eigen::Vector3d& half_extents_m, const char* name) {
+  PointMassParameters parameters = omegaParameters(friction);
+  parameters.specifications.model_name = name;
+  parameters.specifications.manufacturer = "autograv simulation (test device, not a real model)";
+  parameters.specifications.serial_number = "SIM-TEST-0001";
+  parameters.workspace_shape = shape;
+  parameters.workspace_half_extents_m = half_extents_m;
+  // The explorer probes up to 1.75 times this radius: the mean half-extent reaches every corner.
+  parameters.specifications.workspace_radius_m = half_extents_m.mean();
+  parameters.reference_point_m = parameters.workspace_center_m;
+  // 60 mN along each component, over a wavelength of 0.3 m: at most 104 mN together, smooth over
+  // the workspace (a sixth of a wavelength across it), about 4 % of the 2.1 N of |G|.
+  parameters.swirl_amplitude_n = Eigen::Vector3d::Constant(0.060);
+  parameters.swirl_wavelength_m = 0.3;
+  return parameters;
+}
+
+}  // namespace
+
+PointMassParameters swirlCubeParameters(FrictionLevel friction) {
+  return swirlParameters(friction, WorkspaceShape::kBox, Eigen::Vector3d::Constant(0.040),
+                         "sim:swirl-cube");
+}
+
+PointMassParameters swirlEllipsoidParameters(FrictionLevel friction) {
+  return swirlParameters(friction, WorkspaceShape::kEllipsoid, Eigen::Vector3d(0.080, 0.060, 0.035),
+                         "sim:swirl-ellipsoid");
+}
+
 PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uint64_t seed)
     : SimulatedDriver(parameters.specifications, parameters.driver, seed),
       parameters_(parameters),
@@ -109,6 +144,10 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
   check.positive(parameters.end_stop_stiffness_n_per_m, "end_stop_stiffness_n_per_m");
   check.nonNegative(parameters.end_stop_damping_n_s_per_m, "end_stop_damping_n_s_per_m");
   check.positive(parameters.encoder_resolution_m, "encoder_resolution_m");
+  check.positive(parameters.workspace_half_extents_m, "workspace_half_extents_m");
+  check.finite(parameters.swirl_amplitude_n, "swirl_amplitude_n");
+  check.finite(parameters.swirl_phase_rad, "swirl_phase_rad");
+  check.positive(parameters.swirl_wavelength_m, "swirl_wavelength_m");
 
   // Solve for w: ||G(X_ref)|| = m_ref g, with G_z = w + (rest of G_z).
   vertical_offset_n_ = 0.0;
@@ -123,7 +162,9 @@ PointMassDevice::PointMassDevice(const PointMassParameters& parameters, std::uin
   vertical_offset_n_ = std::sqrt(target_n * target_n - horizontal2) - rest.z();
 
   // The field must keep the mass positive everywhere the end-effector can go (end stops included).
-  const double reach_m = parameters.specifications.workspace_radius_m * 1.2;
+  const double reach_m = 1.2 * (parameters.workspace_shape == WorkspaceShape::kSphere
+                                    ? parameters.specifications.workspace_radius_m
+                                    : parameters.workspace_half_extents_m.norm());
   for (int ix = -4; ix <= 4; ++ix) {
     for (int iy = -4; iy <= 4; ++iy) {
       for (int iz = -4; iz <= 4; ++iz) {
@@ -149,6 +190,14 @@ Eigen::Vector3d PointMassDevice::gravityAt(const Eigen::Vector3d& position_m) co
   g.y() += 2.0 * c_r * p.y() * p.z();
   g.z() += vertical_offset_n_ + c_r * (p.x() * p.x() + p.y() * p.y()) + 3.0 * c_z * p.z() * p.z();
   g.z() += payload_kg_ * kStandardGravity;  // a point load; the mass |G|/g follows
+  if (!parameters_.swirl_amplitude_n.isZero()) {
+    constexpr double kTwoPi = 6.283185307179586476925286766559;
+    const double k = kTwoPi / parameters_.swirl_wavelength_m;
+    const Eigen::Vector3d& phase = parameters_.swirl_phase_rad;
+    g += parameters_.swirl_amplitude_n.cwiseProduct(
+        Eigen::Vector3d(std::sin(k * p.y() + phase.x()), std::sin(k * p.z() + phase.y()),
+                        std::sin(k * p.x() + phase.z())));
+  }
   return g;
 }
 
@@ -161,7 +210,7 @@ double PointMassDevice::potentialEnergy_j(const Eigen::Vector3d& position_m) con
 }
 
 Eigen::Vector3d PointMassDevice::trueGravity(const Eigen::Vector3d& position_m) const {
-  return loadedGravity_n(gravityAt(position_m));
+  return commandDelivering_n(Eigen::Matrix3d::Identity(), loadedGravity_n(gravityAt(position_m)));
 }
 
 Eigen::Matrix3d PointMassDevice::massAt(const Eigen::Vector3d& position_m) const noexcept {
@@ -204,15 +253,11 @@ void PointMassDevice::integrateStep(const Eigen::Vector3d& motor_force_n,
   net_n += cogging_.at(kTwoPi * from_center.cwiseQuotient(parameters_.cogging_period_m) +
                        parameters_.cogging_phase_rad);
 
-  const double radius_m = parameters_.specifications.workspace_radius_m;
-  const double distance2 = from_center.squaredNorm();
-  if (distance2 > radius_m * radius_m) {
-    const double distance_m = std::sqrt(distance2);
-    const Eigen::Vector3d normal = from_center / distance_m;
-    const double penetration_m = distance_m - radius_m;
+  const Eigen::Vector3d penetration_m = stopPenetration_m(from_center);
+  if (!penetration_m.isZero()) {
     // The rubber stop pushes back along the normal and drags on the whole velocity, so an
     // end-effector resting on it settles instead of sliding round the sphere.
-    net_n -= parameters_.end_stop_stiffness_n_per_m * penetration_m * normal +
+    net_n -= parameters_.end_stop_stiffness_n_per_m * penetration_m +
              parameters_.end_stop_damping_n_s_per_m * v;
     end_stop_hit_ = true;
   }
@@ -230,13 +275,42 @@ Eigen::Vector3d PointMassDevice::readEncoders(const Eigen::Vector3d& noise_count
   return measured;
 }
 
+Eigen::Vector3d PointMassDevice::stopPenetration_m(
+    const Eigen::Vector3d& from_center_m) const noexcept {
+  const Eigen::Vector3d& half = parameters_.workspace_half_extents_m;
+  switch (parameters_.workspace_shape) {
+    case WorkspaceShape::kBox:
+      // One wall per face: at an edge or a corner, two or three push at once.
+      return from_center_m - from_center_m.cwiseMax(-half).cwiseMin(half);
+    case WorkspaceShape::kEllipsoid: {
+      // rho = |D^-1 p| is 1 on the surface; (rho - 1) / |grad rho| is the depth to first order.
+      const Eigen::Vector3d scaled = from_center_m.cwiseQuotient(half);
+      const double rho = scaled.norm();
+      if (rho <= 1.0) return Eigen::Vector3d::Zero();
+      const Eigen::Vector3d gradient = scaled.cwiseQuotient(half) / rho;
+      return ((rho - 1.0) / gradient.squaredNorm()) * gradient;
+    }
+    case WorkspaceShape::kSphere:
+      break;
+  }
+  const double radius_m = parameters_.specifications.workspace_radius_m;
+  const double distance_m = from_center_m.norm();
+  if (distance_m <= radius_m) return Eigen::Vector3d::Zero();
+  return (distance_m - radius_m) / distance_m * from_center_m;
+}
+
+bool PointMassDevice::isReachable(const Eigen::Vector3d& position_m) const noexcept {
+  return stopPenetration_m(position_m - parameters_.workspace_center_m).isZero();
+}
+
 void PointMassDevice::resetMechanism(const Eigen::Vector3d& position_m) {
-  const double limit_m = parameters_.specifications.workspace_radius_m * 1.2;
-  if ((position_m - parameters_.workspace_center_m).norm() > limit_m) {
+  const Eigen::Vector3d penetration_m =
+      stopPenetration_m(position_m - parameters_.workspace_center_m);
+  const double limit_m = parameters_.specifications.workspace_radius_m * 0.2;
+  if (!position_m.allFinite() || penetration_m.norm() > limit_m) {
     throw Error(parameters_.specifications.model_name +
-                ": resetState position is outside the reachable workspace (radius " +
-                std::to_string(parameters_.specifications.workspace_radius_m * 1000.0) +
-                " mm around the centre)");
+                ": resetState position lies beyond the end stops by more than " +
+                std::to_string(limit_m * 1000.0) + " mm");
   }
   position_m_ = position_m;
   velocity_m_per_s_.setZero();

@@ -264,7 +264,8 @@ Eigen::Vector3d SerialArmDevice::trueGravity(const Eigen::Vector3d& position_m) 
     throw Error("sim:omni trueGravity: position is outside the arm's reach");
   }
   const Trig t = trig(q);
-  return loadedGravity_n(jacobian(t).transpose().inverse() * gravityTorque(t));
+  const Eigen::Matrix3d jacobian_t = jacobian(t).transpose();
+  return commandDelivering_n(jacobian_t, loadedGravity_n(jacobian_t.inverse() * gravityTorque(t)));
 }
 
 Eigen::Vector3d SerialArmDevice::mechanismGravity_n() const noexcept {

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "autograv/error.h"
+#include "autograv/sim/actuators.h"
 #include "autograv/sim/delta_device.h"
 #include "autograv/sim/point_mass_device.h"
 #include "autograv/sim/serial_arm_device.h"
@@ -12,14 +13,42 @@ namespace autograv::sim {
 
 std::vector<std::string> simulatedDeviceNames() { return {"sim:omega", "sim:omni", "sim:falcon"}; }
 
+std::vector<std::string> testDeviceNames() { return {"sim:swirl-cube", "sim:swirl-ellipsoid"}; }
+
+namespace {
+
+/// `parameters` with the actuators of `unit` of the model `name`.
+template <typename Parameters>
+Parameters ofUnit(Parameters parameters, const std::string& name, const SimulatedUnit& unit) {
+  parameters.driver.actuator_gain = actuatorGains(name, unit);
+  return parameters;
+}
+
+}  // namespace
+
 std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, std::uint64_t seed,
-                                                     FrictionLevel friction) {
-  if (name == "sim:omega")
-    return std::make_unique<PointMassDevice>(omegaParameters(friction), seed);
-  if (name == "sim:omni") return std::make_unique<SerialArmDevice>(omniParameters(friction), seed);
-  if (name == "sim:falcon") return std::make_unique<DeltaDevice>(falconParameters(friction), seed);
+                                                     FrictionLevel friction,
+                                                     const SimulatedUnit& unit) {
+  if (name == "sim:omega") {
+    return std::make_unique<PointMassDevice>(ofUnit(omegaParameters(friction), name, unit), seed);
+  }
+  if (name == "sim:omni") {
+    return std::make_unique<SerialArmDevice>(ofUnit(omniParameters(friction), name, unit), seed);
+  }
+  if (name == "sim:falcon") {
+    return std::make_unique<DeltaDevice>(ofUnit(falconParameters(friction), name, unit), seed);
+  }
+  if (name == "sim:swirl-cube") {
+    return std::make_unique<PointMassDevice>(ofUnit(swirlCubeParameters(friction), name, unit),
+                                             seed);
+  }
+  if (name == "sim:swirl-ellipsoid") {
+    return std::make_unique<PointMassDevice>(ofUnit(swirlEllipsoidParameters(friction), name, unit),
+                                             seed);
+  }
   std::string valid;
   for (const auto& known : simulatedDeviceNames()) valid += (valid.empty() ? "" : ", ") + known;
+  for (const auto& known : testDeviceNames()) valid += ", " + known;
   throw Error("unknown simulated device '" + name + "'; valid names: " + valid);
 }
 

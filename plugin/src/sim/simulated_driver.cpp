@@ -131,7 +131,8 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
       uncalibrated_offset_m_(parameters.uncalibrated_offset_m),
       velocity_(parameters.velocity_window_s, parameters.velocity_time_constant_s),
       motor_limit_(parameters.motor_limit),
-      dac_step_(Eigen::Vector3d::Zero()) {
+      dac_step_(Eigen::Vector3d::Zero()),
+      actuator_gain_(parameters.actuator_gain) {
   validateSpecifications(specifications_);
   const std::string name = specifications_.model_name;
   if (!finitePositive(parameters.internal_rate_hz) || parameters.internal_rate_hz < 1000.0) {
@@ -169,6 +170,12 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
     throw Error(name + ": transport_delay_s must be in [0, 0.01] s");
   }
   delay_steps_ = static_cast<std::uint64_t>(std::llround(parameters.transport_delay_s / step_s_));
+  // A motor that delivers less than half or more than twice its command is broken, not off
+  // nominal.
+  if (!parameters.actuator_gain.allFinite() || (parameters.actuator_gain.array() < 0.5).any() ||
+      (parameters.actuator_gain.array() > 2.0).any()) {
+    throw Error(name + ": actuator_gain must lie in [0.5, 2] on every motor");
+  }
   // Start the noise in its stationary distribution so that the first samples are typical.
   for (int axis = 0; axis < 3; ++axis)
     noise_counts_[axis] = noise_sigma_counts_ * random_.gaussian();
@@ -312,8 +319,9 @@ void SimulatedDriver::advance(double dt_s) noexcept {
       hand_.update(step_s_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
     }
     // A tilted base turns the mechanism's gravity: one more external force on the end-effector.
-    integrateStep(active_motor_command_, tilted_ ? Eigen::Vector3d(hand_n + tiltForce_n()) : hand_n,
-                  step_s_);
+    // Each motor delivers its command times its own gain.
+    integrateStep(actuator_gain_.cwiseProduct(active_motor_command_),
+                  tilted_ ? Eigen::Vector3d(hand_n + tiltForce_n()) : hand_n, step_s_);
     ++steps_;
     // Commands due now act from here on (and show in appliedForce_n from this time).
     while (pending_count_ > 0 &&
@@ -376,6 +384,12 @@ void SimulatedDriver::setTilt_rad(double tilt_rad) {
 Eigen::Vector3d SimulatedDriver::loadedGravity_n(
     const Eigen::Vector3d& mechanism_gravity_n) const noexcept {
   return tilted_ ? Eigen::Vector3d(tilt_ * mechanism_gravity_n) : mechanism_gravity_n;
+}
+
+Eigen::Vector3d SimulatedDriver::commandDelivering_n(
+    const Eigen::Matrix3d& motor_per_force, const Eigen::Vector3d& delivered_n) const noexcept {
+  const Eigen::Vector3d motor = motor_per_force * delivered_n;
+  return motor_per_force.inverse() * motor.cwiseQuotient(actuator_gain_);
 }
 
 Eigen::Vector3d SimulatedDriver::tiltForce_n() const noexcept {

@@ -41,17 +41,19 @@ bool chai3dDevicesAvailable() noexcept;
 /// Not real-time safe.
 std::vector<DeviceListing> listDevices();
 
-/// Makes the device named `name` (not opened). `seed` and `friction` shape simulated devices
-/// (sim:; a simulated CHAI3D device is made by its driver). Throws
+/// Makes the device named `name` (not opened). `seed`, `friction` and `unit` shape simulated
+/// devices (sim:; a simulated CHAI3D device is made by its driver). Throws
 /// autograv::Error for an unknown scheme or model, a CHAI3D index with no device, or a chai3d:
 /// name in a build without CHAI3D. Not real-time safe.
 DeviceHandle makeDevice(const std::string& name, std::uint64_t seed = 1,
-                        sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
+                        sim::FrictionLevel friction = sim::FrictionLevel::kTypical,
+                        const sim::SimulatedUnit& unit = {});
 
 /// makeDevice, then open() and calibrate() (homing); throws autograv::Error saying which failed.
 /// Not real-time safe.
 DeviceHandle openDevice(const std::string& name, std::uint64_t seed = 1,
-                        sim::FrictionLevel friction = sim::FrictionLevel::kTypical);
+                        sim::FrictionLevel friction = sim::FrictionLevel::kTypical,
+                        const sim::SimulatedUnit& unit = {});
 
 /// The tick source a servo loop on this device needs: simulated time (as fast as possible, or
 /// locked to the wall clock when `real_time`) for a simulation, the wall clock for hardware.

@@ -26,7 +26,8 @@ namespace autograv::sim {
 /// makeSimulatedDevice, then open() and calibrate(). Throws autograv::Error with the valid names
 /// for an unknown one, or naming the call that failed. Not real-time safe.
 std::unique_ptr<SimulatedDevice> openSimulatedDevice(
-    const std::string& name, std::uint64_t seed, FrictionLevel friction = FrictionLevel::kTypical);
+    const std::string& name, std::uint64_t seed, FrictionLevel friction = FrictionLevel::kTypical,
+    const SimulatedUnit& unit = {});
 
 /// What the tools use for `method`: the defaults (the dither method, which converges through dry
 /// friction) or EstimationParameters::paper(), with the device-aware initialization stiffness

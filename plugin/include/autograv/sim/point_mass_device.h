@@ -13,6 +13,13 @@ namespace autograv::sim {
 /// assumptions).
 LuGreParameters omegaAxisFriction(FrictionLevel level);
 
+/// The shape of a point-mass device's workspace: where its end stops stand.
+enum class WorkspaceShape : std::uint8_t {
+  kSphere,     ///< A sphere of specifications.workspace_radius_m (the Omega-like preset).
+  kBox,        ///< A box of half-widths workspace_half_extents_m: a wall on each face.
+  kEllipsoid,  ///< An ellipsoid of semi-axes workspace_half_extents_m.
+};
+
 /// Parameters of PointMassDevice. Defaults are the "sim:omega" preset (omegaParameters()).
 struct PointMassParameters {
   /// The simulated driver: servo period, encoders, DAC, noise, delays.
@@ -65,13 +72,40 @@ struct PointMassParameters {
   double end_stop_damping_n_s_per_m = 4.0;
   /// Position resolution of each Cartesian axis. Unit: [m]
   double encoder_resolution_m = 1e-5;
-  /// Centre of the workspace sphere. Unit: [m]
+  /// Centre of the workspace. Unit: [m]
   Eigen::Vector3d workspace_center_m = Eigen::Vector3d(0.0, 0.0, -0.030);
+  /// Where the end stops stand: a sphere of specifications.workspace_radius_m, or a box or an
+  /// ellipsoid of workspace_half_extents_m around the centre.
+  WorkspaceShape workspace_shape = WorkspaceShape::kSphere;
+  /// Half-widths of the box, or semi-axes of the ellipsoid, along x, y, z. Unit: [m]
+  Eigen::Vector3d workspace_half_extents_m = Eigen::Vector3d::Constant(0.055);
+  /// A smooth holding force that is not the gradient of a potential, added to G(X): amplitude a
+  /// (per component), wavelength L and phases phi of
+  ///   S(X) = [a_x sin(2 pi y / L + phi_x), a_y sin(2 pi z / L + phi_y), a_z sin(2 pi x / L +
+  ///   phi_z)]
+  /// (X from the workspace centre), whose curl is not zero: what unequal motor gains on a
+  /// parallel mechanism, or a driver effect nobody modelled, leave in the force that holds the
+  /// end-effector still. A device built to break a map that assumes a potential. Zero on every
+  /// preset that stands for a real model. Units: [N], [m], [rad]
+  Eigen::Vector3d swirl_amplitude_n = Eigen::Vector3d::Zero();
+  /// L above. Unit: [m]
+  double swirl_wavelength_m = 0.3;
+  /// phi above. Unit: [rad]
+  Eigen::Vector3d swirl_phase_rad = Eigen::Vector3d(0.4, 1.3, -0.7);
 };
 
 /// The "sim:omega" preset: an Omega.3-like device (12 N, 14.5 N/mm, a 55 mm workspace radius
 /// centred on the paper's X_D), |G|/g = 214 g at X_D, friction at `friction`.
 PointMassParameters omegaParameters(FrictionLevel friction = FrictionLevel::kTypical);
+
+/// The "sim:swirl-cube" test device: the Omega-like mechanism in a box of +/-40 mm (stops on six
+/// flat faces, so corners and edges), whose holding force has a swirl of 60 mN (about 4 % of
+/// |G|) that no potential explains. Built to break what only our model devices satisfy: a
+/// conservative field and a round workspace. Not a model of any real device.
+PointMassParameters swirlCubeParameters(FrictionLevel friction = FrictionLevel::kTypical);
+/// The "sim:swirl-ellipsoid" test device: the same mechanism in an ellipsoid of 80 x 60 x 35 mm
+/// semi-axes (an Omni's 160 x 120 x 70 mm workspace), with the same kind of swirl.
+PointMassParameters swirlEllipsoidParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// The paper's model, eq. (1), M(X) Xdd + C(X, Xd) Xd + G(X) = F, with a smooth,
 /// position-dependent, conservative G(X), and an inertia M(X) of its own (rotor and arm inertia
@@ -97,7 +131,10 @@ class PointMassDevice final : public SimulatedDriver {
   Eigen::Vector3d workspaceCenter_m() const noexcept override {
     return parameters_.workspace_center_m;
   }
-  /// Potential energy U(X) whose gradient is G(X) (for tests). Real-time safe. Unit: [J]
+  /// Inside the workspace's shape (WorkspaceShape). Real-time safe.
+  bool isReachable(const Eigen::Vector3d& position_m) const noexcept override;
+  /// Potential energy U(X) whose gradient is G(X) without its swirl (for tests). Real-time
+  /// safe. Unit: [J]
   double potentialEnergy_j(const Eigen::Vector3d& position_m) const noexcept;
   /// The parameters the device was made with.
   const PointMassParameters& parameters() const noexcept { return parameters_; }
@@ -119,6 +156,9 @@ class PointMassDevice final : public SimulatedDriver {
 
  private:
   Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m) const noexcept;
+  /// How far `from_center_m` presses into the stops, along their outward normal (per face for a
+  /// box): zero inside. Real-time safe. Unit: [m]
+  Eigen::Vector3d stopPenetration_m(const Eigen::Vector3d& from_center_m) const noexcept;
   Eigen::Matrix3d massAt(const Eigen::Vector3d& position_m) const noexcept;
 
   PointMassParameters parameters_;

@@ -10,6 +10,7 @@
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/tick_source.h"
+#include "autograv/sim/actuators.h"
 #include "autograv/sim/friction.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_hand.h"
@@ -36,8 +37,10 @@ class SimulatedDevice : public HapticDevice {
   virtual double time_s() const noexcept = 0;
 
   /// Ground-truth apparent gravity G(X) at an end-effector position, with the paper's sign
-  /// (eq. 1, M Xdd + G = F): the force the actuators must apply to hold the end-effector still,
-  /// so it points mostly up (+z); the weight a user feels is -G. Unit: [N]
+  /// (eq. 1, M Xdd + G = F): the force command (setForce) that holds the end-effector still, so
+  /// it points mostly up (+z); the weight a user feels is about -G. The command includes what
+  /// the unit's actuators make of it (DriverParameters::actuator_gain): a motor that delivers 5 %
+  /// less needs 5 % more command. Unit: [N]
   virtual Eigen::Vector3d trueGravity(const Eigen::Vector3d& position_m) const = 0;
   /// Ground-truth apparent (Cartesian) mass at a position. Unit: [kg]
   virtual Eigen::Matrix3d trueApparentMass(const Eigen::Vector3d& position_m) const = 0;
@@ -96,15 +99,22 @@ class SimulatedDevice : public HapticDevice {
   virtual void setTilt_rad(double tilt_rad) = 0;
 };
 
-/// Names accepted by makeSimulatedDevice, e.g. {"sim:omega", "sim:omni"}.
+/// The simulated models of real devices makeSimulatedDevice builds: {"sim:omega", "sim:omni",
+/// "sim:falcon"}.
 std::vector<std::string> simulatedDeviceNames();
+/// The test devices makeSimulatedDevice builds too, made to break what the models above satisfy
+/// by construction (a conservative field, a round workspace): {"sim:swirl-cube",
+/// "sim:swirl-ellipsoid"} (swirlCubeParameters, swirlEllipsoidParameters). Not models of real
+/// devices.
+std::vector<std::string> testDeviceNames();
 
-/// Builds a preset simulated device with the given friction level; the same seed gives the same
-/// run, bit for bit. Throws autograv::Error listing the valid names for an unknown one.
+/// Builds a preset simulated device: unit `unit` of the model `name` (its actuators' gains, the
+/// same whatever the seed: actuatorGains) with the given friction level; the same seed gives the
+/// same run, bit for bit. Throws autograv::Error listing the valid names for an unknown one.
 /// Not real-time safe.
 std::unique_ptr<SimulatedDevice> makeSimulatedDevice(
     const std::string& name, std::uint64_t seed = 1,
-    FrictionLevel friction = FrictionLevel::kTypical);
+    FrictionLevel friction = FrictionLevel::kTypical, const SimulatedUnit& unit = {});
 
 /// Paces a servo loop on a simulated device: each tick advances the physics by the interval the
 /// ServoTimingModel draws (exactly one period with ServoTiming::kExact), either as fast as the CPU

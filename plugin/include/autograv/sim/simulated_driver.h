@@ -83,6 +83,10 @@ struct DriverParameters {
   /// Transport delay between setForce and the actuators: the driver ships a command to the
   /// device once per servo period. Unit: [s]
   double transport_delay_s = 0.001;
+  /// What each motor delivers per unit of its command: its torque constant, its amplifier's gain
+  /// and its transmission ratio against nominal (actuatorGains). The driver computes commands
+  /// from the nominal model, as a real one does; all ones is an ideal unit.
+  Eigen::Vector3d actuator_gain = Eigen::Vector3d::Ones();
 };
 
 /// The driver side shared by the simulated devices: open/close, homing, encoder sampling with
@@ -125,11 +129,14 @@ class SimulatedDriver : public SimulatedDevice {
   void advance(double dt_s) noexcept override;
   /// Real-time safe. Unit: [s]
   double time_s() const noexcept override;
-  /// The Cartesian force of the motor commands now acting (saturated, quantized, delayed), at the
-  /// current pose. Real-time safe. Unit: [N]
+  /// The Cartesian force the motors now deliver: the commands now acting (saturated, quantized,
+  /// delayed) times each motor's gain, at the current pose. Real-time safe. Unit: [N]
   Eigen::Vector3d appliedForce_n() const noexcept override {
-    return motorToCartesian(active_motor_command_);
+    return motorToCartesian(actuator_gain_.cwiseProduct(active_motor_command_));
   }
+  /// Each motor's delivered torque (or force) per commanded one (DriverParameters::actuator_gain):
+  /// ground truth, for reports; an estimator never sees it. Real-time safe.
+  const Eigen::Vector3d& actuatorGains() const noexcept { return actuator_gain_; }
   /// The motor commands now acting, in the mechanism's actuator units. Real-time safe.
   const Eigen::Vector3d& activeMotorCommand() const noexcept { return active_motor_command_; }
   /// Real-time safe.
@@ -190,9 +197,17 @@ class SimulatedDriver : public SimulatedDevice {
   /// any earlier one); already validated by setPayload_kg. Not real-time safe. Unit: [kg]
   virtual void applyPayload_kg(double payload_kg) = 0;
 
-  /// `mechanism_gravity_n` turned by the tilt (what trueGravity reports). Real-time safe.
-  /// Unit: [N]
+  /// `mechanism_gravity_n` turned by the tilt: the physical force the motors must deliver to hold
+  /// the end-effector still. Real-time safe. Unit: [N]
   Eigen::Vector3d loadedGravity_n(const Eigen::Vector3d& mechanism_gravity_n) const noexcept;
+  /// The force command under which the motors deliver `delivered_n` (what trueGravity reports):
+  /// the driver turns a command F into motor commands C F with the nominal C = d(motor)/d(force)
+  /// at the pose (J^T for an arm, `motor_per_force`), and motor j delivers gain_j times its
+  /// command, so the command is C^-1 K^-1 C delivered_n. Where the gains differ, that is no
+  /// longer the gradient of a potential on a mechanism whose joints share one. Real-time safe.
+  /// Unit: [N]
+  Eigen::Vector3d commandDelivering_n(const Eigen::Matrix3d& motor_per_force,
+                                      const Eigen::Vector3d& delivered_n) const noexcept;
 
   /// Set when the end-effector touched an end stop (endStopHit()).
   bool end_stop_hit_ = false;
@@ -230,6 +245,7 @@ class SimulatedDriver : public SimulatedDevice {
   int pending_first_ = 0;
   int pending_count_ = 0;
   Eigen::Vector3d active_motor_command_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d actuator_gain_ = Eigen::Vector3d::Ones();
   std::uint64_t saturation_count_ = 0;
   std::uint64_t last_sample_step_ = 0;
   bool has_sample_ = false;
