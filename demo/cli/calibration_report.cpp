@@ -46,6 +46,9 @@ void printCalibrationOutcome(const CalibrationOutcome& outcome,
   std::printf("%-34s %s: breakaway %.1f mN, sliding %.1f mN\n", "device friction",
               sim::toString(outcome.friction), outcome.device_friction.breakaway_force_n * 1e3,
               outcome.device_friction.coulomb_force_n * 1e3);
+  std::printf("%-34s unit %d, %s: each motor delivers %.3f / %.3f / %.3f of its command\n",
+              "device actuators", outcome.unit.number, sim::toString(outcome.unit.actuators),
+              outcome.actuator_gains.x(), outcome.actuator_gains.y(), outcome.actuator_gains.z());
   printAgreement("leave-one-out (no ground truth)", describeAgreement(map, outcome.agreement));
   std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
               100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
@@ -84,6 +87,9 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"device", specs.model_name},
       {"seed", outcome.seed},
       {"friction", sim::toString(outcome.friction)},
+      {"unit", outcome.unit.number},
+      {"actuators", sim::toString(outcome.unit.actuators)},
+      {"actuator_gains", vectorJson(outcome.actuator_gains)},
       {"breakaway_force_n", outcome.device_friction.breakaway_force_n},
       {"coulomb_force_n", outcome.device_friction.coulomb_force_n},
       {"map", outcome.map_path},
@@ -126,6 +132,7 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"parameters", parametersJson(outcome.parameters)}};
   addFieldErrorJson(report, outcome.field);
   addAgreementJson(report, outcome.agreement);
+  addFieldModelJson(report, map);
   report["servo_timing"] = sim::toString(outcome.servo_timing);
   report["servo_timing_seed"] = outcome.servo_timing_seed;
   report["servo_loop"] = servoLoopJson(outcome.servo_timing, result.servo_loop);

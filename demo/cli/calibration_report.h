@@ -31,6 +31,9 @@ struct CalibrationOutcome {
   sim::FrictionMeasurement device_friction{};  ///< Measured on a fresh copy of the device.
   std::uint64_t servo_timing_seed = 1;         ///< The draw of the loop's late ticks.
   MapAgreement agreement{};                    ///< How the map's measurements agree.
+  sim::SimulatedUnit unit{};                   ///< Which unit of the model, its actuators.
+  /// Each motor's delivered per commanded torque on that unit (ground truth, for the report).
+  Eigen::Vector3d actuator_gains = Eigen::Vector3d::Ones();
 };
 
 /// Prints the summary lines of the run `result` that made `map`, on standard output.

@@ -9,6 +9,8 @@
 
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "autograv/sim/actuators.h"
+#include "choice_option.h"
 
 namespace autograv::cli {
 
@@ -49,6 +51,20 @@ void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load) {
       ->check(CLI::Range(-45.0, 45.0));
 }
 
+void addSimulatedUnitOptions(CLI::App& command, sim::SimulatedUnit& unit) {
+  command
+      .add_option("--unit", unit.number,
+                  "Simulated devices: which unit of the model (its own actuator gains, the same "
+                  "whatever --seed)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  addChoiceOption(
+      command, "--actuators", unit.actuators, sim::parseActuatorTolerance,
+      sim::actuatorToleranceNames(),
+      "Simulated devices: how far each motor's gain strays from nominal: ideal, typical "
+      "(published tolerances) or high (twice them)");
+}
+
 void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load) {
   if (load.payload_g == 0.0 && load.tilt_deg == 0.0) return;
   if (!device.simulation) {
@@ -67,6 +83,9 @@ CLI::Validator simulatedOnly(const std::string& command) {
   return CLI::Validator(
       [command](std::string& name) -> std::string {
         for (const std::string& known : sim::simulatedDeviceNames()) {
+          if (name == known) return {};
+        }
+        for (const std::string& known : sim::testDeviceNames()) {
           if (name == known) return {};
         }
         return "`autograv " + command + "` runs with no person in the loop, so it needs a " +
@@ -186,15 +205,69 @@ void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& fiel
 MapAgreement judgeAgreement(const GravityMap& map) {
   MapAgreement judged;
   try {
-    judged.agreement = measurementAgreement(map.grid(), map.vertices());
+    // By the map's own model: what its lookup reads between the measurements.
+    judged.agreement =
+        measurementAgreement(map.grid(), map.vertices(), map.fieldModel(), map.curlWeight());
   } catch (const Error& error) {
     judged.unavailable = error.what();
   }
   return judged;
 }
 
+std::string describeFieldModel(const GravityMap& map) {
+  const MapMetadata& metadata = map.metadata();
+  std::string text = toString(map.fieldModel());
+  if (map.fieldModel() == FieldModel::kCorrected) {
+    char weight[64];
+    std::snprintf(weight, sizeof weight, " (curl weight %.3g)", map.curlWeight());
+    text += weight;
+  }
+  if (map.fieldModel() != metadata.field_model) {
+    return text + " (the " + toString(metadata.field_model) +
+           " model asked for cannot be fitted to these measurements)";
+  }
+  if (!metadata.field_model_scores.empty()) {
+    return text + ", chosen from the measurements: the smallest leave-one-out error";
+  }
+  return text + " (given, not chosen)";
+}
+
+std::vector<std::string> describeFieldModelScores(const std::vector<FieldModelScore>& scores) {
+  std::vector<std::string> lines;
+  for (const FieldModelScore& score : scores) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%-13s leave-one-out median %.2f %%, 90th percentile %.2f %%, mean %.2f %%",
+                  toString(score.model), 100.0 * score.median_rel, 100.0 * score.p90_rel,
+                  100.0 * score.mean_rel);
+    std::string text = line;
+    if (score.model == FieldModel::kCorrected) {
+      std::snprintf(line, sizeof line, " (curl weight %.3g)", score.curl_weight);
+      text += line;
+    }
+    lines.push_back(text);
+  }
+  return lines;
+}
+
+void addFieldModelJson(nlohmann::json& report, const GravityMap& map) {
+  report["field_model"] = toString(map.fieldModel());
+  report["field_model_curl_weight"] = map.curlWeight();
+  nlohmann::json scores = nlohmann::json::array();
+  for (const FieldModelScore& score : map.metadata().field_model_scores) {
+    scores.push_back({{"model", toString(score.model)},
+                      {"curl_weight", score.curl_weight},
+                      {"loo_median_rel", score.median_rel},
+                      {"loo_p90_rel", score.p90_rel},
+                      {"loo_mean_rel", score.mean_rel}});
+  }
+  report["field_model_scores"] = std::move(scores);
+}
+
 AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged) {
   AgreementText text;
+  text.field_model = describeFieldModel(map);
+  text.model_scores = describeFieldModelScores(map.metadata().field_model_scores);
   if (!judged.agreement) {
     text.summary = "not available: " + judged.unavailable;
     return text;
@@ -223,6 +296,8 @@ AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judge
 }
 
 void printAgreement(const char* label, const AgreementText& text) {
+  if (!text.field_model.empty()) std::printf("%-34s %s\n", "field model", text.field_model.c_str());
+  for (const std::string& line : text.model_scores) std::printf("%-34s %s\n", "", line.c_str());
   std::printf("%-34s %s\n", label, text.summary.c_str());
   if (!text.least_sure.empty()) std::printf("%-34s %s\n", "", text.least_sure.c_str());
 }

@@ -11,7 +11,7 @@
 
 #include "autograv/device/real_time_priority.h"
 #include "autograv/devices/device_registry.h"
-#include "autograv/map/conservative_field.h"
+#include "autograv/map/field_fit.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/sim/experiments.h"
@@ -44,6 +44,10 @@ struct SimulatedLoad {
   double tilt_deg = 0.0;
 };
 void addSimulatedLoadOptions(CLI::App& command, SimulatedLoad& load);
+
+/// Which simulated unit a command runs on (`--unit N`, `--actuators ideal|typical|high`): the same
+/// unit has the same actuators whatever `--seed` draws.
+void addSimulatedUnitOptions(CLI::App& command, sim::SimulatedUnit& unit);
 /// Applies `load` to the simulation behind `device`; throws autograv::Error when one is asked for
 /// on a device that is not simulated.
 void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load);
@@ -113,15 +117,28 @@ MapAgreement judgeAgreement(const GravityMap& map);
 struct AgreementText {
   std::string summary;
   std::string least_sure;
+  std::string field_model;                ///< describeFieldModel
+  std::vector<std::string> model_scores;  ///< describeFieldModelScores
 };
 AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged);
 
-/// Prints `text` as two summary lines under `label`, as calibrate and wizard show their figures.
+/// Prints the field model and its candidates' scores, then `text` as two summary lines under
+/// `label`, as calibrate and wizard show their figures.
 void printAgreement(const char* label, const AgreementText& text);
 
 /// Adds the agreement to a JSON report: leave_one_out_{median,p90,max}_rel and
 /// least_sure_vertices, or leave_one_out_unavailable with the reason.
 void addAgreementJson(nlohmann::json& report, const MapAgreement& judged);
+
+/// The map's field model as the commands print it: "corrected (curl weight 0.3), chosen from
+/// the measurements by leave-one-out" or "conservative (given)", with the thin plate's fallback.
+std::string describeFieldModel(const GravityMap& map);
+/// One line per candidate: "conservative  leave-one-out median 0.21 %, 90th percentile 1.55 %,
+/// mean 0.86 %" (of |G_hat|). Empty when the model was given, not chosen.
+std::vector<std::string> describeFieldModelScores(const std::vector<FieldModelScore>& scores);
+/// Adds field_model, field_model_curl_weight and field_model_scores (each candidate's name,
+/// curl weight and leave-one-out median, p90 and rms over |G_hat|) to a JSON report.
+void addFieldModelJson(nlohmann::json& report, const GravityMap& map);
 
 /// For a servo loop on hardware: raises the calling thread, which is about to run the loop, to
 /// real-time priority where the system permits (enterRealTimePriority) and says on stderr what to

@@ -23,6 +23,7 @@ struct BenchOptions {
   int grid = 5;
   bool quick = false;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   bool friction_sweep = false;
   bool methods = false;  ///< --methods: the friction sweep for the paper's method and the dither's
   int seeds = 3;         ///< Seeds 1..seeds of every --methods cell.
@@ -72,7 +73,7 @@ std::shared_ptr<const GravityMap> runCalibrations(const BenchOptions& options,
   std::shared_ptr<const GravityMap> omni_map;
   for (const std::string& name : sim::simulatedDeviceNames()) {
     for (bool extrapolate : {false, true}) {
-      auto device = openSimulatedDevice(name, 1, options.friction);
+      auto device = openSimulatedDevice(name, 1, options.friction, options.unit);
       sim::DefaultCubeOptions cube;
       cube.resolution = options.grid;
       cube.method = options.method;
@@ -148,6 +149,7 @@ void addBenchCommand(CLI::App& app) {
   add_count("--grid", options->grid, "Vertices per axis of the benchmark calibration", 2, 8);
   command->add_flag("--quick", options->quick, "Shorter runs (noisier figures)");
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addServoTimingOption(*command, options->servo_timing);
   command->add_flag("--friction-sweep", options->friction_sweep,
                     "Instead: calibrate and verify every simulated device at every friction level");

@@ -39,6 +39,7 @@ struct CalibrateOptions {
   GridOptions grid;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   std::string out_path;
   std::string report_path;
   bool resume = false;
@@ -52,7 +53,7 @@ struct CalibrateOptions {
 };
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
   applySimulatedLoad(*device, options.load);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
@@ -82,7 +83,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
-  metadata.lookup_interpolant = kDefaultLookupInterpolant;
+  metadata.field_model = kDefaultFieldModel;
   const std::string checkpoint_path = options.out_path + ".partial";
   // Refuse now, not after minutes of calibration, when the files cannot be written.
   checkWritable(options.out_path, "map");
@@ -111,8 +112,10 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
                  static_cast<int>(converged), grid.vertexCount(), checkpoint_path.c_str());
   }
 
-  std::printf("Calibrating %s: seed %llu, friction %s\n", specs.model_name.c_str(),
-              static_cast<unsigned long long>(options.seed), sim::toString(options.friction));
+  std::printf("Calibrating %s: seed %llu, friction %s, unit %d with %s actuators\n",
+              specs.model_name.c_str(), static_cast<unsigned long long>(options.seed),
+              sim::toString(options.friction), options.unit.number,
+              sim::toString(options.unit.actuators));
   if (run.workspace.empty()) {
     std::printf("Exploring the workspace: %d probe directions under a %.2f N cap...\n",
                 run.explorer.directions,
@@ -185,6 +188,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   CalibrationOutcome outcome{options.out_path,     options.seed, options.friction,
                              options.servo_timing, specs,        parameters};
   outcome.servo_timing_seed = run.servo_timing_seed;
+  outcome.unit = options.unit;
+  outcome.actuator_gains = sim::actuatorGains(specs.model_name, options.unit);
   outcome.wall_s = wall_s;
   outcome.workspace_coverage = workspace_coverage;
   outcome.accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
@@ -193,7 +198,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   outcome.agreement = judgeAgreement(map);
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
-  auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
+  auto bench = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
   outcome.device_friction = sim::measureFriction(*bench);
   printCalibrationOutcome(outcome, result, map);
   writeJsonReport(options.report_path, calibrationReportJson(outcome, result, map));
@@ -208,6 +213,7 @@ void addCalibrateCommand(CLI::App& app) {
   addGridOptions(*command, options->grid);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addServoTimingOption(*command, options->servo_timing);
   command->add_option(
       "--servo-timing-seed", options->servo_timing_seed,

@@ -69,26 +69,28 @@ void printWorkspace(const ExploredWorkspace& workspace) {
 
 void printLookup(const GravityMap& map) {
   const int k = map.lookupRefinement();
-  const bool conservative = map.lookupInterpolant() == LookupInterpolant::kConservative;
-  if (k <= 1 && !conservative) {
+  const FieldModel model = map.fieldModel();
+  printRow("field model", describeFieldModel(map));
+  for (const std::string& line : describeFieldModelScores(map.metadata().field_model_scores)) {
+    printRow("", line);
+  }
+  if (k <= 1 && model == FieldModel::kThinPlate) {
     printRow("lookup", "trilinear over the vertex values (refinement 1)");
     return;
   }
-  const Eigen::Vector3i n = lookupResolution(map.grid(), k, map.lookupInterpolant());
+  const Eigen::Vector3i n = lookupResolution(map.grid(), k, model);
   const std::string lookup_grid =
       std::to_string(n.x()) + "x" + std::to_string(n.y()) + "x" + std::to_string(n.z());
-  if (conservative) {
+  if (model != FieldModel::kThinPlate) {
     printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " + lookup_grid +
-                           " grid, one cell beyond the box, of the conservative fit (the gradient "
-                           "of one potential) to every measurement");
+                           " grid, one cell beyond the box, of the fit to every measurement");
   } else {
     printRow("lookup", "refinement " + std::to_string(k) + ": trilinear on a " + lookup_grid +
                            " grid of the thin-plate interpolant of every measurement");
   }
-  if (map.metadata().lookup_interpolant != map.lookupInterpolant()) {
-    printRow("", std::string("(the file asks for the ") +
-                     toString(map.metadata().lookup_interpolant) + " interpolant at refinement " +
-                     std::to_string(map.metadata().lookup_refinement) +
+  if (map.metadata().field_model != model) {
+    printRow("", std::string("(the file asks for the ") + toString(map.metadata().field_model) +
+                     " model at refinement " + std::to_string(map.metadata().lookup_refinement) +
                      "; its measurements cannot determine it)");
   }
 }

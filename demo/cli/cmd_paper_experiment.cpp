@@ -19,12 +19,13 @@ struct PaperExperimentOptions {
   std::string device = "sim:omega";
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   std::string report_path;
   EstimationParameters parameters;  // the paper's values are the defaults
 };
 
 void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
   EstimationParameters parameters = options.parameters;
   applyDeviceDefaults(command, parameters, device->specifications());
   const auto& p = parameters;
@@ -110,6 +111,7 @@ void addPaperExperimentCommand(CLI::App& app) {
   addSimulatedDeviceOption(*command, options->device);
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addReportOption(*command, options->report_path);
   addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
   command->callback([options, command] { runPaperExperimentCommand(*options, *command); });

@@ -23,6 +23,7 @@ struct SimOptions {
   double seconds = 1.0;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   std::string report_path;
 };
 
@@ -30,7 +31,7 @@ void runSimCommand(const SimOptions& options) {
   if (!(std::isfinite(options.seconds) && options.seconds > 0.0 && options.seconds <= 3600.0)) {
     throw Error("--seconds must be in (0, 3600]");
   }
-  auto device = openSimulatedDevice(options.device, options.seed, options.friction);
+  auto device = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
   const Eigen::Vector3d start = device->workspaceCenter_m();
   device->resetState(start);
   const double radius_m = device->specifications().workspace_radius_m;
@@ -83,7 +84,7 @@ void runSimCommand(const SimOptions& options) {
   std::printf("  true |G| at the end     %.3f N\n", gravity_final.norm());
 
   // On a fresh device of the same seed, so that the drift run above is not disturbed.
-  auto bench = openSimulatedDevice(options.device, options.seed, options.friction);
+  auto bench = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
   const sim::FrictionMeasurement friction = sim::measureFriction(*bench);
   std::printf(
       "  friction (%s): breakaway %.1f mN (largest over %zu directions, smallest %.1f mN), "
@@ -136,6 +137,7 @@ void addSimCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Noise seed (same seed, same run)")
       ->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addReportOption(*command, options->report_path);
   command->callback([options] { runSimCommand(*options); });
 }

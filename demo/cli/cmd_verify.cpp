@@ -56,6 +56,7 @@ struct VerifyOptions {
   std::string device = "sim:omni";
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   int points = 100;
   double duration_s = 1.0;
   double max_drift_ratio = 0.1;
@@ -79,7 +80,8 @@ void addPercentilesJson(nlohmann::json& json, const std::string& prefix, const P
 }
 
 void runVerifyCommand(const VerifyOptions& options) {
-  const DeviceHandle handle = openDevice(options.device, options.seed, options.friction);
+  const DeviceHandle handle =
+      openDevice(options.device, options.seed, options.friction, options.unit);
   const std::shared_ptr<sim::SimulatedDevice>& simulation = handle.simulation;
   const DeviceSpecifications& specs = handle.device->specifications();
   MapLoadOptions load;
@@ -347,6 +349,7 @@ void addVerifyCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Seed of the points and the device noise")
       ->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addServoTimingOption(*command, options->servo_timing);
   command->add_option("--points", options->points, "Test points")
       ->check(CLI::Range(1, 100000))

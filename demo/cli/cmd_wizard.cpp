@@ -57,6 +57,7 @@ struct WizardOptions {
   bool uncalibrated = false;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   GridOptions grid;     // the options and defaults of `autograv calibrate`
   double speed = -1.0;  // < 0: real time on a terminal, as fast as possible otherwise
   double frame_ms = 20.0;
@@ -362,7 +363,8 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
         "are then answered automatically: failed vertices are redone once, then the map is "
         "saved)");
   }
-  const DeviceHandle handle = makeDevice(options.device, options.seed, options.friction);
+  const DeviceHandle handle =
+      makeDevice(options.device, options.seed, options.friction, options.unit);
   const std::shared_ptr<HapticDevice>& device = handle.device;
   sim::SimulatedDevice* simulation = handle.simulation.get();
   if (simulation == nullptr && (options.auto_hand || options.uncalibrated)) {
@@ -577,6 +579,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   if (status.map_saved && wizard.savedMap()) {
     const MapAgreement judged = judgeAgreement(*wizard.savedMap());
     addAgreementJson(report, judged);
+    addFieldModelJson(report, *wizard.savedMap());
     agreement = describeAgreement(*wizard.savedMap(), judged);
   }
   writeJsonReport(options.report_path, report);
@@ -615,6 +618,7 @@ void addWizardCommand(CLI::App& app) {
                     "once, then save)");
   command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
   addFrictionOption(*command, options->friction);
+  addSimulatedUnitOptions(*command, options->unit);
   addServoTimingOption(*command, options->servo_timing);
   addGridOptions(*command, options->grid);
   command

@@ -18,12 +18,13 @@ void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options) {
       ->capture_default_str();
   addReportOption(command, options.report_path);
   addFrictionOption(command, options.friction);
+  addSimulatedUnitOptions(command, options.unit);
   addSimulatedLoadOptions(command, options.load);
   addEstimationOptions(command, options.parameters);
 }
 
 MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command) {
-  DeviceHandle device = openDevice(options.device, options.seed, options.friction);
+  DeviceHandle device = openDevice(options.device, options.seed, options.friction, options.unit);
   applySimulatedLoad(device, options.load);
   const DeviceSpecifications& specifications = device.device->specifications();
   std::string path = options.map_path;

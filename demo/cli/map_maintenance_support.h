@@ -24,6 +24,7 @@ struct MaintenanceOptions {
   std::uint64_t seed = 1;
   SimulatedLoad load;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
+  sim::SimulatedUnit unit;
   EstimationParameters parameters;
 };
 

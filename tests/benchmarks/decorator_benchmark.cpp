@@ -81,7 +81,7 @@ std::shared_ptr<const GravityMap> makeMap(const std::string& model, Field field,
   autograv::MapMetadata metadata;
   metadata.device_model = model;
   metadata.lookup_refinement = lookup_refinement;
-  if (lookup_refinement > 1) metadata.lookup_interpolant = autograv::kDefaultLookupInterpolant;
+  if (lookup_refinement > 1) metadata.field_model = autograv::kDefaultFieldModel;
   return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
 }
 

@@ -56,7 +56,8 @@ FaultyRun runWithScript(
   EXPECT_TRUE(device->open());
   sim::CalibrationRunOptions options = smallGrid(*device);
   const std::string checkpoint = folder.file("map.json.partial");
-  const MapMetadata metadata{"sim:omega", "", "", {}, {}};
+  MapMetadata metadata;
+  metadata.device_model = "sim:omega";
   FaultyRun run;
   bool injected = false;
   options.progress_period_s = 0.0;  // the script sees every tick

@@ -291,7 +291,7 @@ TEST_P(DefaultCalibrationTest, MeasuresInsideTheWorkspaceAndMakesAMapWithoutHole
   ASSERT_FALSE(run.workspace.empty());
   MapMetadata metadata;  // what the tools write
   metadata.lookup_refinement = lookupRefinementFor(run.grid, kDefaultLookupRefinement);
-  metadata.lookup_interpolant = kDefaultLookupInterpolant;
+  metadata.field_model = kDefaultFieldModel;
   const GravityMap map(run.grid, run.vertices, metadata);
   EXPECT_TRUE(map.isComplete());
   EXPECT_EQ(run.force_limit_ticks, 0u);

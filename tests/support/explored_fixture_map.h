@@ -98,7 +98,7 @@ inline GravityMap makeExploredFixtureMap(
   metadata.created_utc = "2026-01-01T00:00:00Z";
   metadata.workspace = std::move(workspace);
   metadata.lookup_refinement = kDefaultLookupRefinement;
-  metadata.lookup_interpolant = kDefaultLookupInterpolant;
+  metadata.field_model = kDefaultFieldModel;
   return GravityMap(grid, std::move(vertices), metadata);
 }
 

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/map/conservative_field.h"
+#include "autograv/map/field_fit.h"
 #include "autograv/map/map_io.h"
 #include "autograv/viz/image.h"
 #include "viz_test_support.h"
@@ -148,14 +148,24 @@ TEST_F(VizCommandsTest, InspectShowsTheWorkspaceAndEachKindOfValue) {
   EXPECT_NEAR(volume_cm3, counted_cm3, 0.03 * counted_cm3);
   EXPECT_LT(volume_cm3, 396.0);
   EXPECT_NE(run.output.find("refinement 6: trilinear on a 37x37x37 grid, one cell beyond the box, "
-                            "of the conservative fit"),
+                            "of the fit to every measurement"),
             std::string::npos)
       << run.output;
+  // The model, how it was chosen, and every candidate's score.
+  EXPECT_NE(run.output.find(std::string("field model            ") + toString(map.fieldModel())),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("chosen from the measurements"), std::string::npos) << run.output;
+  for (const char* candidate : {"conservative  leave-one-out median", "componentwise leave-one-out",
+                                "corrected     leave-one-out"}) {
+    EXPECT_NE(run.output.find(candidate), std::string::npos) << candidate << "\n" << run.output;
+  }
   EXPECT_EQ(run.output.find("filled"), std::string::npos) << run.output;
 
   // How the measurements agree with one another: each one from the fit of the others, with the
   // same figures the library gives.
-  const MeasurementAgreement expected = measurementAgreement(map.grid(), map.vertices());
+  const MeasurementAgreement expected =
+      measurementAgreement(map.grid(), map.vertices(), map.fieldModel(), map.curlWeight());
   const double largest_ratio = expected.max_rel;
   char agreement[96];
   std::snprintf(agreement, sizeof agreement, "largest %.2f %% of |G_hat|", 100.0 * largest_ratio);

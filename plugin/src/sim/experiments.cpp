@@ -99,7 +99,7 @@ DefaultCubeCalibration calibrateDefaultCube(SimulatedDevice& device,
   metadata.device_model = device.specifications().model_name;
   metadata.parameters = run.parameters;
   metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
-  metadata.lookup_interpolant = kDefaultLookupInterpolant;
+  metadata.field_model = kDefaultFieldModel;
   calibration.map = std::make_shared<const GravityMap>(grid, calibration.run.vertices, metadata);
   return calibration;
 }

@@ -37,18 +37,20 @@ TEST(ShiftedMapTest, MovesEveryVertexByTheShiftAndKeepsEverythingElse) {
 }
 
 TEST(ShiftedMapTest, ACalibrationsMapMovesByTheShiftEverywhere) {
-  // Measured off its vertices next to the stops and read through the conservative fit, as the
-  // calibrations make it: the off-vertex measurements move too, or the fit would pull the
+  // Measured off its vertices next to the stops and read through the fit the measurements chose,
+  // as the calibrations make it: the off-vertex measurements move too, or the fit would pull the
   // values near the stops back to the old handle's.
   const GravityMap map = testing::makeExploredFixtureMap(
       [](const Eigen::Vector3d& x_m) {
         return Eigen::Vector3d(0.3 * x_m.x(), 0.3 * x_m.y() - 0.1, 2.0 + 5.0 * x_m.z() * x_m.z());
       },
       [](const Eigen::Vector3d& x_m) { return x_m.norm() < 0.045; });
-  ASSERT_EQ(map.lookupInterpolant(), LookupInterpolant::kConservative);
+  ASSERT_NE(map.fieldModel(), FieldModel::kThinPlate);
   const Eigen::Vector3d shift_n(0.0, 0.0, 0.05);
   const GravityMap shifted = shiftedMap(map, shift_n);
-  ASSERT_EQ(shifted.lookupInterpolant(), LookupInterpolant::kConservative);
+  // The map keeps the model it was chosen with: a constant shift is in every model's span.
+  ASSERT_EQ(shifted.fieldModel(), map.fieldModel());
+  ASSERT_EQ(shifted.curlWeight(), map.curlWeight());
   int off_vertex = 0;
   for (std::size_t i = 0; i < map.vertices().size(); ++i) {
     const VertexEstimate& before = map.vertices()[i];

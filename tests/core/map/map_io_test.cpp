@@ -206,7 +206,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
        "field /vertices/4/provenance:", "one of measured, filled"},
       {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
-       "field /vertices/4/provenance:", "missing (required by schema version 4)"},
+       "field /vertices/4/provenance:", "missing (required by schema version 5)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -232,12 +232,38 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
       {"newer schema", [](json& d) { d["schema_version"] = kMapSchemaVersion + 1; },
-       "field /schema_version:", "reads schema versions 1 to 4 only"},
-      {"unknown interpolant", [](json& d) { d["grid"]["lookup_interpolant"] = "spline"; },
+       "field /schema_version:", "reads schema versions 1 to 5 only"},
+      {"unknown field model", [](json& d) { d["field_model"]["name"] = "spline"; },
+       "field /field_model/name:", "\"conservative\", \"componentwise\", \"corrected\""},
+      {"a request, not a model", [](json& d) { d["field_model"]["name"] = "choose"; },
+       "field /field_model/name:", "\"conservative\", \"componentwise\", \"corrected\""},
+      {"negative curl weight", [](json& d) { d["field_model"]["curl_weight"] = -1.0; },
+       "field /field_model/curl_weight:", ">= 0"},
+      {"huge curl weight", [](json& d) { d["field_model"]["curl_weight"] = 1e6; },
+       "field /field_model/curl_weight:", "in [0, 1000"},
+      {"score without its mean",
+       [](json& d) {
+         d["field_model"]["scores"] = json::array({json{{"name", "conservative"},
+                                                        {"curl_weight", 0.0},
+                                                        {"loo_median_rel", 0.01},
+                                                        {"loo_p90_rel", 0.02}}});
+       },
+       "field /field_model/scores/0/loo_mean_rel:", "missing"},
+      {"no field model in schema 5", [](json& d) { d.erase("field_model"); },
+       "field /field_model:", "missing"},
+      {"interpolant in schema 5", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
+       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 5"},
+      {"unknown interpolant in schema 4",
+       [](json& d) {
+         d["schema_version"] = 4;
+         d.erase("field_model");
+         d["grid"]["lookup_interpolant"] = "spline";
+       },
        "field /grid/lookup_interpolant:", "\"thin_plate\" or \"conservative\""},
       {"interpolant in schema 3",
        [](json& d) {
          d["schema_version"] = 3;
+         d.erase("field_model");
          d["grid"]["lookup_interpolant"] = "conservative";
        },
        "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 3"},
@@ -492,6 +518,7 @@ json schema1Document(const GravityMap& map) {
   grid["side_m"] = grid["size_m"][0];
   grid["resolution"] = grid["resolution"][0];
   grid.erase("size_m");
+  document.erase("field_model");
   for (json& vertex : document["vertices"]) vertex.erase("provenance");
   detail::stampChecksum(document);
   return document;

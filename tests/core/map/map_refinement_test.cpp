@@ -136,11 +136,11 @@ TEST(MapRefinementTest, AThinPlateLookupThatWouldTakeMinutesToBuildIsRefused) {
         << error.what();
   }
   // The finest thin-plate lookup the tools ever wrote (a 16x16x16 grid at refinement 2) loads.
-  EXPECT_LE(lookupResolution(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 16), 2,
-                             LookupInterpolant::kThinPlate)
-                .cast<long>()
-                .prod(),
-            kMaxThinPlateLookupVertices);
+  EXPECT_LE(
+      lookupResolution(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 16), 2, FieldModel::kThinPlate)
+          .cast<long>()
+          .prod(),
+      kMaxThinPlateLookupVertices);
 }
 
 TEST(MapRefinementTest, WorkspaceMeasurementsAndRefinementRoundTripInSchema3) {

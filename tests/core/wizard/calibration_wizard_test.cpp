@@ -812,7 +812,7 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
   ASSERT_EQ(map.metadata().workspace.directions().size(), kDefaultDirections);
   EXPECT_EQ(map.metadata().workspace.radii_m(), workspace.radii_m());
   EXPECT_EQ(map.metadata().lookup_refinement, kDefaultLookupRefinement);
-  EXPECT_EQ(map.lookupInterpolant(), LookupInterpolant::kConservative);
+  EXPECT_EQ(map.fieldModel(), FieldModel::kConservative);
   int measured = 0;
   for (int i = 0; i < map.grid().vertexCount(); ++i) {
     const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];

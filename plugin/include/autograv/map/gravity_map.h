@@ -7,32 +7,13 @@
 
 #include <Eigen/Core>
 
-#include "autograv/map/conservative_field.h"
 #include "autograv/map/explored_workspace.h"
+#include "autograv/map/field_fit.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/types/estimation_parameters.h"
 #include "autograv/types/vertex_estimate.h"
 
 namespace autograv {
-
-/// How a map's lookup reads the field between its measurements.
-enum class LookupInterpolant : std::uint8_t {
-  /// Each force component on its own: the thin-plate interpolant of the measurements on the
-  /// lookup grid (refinedVertexValues), and the vertex fill's values at the vertices. What maps
-  /// of schemas 1 to 3 use.
-  kThinPlate,
-  /// The gradient of one potential fitted to every measurement (ConservativeFieldFit), sampled
-  /// on the lookup grid and at the vertices that were not measured where they are: the physics
-  /// of a passive mechanism, so that the components bend together. On the simulated devices it
-  /// halves the field's 90th and 99th percentile errors at no extra device time (README,
-  /// "Why the map is right near the stops").
-  kConservative,
-};
-
-/// Stable lower-case name used in files and reports ("thin_plate", "conservative").
-const char* toString(LookupInterpolant interpolant) noexcept;
-/// Inverse of toString; returns false for an unknown name.
-bool parseLookupInterpolant(const std::string& name, LookupInterpolant& interpolant) noexcept;
 
 /// Where a map came from.
 struct MapMetadata {
@@ -46,27 +27,34 @@ struct MapMetadata {
   ExploredWorkspace workspace;
   /// The lookup's cells per grid cell along each axis. 1 with the thin plate: the paper's
   /// trilinear interpolation of the vertex values. Otherwise trilinear on a grid k times finer
-  /// whose values are the lookup_interpolant of every measurement, which follows a curved field
+  /// whose values are the field model's fit of every measurement, which follows a curved field
   /// between the vertices where the coarse cells cut its corners; the same cost per lookup.
   int lookup_refinement = 1;
-  /// How the lookup grid's values are made from the measurements. A map with fewer than
-  /// ConservativeFieldFit::kMinMeasurements or more than kMaxMeasurements measurements, with
+  /// How the lookup grid's values are made from the measurements. kChoose fits every candidate
+  /// and keeps the best by cross-validation (chooseFieldModel): the map's metadata() then says
+  /// which, with every candidate's score, and a saved map keeps that choice. A map with fewer
+  /// than FieldFit::kMinMeasurements or more than kMaxMeasurements measurements, with
   /// measurements that do not determine the fit, or whose padded lookup grid would pass
   /// kMaxLookupVertices, falls back to kThinPlate at a refinement of at most
-  /// kThinPlateRefinement (GravityMap::lookupInterpolant and lookupRefinement say
-  /// what it uses).
-  LookupInterpolant lookup_interpolant = LookupInterpolant::kThinPlate;
+  /// kThinPlateRefinement (GravityMap::fieldModel and lookupRefinement say what it uses).
+  FieldModel field_model = FieldModel::kThinPlate;
+  /// The curl weight of a kCorrected model's fit (FieldFit), in [0, FieldFit::kMaxCurlWeight];
+  /// the other models have their own.
+  double curl_weight = 0.0;
+  /// Every candidate's cross-validation score where the model was chosen (empty where it was
+  /// given).
+  std::vector<FieldModelScore> field_model_scores;
 };
 
 /// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): six
 /// lookup cells per grid cell follow the conservative fit to within a few hundredths of a
 /// percent of its field-wide p99 (README, "Why the map is right near the stops").
 inline constexpr int kDefaultLookupRefinement = 6;
-/// The interpolant of the maps that calibrations make.
-inline constexpr LookupInterpolant kDefaultLookupInterpolant = LookupInterpolant::kConservative;
+/// The field model of the maps that calibrations make: chosen from the measurements.
+inline constexpr FieldModel kDefaultFieldModel = FieldModel::kChoose;
 /// Largest lookup refinement a map accepts.
 inline constexpr int kMaxLookupRefinement = 8;
-/// Most vertices of a conservative lookup grid (a 37 x 37 x 37 grid, 1.6 MB: a 5x5x5 grid at
+/// Most vertices of a fitted lookup grid (a 37 x 37 x 37 grid, 1.6 MB: a 5x5x5 grid at
 /// refinement 6 with its cell of padding): each value is a sum over the measurements when the
 /// map is built (0.1 s for a 5x5x5 map, 0.6 s for an 8x8x8 one).
 inline constexpr long kMaxLookupVertices = 50653;
@@ -80,8 +68,8 @@ inline constexpr long kMaxThinPlateLookupVertices = 29791;
 inline constexpr long kToolsThinPlateLookupVertices = 12167;
 
 /// The lookup refinement of thin-plate maps: the most the tools ask for with the thin plate
-/// (lookupRefinementFor), and the most a map that asks for the conservative fit but falls back to
-/// the thin plate reads (GravityMap::lookupRefinement); that of the maps before schema 4. The
+/// (lookupRefinementFor), and the most a map that asks for a fitted model but falls back to the
+/// thin plate reads (GravityMap::lookupRefinement); that of the maps before schema 4. The
 /// thin plate's refined values take a sparse solve that grows fast with the refinement (a 5x5x5
 /// grid: 0.03 s at 2, 0.35 s at 4, 9.5 s at 6).
 inline constexpr int kThinPlateRefinement = 2;
@@ -92,17 +80,17 @@ inline constexpr int kThinPlateRefinement = 2;
 MapMetadata checkpointMetadata(MapMetadata metadata);
 
 /// Vertices per axis of the lookup grid of a map over `grid`: `refinement` lookup cells per grid
-/// cell, and for the conservative interpolant one grid cell more on every side.
+/// cell, and for a fitted model (every one but kThinPlate) one grid cell more on every side.
 Eigen::Vector3i lookupResolution(const WorkspaceGrid& grid, int refinement,
-                                 LookupInterpolant interpolant) noexcept;
+                                 FieldModel model) noexcept;
 
-/// The largest refinement up to `wanted` whose conservative lookup grid over `grid` stays within
+/// The largest refinement up to `wanted` whose fitted lookup grid over `grid` stays within
 /// kMaxLookupVertices (1 at least): what the tools ask for, so that a fine grid gets a map too.
 /// Where the map reads the thin plate (asked for, or a grid of more vertices than
-/// ConservativeFieldFit::kMaxMeasurements) at most kThinPlateRefinement, within
+/// FieldFit::kMaxMeasurements) at most kThinPlateRefinement, within
 /// kToolsThinPlateLookupVertices: 2 up to a 12x12x12 grid, 1 from 13x13x13 on.
 int lookupRefinementFor(const WorkspaceGrid& grid, int wanted,
-                        LookupInterpolant interpolant = kDefaultLookupInterpolant) noexcept;
+                        FieldModel model = kDefaultFieldModel) noexcept;
 
 /// Largest magnitude of a vertex estimate's component that a map accepts. No device's gravity
 /// comes near it; the bound keeps interpolation, ramps and the application's force plus the
@@ -127,8 +115,8 @@ class GravityMap {
   const MapMetadata& metadata() const noexcept { return metadata_; }
 
   /// Trilinear interpolation of the vertex estimates (on the refined lookup grid when
-  /// metadata().lookup_refinement > 1; of the conservative fit sampled on a lookup grid that
-  /// reaches one grid cell beyond the box when lookupInterpolant() is kConservative) in the cell
+  /// metadata().lookup_refinement > 1; of the field model's fit sampled on a lookup grid that
+  /// reaches one grid cell beyond the box when fieldModel() is not kThinPlate) in the cell
   /// containing `position_m`; outside the lookup grid, its boundary cell's interpolant extended
   /// linearly for one lookup cell, and the value one cell out beyond that
   /// (detail::kExtrapolationCells). Unit: [N].
@@ -147,11 +135,14 @@ class GravityMap {
   int unreachableCount() const noexcept;
   /// Vertices whose value was filled from neighbours.
   int filledCount() const noexcept;
-  /// The interpolant the lookup uses: metadata().lookup_interpolant, or kThinPlate where the
-  /// measurements could not determine a conservative fit.
-  LookupInterpolant lookupInterpolant() const noexcept { return lookup_interpolant_; }
+  /// The field model the lookup uses: metadata().field_model (the chosen one where it was
+  /// kChoose), or kThinPlate where the measurements could not determine a fit. Never kChoose.
+  FieldModel fieldModel() const noexcept { return field_model_; }
+  /// The curl weight of the lookup's fit (0 conservative, 1 componentwise, the corrected model's
+  /// own; 0 for the thin plate).
+  double curlWeight() const noexcept { return curl_weight_; }
   /// The refinement the lookup uses: metadata().lookup_refinement, or at most
-  /// kThinPlateRefinement where the conservative fit fell back to the thin plate.
+  /// kThinPlateRefinement where a fitted model fell back to the thin plate.
   int lookupRefinement() const noexcept { return lookup_refinement_; }
   /// True when every vertex has converged, or was found unreachable and filled from measured
   /// neighbours: the map has no holes.
@@ -161,11 +152,13 @@ class GravityMap {
   WorkspaceGrid grid_;
   std::vector<VertexEstimate> vertices_;
   MapMetadata metadata_;
-  LookupInterpolant lookup_interpolant_ = LookupInterpolant::kThinPlate;
+  FieldModel field_model_ = FieldModel::kThinPlate;
+  double curl_weight_ = 0.0;
   int lookup_refinement_ = 1;
 
-  /// The conservative fit of the vertices' measurements, or none where they cannot determine one.
-  std::optional<ConservativeFieldFit> conservativeFit() const;
+  /// The fit of the vertices' measurements in metadata_'s model, choosing it first where that is
+  /// kChoose (and writing the choice into metadata_), or none where they cannot determine one.
+  std::optional<FieldFit> fieldFit();
   /// Throws autograv::Error for a value that is not finite or beyond kMaxGravityEstimate_n.
   static void checkEstimate(const Eigen::Vector3d& gravity_n, std::size_t index,
                             const char* what = "vertex");

@@ -7,12 +7,13 @@
 
 namespace autograv {
 
-/// Map file schema version written by saveMap. Schema 4 adds the lookup's interpolant
+/// Map file schema version written by saveMap. Schema 5 names the field model and the scores
+/// it was chosen by (field_model); schema 4 adds the lookup's interpolant
 /// (grid.lookup_interpolant: "thin_plate", the default, or "conservative"); schema 3 adds the
 /// explored workspace and the points measured off their vertices; schema 2 (box grids and where
 /// each vertex's value came from) and schema 1 (cubic grids) files still load. Other versions are
 /// refused.
-inline constexpr int kMapSchemaVersion = 4;
+inline constexpr int kMapSchemaVersion = 5;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 
@@ -56,7 +57,9 @@ void checkWritable(const std::string& path, const std::string& what = "file");
 //   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
 //   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], size_m[3],
 //   resolution[3]} (extents and vertex counts along x, y, z; from schema 3 lookup_refinement,
-//   from schema 4 lookup_interpolant), parameters {every
+//   schema 4 only lookup_interpolant), from schema 5 field_model {name (conservative,
+//   componentwise, corrected, thin_plate), curl_weight, scores[] of {name, curl_weight,
+//   loo_median_rel, loo_p90_rel, loo_mean_rel} where the model was chosen}, parameters {every
 //   EstimationParameters field under its C++ name}, vertices[] (one object per grid vertex, in
 //   vertex-index order ix + nx (iy + ny iz): index, position_m[3], gravity_n[3], iterations,
 //   seconds, outcome (pending, converged, iteration_cap, no_steady_state, saturated,

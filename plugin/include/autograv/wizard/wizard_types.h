@@ -86,8 +86,9 @@ struct WizardConfig {
   /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement), lowered on a
   /// grid so fine that it would pass kMaxLookupVertices (lookupRefinementFor).
   int lookup_refinement = kDefaultLookupRefinement;
-  /// Interpolant written into the saved map (MapMetadata::lookup_interpolant).
-  LookupInterpolant lookup_interpolant = kDefaultLookupInterpolant;
+  /// How the saved map reads the field between its measurements (MapMetadata::field_model): by
+  /// default chosen from the measurements (FieldModel::kChoose); set one to force it.
+  FieldModel field_model = kDefaultFieldModel;
   /// The estimation (paper Secs. II-III); the wizard checks them against the device at Check.
   EstimationParameters parameters;
   /// How the device travels between vertices.

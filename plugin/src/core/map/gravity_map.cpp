@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "autograv/error.h"
-#include "autograv/map/conservative_field.h"
+#include "autograv/map/field_fit.h"
 #include "autograv/map/vertex_fill.h"
 #include "core/map/trilinear.h"
 
@@ -37,20 +37,30 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
     throw Error("gravity map: MapMetadata::lookup_refinement must lie in 1.." +
                 std::to_string(kMaxLookupRefinement) + ", got " + std::to_string(refinement));
   }
-  std::optional<ConservativeFieldFit> fit;
-  if (metadata_.lookup_interpolant == LookupInterpolant::kConservative) {
-    if (lookupResolution(grid_, refinement, LookupInterpolant::kConservative).cast<long>().prod() <=
+  if (!(metadata_.curl_weight >= 0.0 && metadata_.curl_weight <= FieldFit::kMaxCurlWeight)) {
+    throw Error("gravity map: MapMetadata::curl_weight must lie in [0, " +
+                std::to_string(FieldFit::kMaxCurlWeight) + "], got " +
+                std::to_string(metadata_.curl_weight));
+  }
+  std::optional<FieldFit> fit;
+  if (metadata_.field_model != FieldModel::kThinPlate) {
+    if (lookupResolution(grid_, refinement, metadata_.field_model).cast<long>().prod() <=
         kMaxLookupVertices) {
-      fit = conservativeFit();
+      fit = fieldFit();
     }
     if (fit) {
-      lookup_interpolant_ = LookupInterpolant::kConservative;
+      field_model_ = metadata_.field_model;
+      curl_weight_ = fit->curlWeight();
     } else {
       refinement = std::min(refinement, kThinPlateRefinement);
+      // A choice that could not be made is no choice: the map is, and is saved as, thin plate.
+      if (metadata_.field_model == FieldModel::kChoose) {
+        metadata_.field_model = FieldModel::kThinPlate;
+      }
     }
   }
   lookup_refinement_ = refinement;
-  const Eigen::Vector3i fine = lookupResolution(grid_, refinement, lookup_interpolant_);
+  const Eigen::Vector3i fine = lookupResolution(grid_, refinement, field_model_);
   // The finer grid's values are one solve and a sum per vertex: bounded so that a map file
   // cannot ask for minutes of it.
   const long most_vertices = fit ? kMaxLookupVertices : kMaxThinPlateLookupVertices;
@@ -70,9 +80,9 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
       vertex.gravity_n = fit->at(grid_.vertexPosition(index));
       checkEstimate(vertex.gravity_n, static_cast<std::size_t>(index));
     }
-    // The lookup grid reaches one grid cell beyond the box, where the fit's potential still
-    // holds far better than a boundary cell's slope: on the simulated devices 8-12 mm outside a
-    // 5x5x5 cube the fit errs by 0.2-0.7 % of |G|, the extended slope by 1.2-2.7 %.
+    // The lookup grid reaches one grid cell beyond the box, where the fit still holds far better
+    // than a boundary cell's slope: on the simulated devices 8-12 mm outside a 5x5x5 cube the
+    // conservative fit errs by 0.2-0.7 % of |G|, the extended slope by 1.2-2.7 %.
     const WorkspaceGrid lookup(grid_.center_m(), grid_.size_m() + 2.0 * grid_.spacing_m(), fine);
     lookup_resolution_ = fine;
     lookup_min_corner_m_ = lookup.minCorner_m();
@@ -96,19 +106,22 @@ GravityMap::GravityMap(WorkspaceGrid grid, std::vector<VertexEstimate> vertices,
   }
 }
 
-std::optional<ConservativeFieldFit> GravityMap::conservativeFit() const {
+std::optional<FieldFit> GravityMap::fieldFit() {
   std::vector<Eigen::Vector3d> points_m;
   std::vector<Eigen::Vector3d> values_n;
   collectMeasurements(grid_, vertices_, points_m, values_n);
   const int count = static_cast<int>(points_m.size());
-  if (count < ConservativeFieldFit::kMinMeasurements ||
-      count > ConservativeFieldFit::kMaxMeasurements) {
-    return {};
-  }
+  if (count < FieldFit::kMinMeasurements || count > FieldFit::kMaxMeasurements) return {};
   try {
-    return ConservativeFieldFit(points_m, values_n);
+    if (metadata_.field_model == FieldModel::kChoose) {
+      const FieldModelChoice choice = chooseFieldModel(points_m, values_n);
+      metadata_.field_model = choice.model;
+      metadata_.curl_weight = choice.model == FieldModel::kCorrected ? choice.curl_weight : 0.0;
+      metadata_.field_model_scores = choice.scores;
+    }
+    return FieldFit(points_m, values_n, curlWeightOf(metadata_.field_model, metadata_.curl_weight));
   } catch (const Error&) {
-    // Measurements on a line determine no potential: the thin-plate lookup still gives a map.
+    // Measurements on a line determine no fit: the thin-plate lookup still gives a map.
     return {};
   }
 }
@@ -131,50 +144,30 @@ void GravityMap::checkEstimate(const Eigen::Vector3d& gravity_n, std::size_t ind
 
 MapMetadata checkpointMetadata(MapMetadata metadata) {
   metadata.lookup_refinement = 1;
-  metadata.lookup_interpolant = LookupInterpolant::kThinPlate;
+  metadata.field_model = FieldModel::kThinPlate;
+  metadata.curl_weight = 0.0;
+  metadata.field_model_scores.clear();
   return metadata;
 }
 
 Eigen::Vector3i lookupResolution(const WorkspaceGrid& grid, int refinement,
-                                 LookupInterpolant interpolant) noexcept {
-  const int padding = interpolant == LookupInterpolant::kConservative ? 2 * refinement : 0;
+                                 FieldModel model) noexcept {
+  const int padding = model != FieldModel::kThinPlate ? 2 * refinement : 0;
   return (grid.resolution() - Eigen::Vector3i::Ones()) * refinement +
          Eigen::Vector3i::Constant(1 + padding);
 }
 
-int lookupRefinementFor(const WorkspaceGrid& grid, int wanted,
-                        LookupInterpolant interpolant) noexcept {
+int lookupRefinementFor(const WorkspaceGrid& grid, int wanted, FieldModel model) noexcept {
   int refinement = std::clamp(wanted, 1, kMaxLookupRefinement);
-  const bool thin_plate = interpolant == LookupInterpolant::kThinPlate ||
-                          grid.vertexCount() > ConservativeFieldFit::kMaxMeasurements;
+  const bool thin_plate =
+      model == FieldModel::kThinPlate || grid.vertexCount() > FieldFit::kMaxMeasurements;
   if (thin_plate) refinement = std::min(refinement, kThinPlateRefinement);
-  const LookupInterpolant read = thin_plate ? LookupInterpolant::kThinPlate : interpolant;
+  const FieldModel read = thin_plate ? FieldModel::kThinPlate : model;
   const long most_vertices = thin_plate ? kToolsThinPlateLookupVertices : kMaxLookupVertices;
   for (; refinement > 1; --refinement) {
     if (lookupResolution(grid, refinement, read).cast<long>().prod() <= most_vertices) break;
   }
   return refinement;
-}
-
-const char* toString(LookupInterpolant interpolant) noexcept {
-  switch (interpolant) {
-    case LookupInterpolant::kThinPlate:
-      return "thin_plate";
-    case LookupInterpolant::kConservative:
-      return "conservative";
-  }
-  return "thin_plate";
-}
-
-bool parseLookupInterpolant(const std::string& name, LookupInterpolant& interpolant) noexcept {
-  for (const LookupInterpolant candidate :
-       {LookupInterpolant::kThinPlate, LookupInterpolant::kConservative}) {
-    if (name == toString(candidate)) {
-      interpolant = candidate;
-      return true;
-    }
-  }
-  return false;
 }
 
 Eigen::Vector3d GravityMap::gravityAt(const Eigen::Vector3d& position_m) const noexcept {

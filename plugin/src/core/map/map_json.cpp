@@ -131,9 +131,19 @@ json mapToDocument(const GravityMap& map) {
   if (metadata.lookup_refinement != 1) {
     document["grid"]["lookup_refinement"] = metadata.lookup_refinement;
   }
-  if (metadata.lookup_interpolant != LookupInterpolant::kThinPlate) {
-    document["grid"]["lookup_interpolant"] = toString(metadata.lookup_interpolant);
+  json field_model{{"name", toString(metadata.field_model)}, {"curl_weight", metadata.curl_weight}};
+  if (!metadata.field_model_scores.empty()) {
+    json scores = json::array();
+    for (const FieldModelScore& score : metadata.field_model_scores) {
+      scores.push_back(json{{"name", toString(score.model)},
+                            {"curl_weight", score.curl_weight},
+                            {"loo_median_rel", score.median_rel},
+                            {"loo_p90_rel", score.p90_rel},
+                            {"loo_mean_rel", score.mean_rel}});
+    }
+    field_model["scores"] = std::move(scores);
   }
+  document["field_model"] = std::move(field_model);
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.

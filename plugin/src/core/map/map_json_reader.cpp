@@ -268,6 +268,48 @@ EstimationParameters readParameters(const DocumentReader& reader, const json& va
   return parameters;
 }
 
+/// A model's name: one a saved map can have (never "choose": a map keeps what was chosen).
+FieldModel readModelName(const DocumentReader& reader, const json& value, const std::string& path) {
+  FieldModel model = FieldModel::kThinPlate;
+  const std::string name = reader.string(value, path, "name", true);
+  if (!parseFieldModel(name, model) || model == FieldModel::kChoose) {
+    reader.expected(path + "/name",
+                    "\"conservative\", \"componentwise\", \"corrected\" or \"thin_plate\"",
+                    value.at("name"));
+  }
+  return model;
+}
+
+void readFieldModel(const DocumentReader& reader, const json& value, MapMetadata& metadata) {
+  const std::string path = "/field_model";
+  reader.requireObject(value, path, {"name", "curl_weight"}, {"scores"});
+  metadata.field_model = readModelName(reader, value, path);
+  metadata.curl_weight = reader.number(value, path, "curl_weight", Range::kNonNegative, "1");
+  if (metadata.curl_weight > FieldFit::kMaxCurlWeight) {
+    reader.expected(path + "/curl_weight",
+                    "a number in [0, " + std::to_string(FieldFit::kMaxCurlWeight) + "]",
+                    value.at("curl_weight"));
+  }
+  if (!value.contains("scores")) return;
+  const json& scores = value.at("scores");
+  if (!scores.is_array() || scores.size() > 8) {
+    reader.expected(path + "/scores", "an array of at most 8 candidate scores", scores);
+  }
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    const std::string at = path + "/scores/" + std::to_string(i);
+    const json& entry = scores[i];
+    reader.requireObject(entry, at,
+                         {"name", "curl_weight", "loo_median_rel", "loo_p90_rel", "loo_mean_rel"});
+    FieldModelScore score;
+    score.model = readModelName(reader, entry, at);
+    score.curl_weight = reader.number(entry, at, "curl_weight", Range::kNonNegative, "1");
+    score.median_rel = reader.number(entry, at, "loo_median_rel", Range::kNonNegative, "1");
+    score.p90_rel = reader.number(entry, at, "loo_p90_rel", Range::kNonNegative, "1");
+    score.mean_rel = reader.number(entry, at, "loo_mean_rel", Range::kNonNegative, "1");
+    metadata.field_model_scores.push_back(score);
+  }
+}
+
 WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
   constexpr int kMinResolution = 2;
   constexpr int kMaxResolution = 64;
@@ -279,7 +321,7 @@ WorkspaceGrid readGrid(const DocumentReader& reader, const json& value) {
         reader.integer(value, "/grid", "resolution", kMinResolution, kMaxResolution);
     return WorkspaceGrid(center, side, resolution);
   }
-  if (reader.schemaVersion() >= 4) {
+  if (reader.schemaVersion() == 4) {
     reader.requireObject(value, "/grid", {"center_m", "size_m", "resolution"},
                          {"lookup_refinement", "lookup_interpolant"});
   } else if (reader.schemaVersion() >= 3) {
@@ -445,7 +487,12 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     }
     reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
-  if (reader.schemaVersion() >= 3) {
+  if (reader.schemaVersion() >= 5) {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "field_model", "parameters", "vertices", "checksum"},
+                         {"workspace"});
+  } else if (reader.schemaVersion() >= 3) {
     reader.requireObject(document, "",
                          {"format", "schema_version", "units", "device", "created_utc", "grid",
                           "parameters", "vertices", "checksum"},
@@ -486,13 +533,18 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
         reader.integer(document.at("grid"), "/grid", "lookup_refinement", 1, kMaxLookupRefinement);
   }
   if (document.at("grid").contains("lookup_interpolant")) {
+    // Schema 4: the thin plate or the conservative fit, the only models then.
     const json& interpolant = document.at("grid").at("lookup_interpolant");
     if (!interpolant.is_string() ||
-        !parseLookupInterpolant(interpolant.get<std::string>(), metadata.lookup_interpolant)) {
+        !parseFieldModel(interpolant.get<std::string>(), metadata.field_model) ||
+        (metadata.field_model != FieldModel::kThinPlate &&
+         metadata.field_model != FieldModel::kConservative)) {
       reader.expected("/grid/lookup_interpolant", "\"thin_plate\" or \"conservative\"",
                       interpolant);
     }
   }
+  if (document.contains("field_model"))
+    readFieldModel(reader, document.at("field_model"), metadata);
 
   metadata.parameters = readParameters(reader, document.at("parameters"));
   if (document.contains("workspace")) {

@@ -214,7 +214,7 @@ std::vector<Eigen::Vector3d> refinedVertexValues(const WorkspaceGrid& grid,
     throw Error("refinedVertexValues: " + std::to_string(vertices.size()) +
                 " vertex estimates for a grid of " + std::to_string(grid.vertexCount()));
   }
-  const Eigen::Vector3i resolution = lookupResolution(grid, factor, LookupInterpolant::kThinPlate);
+  const Eigen::Vector3i resolution = lookupResolution(grid, factor, FieldModel::kThinPlate);
   if (resolution.maxCoeff() > 64) {
     throw Error("refinedVertexValues: " + std::to_string(factor) + " times the cells of " +
                 grid.describe() + " exceeds 64 vertices per axis");

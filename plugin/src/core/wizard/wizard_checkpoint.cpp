@@ -75,8 +75,8 @@ MapMetadata CalibrationWizard::Impl::metadata() const {
   metadata.parameters = config_.parameters;
   metadata.workspace = workspace_;
   metadata.lookup_refinement =
-      lookupRefinementFor(grid_, config_.lookup_refinement, config_.lookup_interpolant);
-  metadata.lookup_interpolant = config_.lookup_interpolant;
+      lookupRefinementFor(grid_, config_.lookup_refinement, config_.field_model);
+  metadata.field_model = config_.field_model;
   return metadata;  // created_utc is filled in by saveMap
 }
 

@@ -1,5 +1,5 @@
-// The conservative lookup: one potential fitted to every measurement, its gradient sampled on the
-// lookup grid, and written as schema 4.
+// The fitted lookups: the conservative fit (one potential through every measurement), the
+// componentwise and the corrected fits, the choice between them, and schema 5.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -8,13 +8,15 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "allocation_counter.h"
 #include "autograv/error.h"
-#include "autograv/map/conservative_field.h"
+#include "autograv/map/field_fit.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/vertex_fill.h"
+#include "core/map/map_json.h"
 
 namespace autograv {
 namespace {
@@ -35,6 +37,23 @@ Eigen::Vector3d curvedPotentialField(const Eigen::Vector3d& x_m) {
   const double z = x_m.z();
   return Eigen::Vector3d(-0.2 * std::sin(20.0 * x), 0.15 * std::cos(15.0 * y) * std::cos(12.0 * z),
                          1.0 - 0.12 * std::sin(15.0 * y) * std::sin(12.0 * z));
+}
+
+// The curved potential's gradient plus a smooth field without divergence of up to 43 mN (about
+// 4 % of |G|), 0.025 (sin 20y, sin 20z, sin 20x): a field with a known curl, as unequal motor
+// gains on a delta mechanism leave in the force that holds it. Unit: [N]
+Eigen::Vector3d curledField(const Eigen::Vector3d& x_m) {
+  return curvedPotentialField(x_m) + 0.025 * Eigen::Vector3d(std::sin(20.0 * x_m.y()),
+                                                             std::sin(20.0 * x_m.z()),
+                                                             std::sin(20.0 * x_m.x()));
+}
+
+// G = A x + b with any A (here with a rotation, a curl): every fit with a curl weight reproduces
+// it. Unit: [N]
+Eigen::Vector3d affineField(const Eigen::Vector3d& x_m) {
+  Eigen::Matrix3d slope;
+  slope << 2.0, -3.0, 0.5, 1.0, 1.5, -2.0, -0.5, 2.5, 3.0;
+  return Eigen::Vector3d(0.1, -0.2, 1.0) + slope * x_m;
 }
 
 std::vector<Eigen::Vector3d> scatteredPoints(int count, double half_m, unsigned seed) {
@@ -60,8 +79,7 @@ constexpr double kBoundaryMargin_m = 0.004;
 // A 5x5x5 map over a ball-shaped workspace as the calibration makes it: vertices 4 mm or more
 // inside the ball measured where they are, those within a cell beyond it measured 4 mm inside
 // along their ray, the rest unreachable; values filled as the calibration fills them.
-GravityMap ballMap(Eigen::Vector3d (*field)(const Eigen::Vector3d&),
-                   LookupInterpolant interpolant) {
+GravityMap ballMap(Eigen::Vector3d (*field)(const Eigen::Vector3d&), FieldModel model) {
   const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 5);
   std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
   for (int i = 0; i < grid.vertexCount(); ++i) {
@@ -83,9 +101,9 @@ GravityMap ballMap(Eigen::Vector3d (*field)(const Eigen::Vector3d&),
   MapMetadata metadata;
   metadata.device_model = "test";
   metadata.created_utc = "2026-12-04T12:00:00Z";
-  // What the tools write for each interpolant.
-  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, interpolant);
-  metadata.lookup_interpolant = interpolant;
+  // What the tools write for each model.
+  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, model);
+  metadata.field_model = model;
   return GravityMap(grid, std::move(vertices), metadata);
 }
 
@@ -100,15 +118,15 @@ double ballErrorP99(const GravityMap& map, Eigen::Vector3d (*field)(const Eigen:
   return errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
 }
 
-TEST(ConservativeFieldFitTest, ReproducesEveryMeasurementAndAnyQuadraticPotentialsField) {
+TEST(FieldFitTest, ReproducesEveryMeasurementAndAnyQuadraticPotentialsField) {
   const std::vector<Eigen::Vector3d> points = scatteredPoints(40, 0.05, 3);
-  const ConservativeFieldFit fit(points, valuesAt(points, quadraticPotentialField));
+  const FieldFit fit(points, valuesAt(points, quadraticPotentialField));
   EXPECT_EQ(fit.measurementCount(), 40);
   // Between the points and 5 cm beyond them: exact.
   for (const Eigen::Vector3d& p : scatteredPoints(300, 0.10, 4)) {
     EXPECT_LT((fit.at(p) - quadraticPotentialField(p)).norm(), 1e-8) << p.transpose();
   }
-  const ConservativeFieldFit curved(points, valuesAt(points, curvedPotentialField));
+  const FieldFit curved(points, valuesAt(points, curvedPotentialField));
   for (const Eigen::Vector3d& p : points) {
     EXPECT_LT((curved.at(p) - curvedPotentialField(p)).norm(), 1e-8) << p.transpose();
   }
@@ -116,7 +134,7 @@ TEST(ConservativeFieldFitTest, ReproducesEveryMeasurementAndAnyQuadraticPotentia
 
 // The leave-one-out residuals from one inverse are those of n refits, and they point at the
 // measurement that disagrees with the others: the one carrying a 30 mN error.
-TEST(ConservativeFieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMeasurement) {
+TEST(FieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMeasurement) {
   const std::vector<Eigen::Vector3d> points = scatteredPoints(30, 0.05, 5);
   std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
   constexpr std::size_t kOff = 17;
@@ -129,8 +147,7 @@ TEST(ConservativeFieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMe
     std::vector<Eigen::Vector3d> other_values = values;
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
     other_values.erase(other_values.begin() + static_cast<std::ptrdiff_t>(i));
-    const Eigen::Vector3d refit_n =
-        ConservativeFieldFit(others, other_values).at(points[i]) - values[i];
+    const Eigen::Vector3d refit_n = FieldFit(others, other_values).at(points[i]) - values[i];
     EXPECT_LT((residuals_n[i] - refit_n).norm(), 1e-6 + 1e-4 * refit_n.norm())
         << "measurement " << i;
     if (residuals_n[i].norm() > residuals_n[largest].norm()) largest = i;
@@ -152,8 +169,8 @@ TEST(ConservativeFieldFitTest, LeaveOneOutResidualsAreThoseOfRefitsWithoutEachMe
 
 // A map's agreement names the vertex whose measurement the others do not predict, and nothing
 // when they all agree.
-TEST(ConservativeFieldFitTest, AgreementNamesTheVertexTheOthersDoNotPredict) {
-  GravityMap agreeing = ballMap(quadraticPotentialField, LookupInterpolant::kConservative);
+TEST(FieldFitTest, AgreementNamesTheVertexTheOthersDoNotPredict) {
+  GravityMap agreeing = ballMap(quadraticPotentialField, FieldModel::kConservative);
   const MeasurementAgreement clean = measurementAgreement(agreeing.grid(), agreeing.vertices());
   EXPECT_GT(clean.measurements, 20);
   EXPECT_LT(clean.max_rel, 1e-6);
@@ -172,13 +189,13 @@ TEST(ConservativeFieldFitTest, AgreementNamesTheVertexTheOthersDoNotPredict) {
   EXPECT_LE(spoilt.p90_rel, spoilt.max_rel);
 }
 
-TEST(ConservativeFieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
+TEST(FieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
   const std::vector<Eigen::Vector3d> points = scatteredPoints(6, 0.05, 5);
   const std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
   const auto refusal = [](const std::vector<Eigen::Vector3d>& p,
                           const std::vector<Eigen::Vector3d>& v) -> std::string {
     try {
-      ConservativeFieldFit fit(p, v);
+      FieldFit fit(p, v);
     } catch (const Error& error) {
       return error.what();
     }
@@ -200,11 +217,11 @@ TEST(ConservativeFieldFitTest, RefusesMeasurementsThatDoNotDetermineAField) {
             std::string::npos);
 }
 
-TEST(ConservativeFieldFitTest, TheMapFollowsACurvedFieldNearTheStopsBetterThanTheThinPlate) {
-  const GravityMap thin_plate = ballMap(curvedPotentialField, LookupInterpolant::kThinPlate);
-  const GravityMap conservative = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
-  ASSERT_EQ(thin_plate.lookupInterpolant(), LookupInterpolant::kThinPlate);
-  ASSERT_EQ(conservative.lookupInterpolant(), LookupInterpolant::kConservative);
+TEST(FieldFitTest, TheMapFollowsACurvedFieldNearTheStopsBetterThanTheThinPlate) {
+  const GravityMap thin_plate = ballMap(curvedPotentialField, FieldModel::kThinPlate);
+  const GravityMap conservative = ballMap(curvedPotentialField, FieldModel::kConservative);
+  ASSERT_EQ(thin_plate.fieldModel(), FieldModel::kThinPlate);
+  ASSERT_EQ(conservative.fieldModel(), FieldModel::kConservative);
   const double thin_plate_p99 = ballErrorP99(thin_plate, curvedPotentialField);
   const double conservative_p99 = ballErrorP99(conservative, curvedPotentialField);
   RecordProperty("thin_plate_p99_percent", std::to_string(100.0 * thin_plate_p99));
@@ -212,17 +229,17 @@ TEST(ConservativeFieldFitTest, TheMapFollowsACurvedFieldNearTheStopsBetterThanTh
   EXPECT_LT(conservative_p99, 0.5 * thin_plate_p99)
       << "thin plate " << thin_plate_p99 << ", conservative " << conservative_p99;
   // An affine field that is a potential's gradient stays exact everywhere in the ball.
-  EXPECT_LT(ballErrorP99(ballMap(quadraticPotentialField, LookupInterpolant::kConservative),
+  EXPECT_LT(ballErrorP99(ballMap(quadraticPotentialField, FieldModel::kConservative),
                          quadraticPotentialField),
             1e-8);
 }
 
-TEST(ConservativeFieldFitTest, MapValuesNotMeasuredWhereTheyStandFollowTheFit) {
-  const GravityMap map = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
+TEST(FieldFitTest, MapValuesNotMeasuredWhereTheyStandFollowTheFit) {
+  const GravityMap map = ballMap(curvedPotentialField, FieldModel::kConservative);
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> values;
   collectMeasurements(map.grid(), map.vertices(), points, values);
-  const ConservativeFieldFit fit(points, values);
+  const FieldFit fit(points, values);
   int filled = 0;
   for (int i = 0; i < map.grid().vertexCount(); ++i) {
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(i)];
@@ -248,7 +265,7 @@ TEST(ConservativeFieldFitTest, MapValuesNotMeasuredWhereTheyStandFollowTheFit) {
   EXPECT_TRUE(std::isfinite(sum));
 }
 
-TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
+TEST(FieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
   const WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.1, 3);
   std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
   for (int i = 0; i < grid.vertexCount(); ++i) {
@@ -258,11 +275,11 @@ TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
   }
   fillUnreachableVertices(grid, vertices);
   MapMetadata metadata;
-  metadata.lookup_interpolant = LookupInterpolant::kConservative;
+  metadata.field_model = FieldModel::kConservative;
   metadata.lookup_refinement = kDefaultLookupRefinement;
   const GravityMap map(grid, vertices, metadata);
-  EXPECT_EQ(map.lookupInterpolant(), LookupInterpolant::kThinPlate);
-  EXPECT_EQ(map.metadata().lookup_interpolant, LookupInterpolant::kConservative);
+  EXPECT_EQ(map.fieldModel(), FieldModel::kThinPlate);
+  EXPECT_EQ(map.metadata().field_model, FieldModel::kConservative);
   // The thin plate at the refinement of the maps before the fit: its sparse solve at 6 would
   // take seconds.
   EXPECT_EQ(map.lookupRefinement(), kThinPlateRefinement);
@@ -273,15 +290,15 @@ TEST(ConservativeFieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
   }
 }
 
-TEST(ConservativeFieldFitTest, RoundTripsInSchema4WithTheSameLookup) {
+TEST(FieldFitTest, RoundTripsWithTheSameLookup) {
   const std::string path =
       (std::filesystem::temp_directory_path() / "autograv_conservative_map.json").string();
-  const GravityMap original = ballMap(curvedPotentialField, LookupInterpolant::kConservative);
+  const GravityMap original = ballMap(curvedPotentialField, FieldModel::kConservative);
   saveMap(original, path);
   const GravityMap loaded = loadMap(path);
   std::filesystem::remove(path);
-  EXPECT_EQ(loaded.metadata().lookup_interpolant, LookupInterpolant::kConservative);
-  EXPECT_EQ(loaded.lookupInterpolant(), LookupInterpolant::kConservative);
+  EXPECT_EQ(loaded.metadata().field_model, FieldModel::kConservative);
+  EXPECT_EQ(loaded.fieldModel(), FieldModel::kConservative);
   EXPECT_EQ(loaded.metadata().lookup_refinement, kDefaultLookupRefinement);
   for (int i = 0; i < original.grid().vertexCount(); ++i) {
     EXPECT_EQ(loaded.vertices()[static_cast<std::size_t>(i)].gravity_n,
@@ -291,18 +308,33 @@ TEST(ConservativeFieldFitTest, RoundTripsInSchema4WithTheSameLookup) {
   for (const Eigen::Vector3d& p : scatteredPoints(200, 0.06, 9)) {
     EXPECT_EQ(loaded.gravityAt(p), original.gravityAt(p)) << p.transpose();
   }
-  EXPECT_STREQ(toString(LookupInterpolant::kConservative), "conservative");
-  LookupInterpolant parsed = LookupInterpolant::kConservative;
-  EXPECT_TRUE(parseLookupInterpolant("thin_plate", parsed));
-  EXPECT_EQ(parsed, LookupInterpolant::kThinPlate);
-  EXPECT_FALSE(parseLookupInterpolant("spline", parsed));
+  // The same map as schema 4 wrote it (the interpolant in the grid, no field_model) loads with
+  // the same model and lookup.
+  nlohmann::json schema4 = nlohmann::json::parse(mapToJson(original));
+  schema4["schema_version"] = 4;
+  schema4.erase("field_model");
+  schema4["grid"]["lookup_interpolant"] = "conservative";
+  detail::stampChecksum(schema4);
+  const GravityMap old = mapFromJson(schema4.dump(), "schema4.json");
+  EXPECT_EQ(old.fieldModel(), FieldModel::kConservative);
+  EXPECT_TRUE(old.metadata().field_model_scores.empty());
+  for (const Eigen::Vector3d& p : scatteredPoints(200, 0.06, 9)) {
+    EXPECT_EQ(old.gravityAt(p), original.gravityAt(p)) << p.transpose();
+  }
+  EXPECT_STREQ(toString(FieldModel::kConservative), "conservative");
+  FieldModel parsed = FieldModel::kConservative;
+  EXPECT_TRUE(parseFieldModel("thin_plate", parsed));
+  EXPECT_EQ(parsed, FieldModel::kThinPlate);
+  EXPECT_TRUE(parseFieldModel("corrected", parsed));
+  EXPECT_EQ(parsed, FieldModel::kCorrected);
+  EXPECT_FALSE(parseFieldModel("spline", parsed));
 }
 
-TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
+TEST(FieldFitTest, TheToolsRefinementFitsEveryGrid) {
   // One grid cell of padding per side: 37^3 lookup vertices on a 5x5x5 grid at 6; a 6x6x6
   // grid would take 43^3 at 6, 36^3 at 5; an 8x8x8 grid 43^3 at 5, 37^3 at 4.
   EXPECT_EQ(lookupResolution(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6,
-                             LookupInterpolant::kConservative),
+                             FieldModel::kConservative),
             Eigen::Vector3i::Constant(37));
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6), 6);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 6), 6), 5);
@@ -313,7 +345,7 @@ TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 12), 6), 2);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 13), 6), 1);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 6,
-                                LookupInterpolant::kThinPlate),
+                                FieldModel::kThinPlate),
             kThinPlateRefinement);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 40), 4), 1);
   EXPECT_EQ(lookupRefinementFor(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 5), 0), 1);
@@ -327,12 +359,185 @@ TEST(ConservativeFieldFitTest, TheToolsRefinementFitsEveryGrid) {
     }
     MapMetadata metadata;
     metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
-    metadata.lookup_interpolant = kDefaultLookupInterpolant;
+    // The fit the tools make, given rather than chosen: choosing at 512 measurements would take
+    // seconds, and its refinement is the point here.
+    metadata.field_model = FieldModel::kConservative;
     const GravityMap map(grid, vertices, metadata);
-    // Past ConservativeFieldFit::kMaxMeasurements (512, an 8x8x8 grid's) the thin plate.
-    EXPECT_EQ(map.lookupInterpolant(),
-              resolution <= 8 ? LookupInterpolant::kConservative : LookupInterpolant::kThinPlate)
+    // Past FieldFit::kMaxMeasurements (512, an 8x8x8 grid's) the thin plate.
+    EXPECT_EQ(map.fieldModel(),
+              resolution <= 8 ? FieldModel::kConservative : FieldModel::kThinPlate)
         << resolution;
+  }
+}
+
+TEST(FieldFitTest, EveryCurlWeightReproducesTheMeasurementsAndItsAffineFields) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(40, 0.05, 3);
+  for (const double weight : {0.01, 0.3, 1.0, 10.0}) {
+    const FieldFit fit(points, valuesAt(points, affineField), weight);
+    EXPECT_EQ(fit.curlWeight(), weight);
+    for (const Eigen::Vector3d& p : scatteredPoints(100, 0.10, 4)) {
+      EXPECT_LT((fit.at(p) - affineField(p)).norm(), 1e-8) << weight << ": " << p.transpose();
+    }
+    const FieldFit curled(points, valuesAt(points, curledField), weight);
+    for (const Eigen::Vector3d& p : points) {
+      EXPECT_LT((curled.at(p) - curledField(p)).norm(), 1e-8) << weight << ": " << p.transpose();
+    }
+  }
+  // The conservative fit has no rotation to give: a field with a curl is not reproduced between
+  // its measurements.
+  const FieldFit conservative(points, valuesAt(points, affineField));
+  EXPECT_GT((conservative.at(Eigen::Vector3d(0.07, -0.07, 0.07)) -
+             affineField(Eigen::Vector3d(0.07, -0.07, 0.07)))
+                .norm(),
+            1e-3);
+  EXPECT_THROW(FieldFit(points, valuesAt(points, affineField), -0.5), Error);
+  EXPECT_THROW(FieldFit(points, valuesAt(points, affineField), FieldFit::kMaxCurlWeight * 2),
+               Error);
+}
+
+// At curl weight 1 the two kernels add up to |x|^3 I: each component is fitted from its own
+// measured values alone.
+TEST(FieldFitTest, WeightOneFitsEachComponentOnItsOwn) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(30, 0.05, 6);
+  const std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
+  std::vector<Eigen::Vector3d> other_y = values;
+  for (std::size_t i = 0; i < other_y.size(); ++i) other_y[i].y() += 0.1 * std::sin(3.0 * i);
+  const FieldFit fit(points, values, 1.0);
+  const FieldFit changed(points, other_y, 1.0);
+  const FieldFit conservative(points, values);
+  const FieldFit changed_conservative(points, other_y);
+  double conservative_x_change = 0.0;
+  for (const Eigen::Vector3d& p : scatteredPoints(50, 0.05, 7)) {
+    EXPECT_NEAR(fit.at(p).x(), changed.at(p).x(), 1e-9) << p.transpose();
+    EXPECT_NEAR(fit.at(p).z(), changed.at(p).z(), 1e-9) << p.transpose();
+    conservative_x_change = std::max(
+        conservative_x_change, std::abs(conservative.at(p).x() - changed_conservative.at(p).x()));
+  }
+  // The conservative fit ties the components together.
+  EXPECT_GT(conservative_x_change, 1e-3);
+}
+
+// The leave-one-out residuals of every curl weight are those of refits without each measurement.
+TEST(FieldFitTest, LeaveOneOutResidualsOfEveryWeightAreThoseOfRefits) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(25, 0.05, 8);
+  const std::vector<Eigen::Vector3d> values = valuesAt(points, curledField);
+  for (const double weight : {0.1, 1.0, 10.0}) {
+    const std::vector<Eigen::Vector3d> residuals_n = leaveOneOutResiduals_n(points, values, weight);
+    ASSERT_EQ(residuals_n.size(), points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      std::vector<Eigen::Vector3d> others = points;
+      std::vector<Eigen::Vector3d> other_values = values;
+      others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
+      other_values.erase(other_values.begin() + static_cast<std::ptrdiff_t>(i));
+      const Eigen::Vector3d refit_n =
+          FieldFit(others, other_values, weight).at(points[i]) - values[i];
+      EXPECT_LT((residuals_n[i] - refit_n).norm(), 1e-6 + 1e-4 * refit_n.norm())
+          << "weight " << weight << ", measurement " << i;
+    }
+  }
+}
+
+// The mean, median and 90th percentile of |refit without point i - value i| / |value i|: what
+// each candidate's score says.
+FieldModelScore refitScore(const std::vector<Eigen::Vector3d>& points,
+                           const std::vector<Eigen::Vector3d>& values, double weight) {
+  std::vector<double> ratios;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::vector<Eigen::Vector3d> others = points;
+    std::vector<Eigen::Vector3d> other_values = values;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
+    other_values.erase(other_values.begin() + static_cast<std::ptrdiff_t>(i));
+    const double ratio = (FieldFit(others, other_values, weight).at(points[i]) - values[i]).norm() /
+                         values[i].norm();
+    ratios.push_back(ratio);
+    sum += ratio;
+  }
+  std::sort(ratios.begin(), ratios.end());
+  FieldModelScore score;
+  score.curl_weight = weight;
+  score.median_rel = ratios[static_cast<std::size_t>(0.5 * static_cast<double>(ratios.size() - 1))];
+  score.p90_rel = ratios[static_cast<std::size_t>(0.9 * static_cast<double>(ratios.size() - 1))];
+  score.mean_rel = sum / static_cast<double>(ratios.size());
+  return score;
+}
+
+std::vector<Eigen::Vector3d> measurementsOf(const GravityMap& map,
+                                            std::vector<Eigen::Vector3d>& values) {
+  std::vector<Eigen::Vector3d> points;
+  collectMeasurements(map.grid(), map.vertices(), points, values);
+  return points;
+}
+
+TEST(FieldModelChoiceTest, TheScoresAreTheErrorsOfRefitsWithoutEachPoint) {
+  const GravityMap map = ballMap(curledField, FieldModel::kChoose);
+  const std::vector<FieldModelScore>& scores = map.metadata().field_model_scores;
+  ASSERT_EQ(scores.size(), 3u);
+  EXPECT_EQ(scores[0].model, FieldModel::kConservative);
+  EXPECT_EQ(scores[1].model, FieldModel::kComponentwise);
+  EXPECT_EQ(scores[2].model, FieldModel::kCorrected);
+  EXPECT_EQ(scores[0].curl_weight, 0.0);
+  EXPECT_EQ(scores[1].curl_weight, 1.0);
+  std::vector<Eigen::Vector3d> values;
+  const std::vector<Eigen::Vector3d> points = measurementsOf(map, values);
+  for (const FieldModelScore& score : scores) {
+    const FieldModelScore refit = refitScore(points, values, score.curl_weight);
+    EXPECT_NEAR(score.mean_rel, refit.mean_rel, 1e-6 * refit.mean_rel) << toString(score.model);
+    EXPECT_NEAR(score.median_rel, refit.median_rel, 1e-6 * refit.mean_rel) << toString(score.model);
+    EXPECT_NEAR(score.p90_rel, refit.p90_rel, 1e-6 * refit.mean_rel) << toString(score.model);
+  }
+  // The corrected candidate's weight is the best of those it tries.
+  for (const double weight : correctedCurlWeights()) {
+    EXPECT_GE(refitScore(points, values, weight).mean_rel, scores[2].mean_rel * (1.0 - 1e-6))
+        << weight;
+  }
+}
+
+TEST(FieldModelChoiceTest, AConservativeFieldKeepsTheConservativeFit) {
+  const GravityMap map = ballMap(curvedPotentialField, FieldModel::kChoose);
+  EXPECT_EQ(map.fieldModel(), FieldModel::kConservative);
+  EXPECT_EQ(map.metadata().field_model, FieldModel::kConservative);
+  EXPECT_EQ(map.curlWeight(), 0.0);
+  const std::vector<FieldModelScore>& scores = map.metadata().field_model_scores;
+  ASSERT_EQ(scores.size(), 3u);
+  EXPECT_LT(scores[0].mean_rel, scores[1].mean_rel);
+  EXPECT_LT(scores[0].mean_rel, scores[2].mean_rel / (1.0 - kFieldModelMargin));
+  // The same lookup as the conservative fit given.
+  const GravityMap given = ballMap(curvedPotentialField, FieldModel::kConservative);
+  for (const Eigen::Vector3d& p : scatteredPoints(100, 0.05, 12)) {
+    EXPECT_EQ(map.gravityAt(p), given.gravityAt(p));
+  }
+}
+
+TEST(FieldModelChoiceTest, AFieldWithAKnownCurlIsRecoveredByTheCorrectedModel) {
+  const GravityMap chosen = ballMap(curledField, FieldModel::kChoose);
+  EXPECT_EQ(chosen.fieldModel(), FieldModel::kCorrected);
+  EXPECT_GT(chosen.curlWeight(), 0.0);
+  const double chosen_p99 = ballErrorP99(chosen, curledField);
+  const double conservative_p99 =
+      ballErrorP99(ballMap(curledField, FieldModel::kConservative), curledField);
+  const double componentwise_p99 =
+      ballErrorP99(ballMap(curledField, FieldModel::kComponentwise), curledField);
+  RecordProperty("chosen_p99_percent", std::to_string(100.0 * chosen_p99));
+  RecordProperty("conservative_p99_percent", std::to_string(100.0 * conservative_p99));
+  RecordProperty("componentwise_p99_percent", std::to_string(100.0 * componentwise_p99));
+  EXPECT_LT(chosen_p99, 0.5 * conservative_p99)
+      << "chosen " << chosen_p99 << ", conservative " << conservative_p99;
+  EXPECT_LE(chosen_p99, componentwise_p99 * 1.05)
+      << "chosen " << chosen_p99 << ", componentwise " << componentwise_p99;
+  // The choice is saved: the map loads with the same model, weight, scores and lookup.
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "autograv_corrected_map.json").string();
+  saveMap(chosen, path);
+  const GravityMap loaded = loadMap(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(loaded.fieldModel(), FieldModel::kCorrected);
+  EXPECT_EQ(loaded.curlWeight(), chosen.curlWeight());
+  ASSERT_EQ(loaded.metadata().field_model_scores.size(), 3u);
+  EXPECT_EQ(loaded.metadata().field_model_scores[2].mean_rel,
+            chosen.metadata().field_model_scores[2].mean_rel);
+  for (const Eigen::Vector3d& p : scatteredPoints(200, 0.06, 9)) {
+    EXPECT_EQ(loaded.gravityAt(p), chosen.gravityAt(p)) << p.transpose();
   }
 }
 
