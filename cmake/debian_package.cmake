@@ -13,8 +13,8 @@
 #   different program. Their run-time libraries (VTK, GLFW, OSMesa, libpng, X11) are not listed
 #   by hand: dpkg-shlibdeps reads them off the installed programs (dpkg-dev, which
 #   .ci/install-deps.sh installs). A build with -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF
-#   makes a package with no VTK or GL in it or in its Depends (the command line then lacks render,
-#   plot and export).
+#   makes a package with no VTK or GL in it or in its Depends (its render, plot and export then
+#   say that autograv was built without viz).
 # - The libraries are static archives: an application linking autograv::core needs Eigen's
 #   headers (a public dependency: Depends libeigen3-dev), nothing else. Linking the static viz,
 #   gl or image archives needs the -dev packages of their private libraries: Suggests, since
