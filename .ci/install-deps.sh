@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   ccache                           # tests/run.sh: its builds share objects compiled alike
+  dpkg-dev                         # dpkg-shlibdeps: the Debian package's Depends (cpack -G DEB)
   libeigen3-dev                    # maths (autograv::core)
   nlohmann-json3-dev               # map files and reports
   libcli11-dev                     # command-line parsing

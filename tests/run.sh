@@ -61,8 +61,8 @@ cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DAUTOGRAV_SANITIZE=ON \
   -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
 cmake --build build/asan -j "$jobs"
 # Tests labelled release_only (tests/CMakeLists.txt: whole calibrations and verifications on every
-# simulated device, minutes each here) ran in the release stage above; the installed-package test
-# too.
+# simulated device, minutes each here) ran in the release stage above; the install tests (label
+# install: the installed prefix, the Debian package) too.
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --output-on-failure -j "$jobs" -LE "xvfb|release_only|install")
 

@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "autograv/version.h"
+
 namespace autograv::cli {
 
 namespace {
@@ -30,7 +32,7 @@ std::unique_ptr<CLI::App> makeApp() {
   auto app = std::make_unique<CLI::App>(
       "autograv - autocalibrated gravity compensation for 3-DoF impedance haptic devices");
   app->require_subcommand(1);
-  app->set_version_flag("--version", "autograv 0.1.0");
+  app->set_version_flag("--version", "autograv " AUTOGRAV_VERSION_STRING);
   addRegisteredCommands(*app);
   return app;
 }
