@@ -226,8 +226,11 @@ std::string describeFieldModel(const GravityMap& map) {
     return text + " (the " + toString(metadata.field_model) +
            " model asked for cannot be fitted to these measurements)";
   }
-  if (!metadata.field_model_scores.empty()) {
+  if (metadata.field_model_scores.size() > 1) {
     return text + ", chosen from the measurements: the smallest leave-one-out error";
+  }
+  if (metadata.field_model_scores.size() == 1) {
+    return text + " (given; its curl weight chosen by the leave-one-out error)";
   }
   return text + " (given, not chosen)";
 }

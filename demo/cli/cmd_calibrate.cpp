@@ -24,6 +24,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
+#include "field_model_option.h"
 #include "friction_option.h"
 #include "servo_timing_option.h"
 
@@ -50,6 +51,7 @@ struct CalibrateOptions {
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
   std::optional<std::uint64_t> servo_timing_seed;  // default: seed
+  FieldModel field_model = kDefaultFieldModel;
 };
 
 void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
@@ -83,7 +85,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
-  metadata.field_model = kDefaultFieldModel;
+  metadata.field_model = options.field_model;
   const std::string checkpoint_path = options.out_path + ".partial";
   // Refuse now, not after minutes of calibration, when the files cannot be written.
   checkWritable(options.out_path, "map");
@@ -126,7 +128,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   ProgressBar progress("vertex");
   run.on_explored = [&](const ExploredWorkspace& workspace, const WorkspaceGrid& grid) {
     metadata.workspace = workspace;
-    metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
+    metadata.lookup_refinement =
+        lookupRefinementFor(grid, kDefaultLookupRefinement, options.field_model);
     std::printf("Explored: reach %.1f to %.1f mm from the centre; grid %s\n",
                 workspace.minRadius_m() * 1e3, workspace.maxRadius_m() * 1e3,
                 grid.describe().c_str());
@@ -166,7 +169,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   const WorkspaceGrid& grid = result.grid;
   workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
-  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement);
+  metadata.lookup_refinement =
+      lookupRefinementFor(grid, kDefaultLookupRefinement, options.field_model);
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);
@@ -232,6 +236,7 @@ void addCalibrateCommand(CLI::App& app) {
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
   addBoundaryProbesOption(*command, options->boundary_probes);
+  addFieldModelOption(*command, options->field_model);
   addEstimationOptions(*command, options->parameters);
   command->callback([options, command] { runCalibrateCommand(*options, *command); });
 }

@@ -35,6 +35,7 @@
 #include "commands.h"
 #include "error_translation.h"
 #include "estimation_options.h"
+#include "field_model_option.h"
 #include "friction_option.h"
 #include "servo_timing_option.h"
 #include "wizard_screen.h"
@@ -64,6 +65,7 @@ struct WizardOptions {
   double tolerance_mm = 10.0;
   int verify_points = 3;
   int boundary_probes = WorkspaceExplorer::Options().boundary_directions;
+  FieldModel field_model = kDefaultFieldModel;
   EstimationParameters parameters;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
@@ -435,6 +437,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   config.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
   config.explorer.boundary_directions = options.boundary_probes;
+  config.field_model = options.field_model;
   const double period_s = options.parameters.servo_period_s;
   // The simulated loop's ticks, as --servo-timing draws them; an exact loop needs no clock (the
   // wizard then counts exact periods). Hardware runs on the wall clock's time.
@@ -640,6 +643,7 @@ void addWizardCommand(CLI::App& app) {
       ->check(CLI::Range(0, kMaxVerifyPoints))
       ->capture_default_str();
   addBoundaryProbesOption(*command, options->boundary_probes);
+  addFieldModelOption(*command, options->field_model);
   command->add_flag("--uncalibrated", options->uncalibrated,
                     "Start the simulated device un-homed (to see the Check step stop)");
   command->add_option("--report", options->report_path, "Write a JSON report here");

@@ -509,6 +509,17 @@ TEST(FieldModelChoiceTest, AConservativeFieldKeepsTheConservativeFit) {
   }
 }
 
+// The corrected model asked for without a weight gets the weight a choice would give it.
+TEST(FieldModelChoiceTest, TheCorrectedModelForcedChoosesItsWeight) {
+  const GravityMap chosen = ballMap(curledField, FieldModel::kChoose);
+  const GravityMap forced = ballMap(curledField, FieldModel::kCorrected);
+  EXPECT_EQ(forced.fieldModel(), FieldModel::kCorrected);
+  EXPECT_EQ(forced.curlWeight(), chosen.metadata().field_model_scores[2].curl_weight);
+  ASSERT_EQ(forced.metadata().field_model_scores.size(), 1u);
+  EXPECT_EQ(forced.metadata().field_model_scores[0].mean_rel,
+            chosen.metadata().field_model_scores[2].mean_rel);
+}
+
 TEST(FieldModelChoiceTest, AFieldWithAKnownCurlIsRecoveredByTheCorrectedModel) {
   const GravityMap chosen = ballMap(curledField, FieldModel::kChoose);
   EXPECT_EQ(chosen.fieldModel(), FieldModel::kCorrected);

@@ -144,6 +144,12 @@ inline constexpr double kFieldModelMargin = 0.05;
 /// candidates differ by rounding and the measurements' last digits, not by the field. Relative.
 inline constexpr double kFieldModelFloor = 1e-4;
 
+/// The corrected candidate at its best curl weight: each of correctedCurlWeights scored, the
+/// smallest mean leave-one-out error kept. Throws autograv::Error as leaveOneOutResiduals_n
+/// does. Not real-time safe. Units: [m], [N]
+FieldModelScore bestCorrectedScore(const std::vector<Eigen::Vector3d>& points_m,
+                                   const std::vector<Eigen::Vector3d>& values_n);
+
 /// Fits the conservative, componentwise and corrected candidates (the last at each of
 /// correctedCurlWeights) and keeps the one whose leave-one-out residuals, relative to |G|, are
 /// smallest in the mean; the conservative fit unless another beats it by kFieldModelMargin (and

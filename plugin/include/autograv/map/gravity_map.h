@@ -38,8 +38,9 @@ struct MapMetadata {
   /// kMaxLookupVertices, falls back to kThinPlate at a refinement of at most
   /// kThinPlateRefinement (GravityMap::fieldModel and lookupRefinement say what it uses).
   FieldModel field_model = FieldModel::kThinPlate;
-  /// The curl weight of a kCorrected model's fit (FieldFit), in [0, FieldFit::kMaxCurlWeight];
-  /// the other models have their own.
+  /// The curl weight of a kCorrected model's fit (FieldFit), in [0, FieldFit::kMaxCurlWeight]: 0
+  /// asks for the weight to be chosen by cross-validation (bestCorrectedScore), which the map's
+  /// metadata() then holds. The other models have their own.
   double curl_weight = 0.0;
   /// Every candidate's cross-validation score where the model was chosen (empty where it was
   /// given).

@@ -278,6 +278,17 @@ double curlWeightOf(FieldModel model, double corrected_weight) noexcept {
   return 1.0;
 }
 
+FieldModelScore bestCorrectedScore(const std::vector<Eigen::Vector3d>& points_m,
+                                   const std::vector<Eigen::Vector3d>& values_n) {
+  FieldModelScore best;
+  best.mean_rel = -1.0;
+  for (const double weight : correctedCurlWeights()) {
+    const FieldModelScore tried = scoreOf(FieldModel::kCorrected, weight, points_m, values_n);
+    if (best.mean_rel < 0.0 || tried.mean_rel < best.mean_rel) best = tried;
+  }
+  return best;
+}
+
 FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
                                   const std::vector<Eigen::Vector3d>& values_n) {
   FieldModelChoice choice;
@@ -287,13 +298,7 @@ FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
   // the conservative fit is the only one.
   try {
     choice.scores.push_back(scoreOf(FieldModel::kComponentwise, 1.0, points_m, values_n));
-    FieldModelScore corrected;
-    corrected.mean_rel = -1.0;
-    for (const double weight : correctedCurlWeights()) {
-      const FieldModelScore tried = scoreOf(FieldModel::kCorrected, weight, points_m, values_n);
-      if (corrected.mean_rel < 0.0 || tried.mean_rel < corrected.mean_rel) corrected = tried;
-    }
-    choice.scores.push_back(corrected);
+    choice.scores.push_back(bestCorrectedScore(points_m, values_n));
   } catch (const Error&) {
     choice.scores.resize(1);
   }

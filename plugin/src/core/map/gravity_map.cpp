@@ -118,6 +118,12 @@ std::optional<FieldFit> GravityMap::fieldFit() {
       metadata_.field_model = choice.model;
       metadata_.curl_weight = choice.model == FieldModel::kCorrected ? choice.curl_weight : 0.0;
       metadata_.field_model_scores = choice.scores;
+    } else if (metadata_.field_model == FieldModel::kCorrected && metadata_.curl_weight == 0.0) {
+      // The corrected model asked for without its weight: the weight is chosen as a choice
+      // would (a weight of 0 would be the conservative fit under another name).
+      const FieldModelScore corrected = bestCorrectedScore(points_m, values_n);
+      metadata_.curl_weight = corrected.curl_weight;
+      metadata_.field_model_scores = {corrected};
     }
     return FieldFit(points_m, values_n, curlWeightOf(metadata_.field_model, metadata_.curl_weight));
   } catch (const Error&) {
