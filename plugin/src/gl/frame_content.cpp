@@ -85,15 +85,19 @@ void appendWorkspaceWire(const ExploredWorkspace& workspace, std::vector<LineVer
   }
 }
 
-// One arrow per vertex, coloured by where its |G| lies in the map's range.
+// One arrow per vertex, coloured by where its |G| lies in the map's range; thin where the value
+// was not measured at the vertex (beyond the stops, extrapolated from the measurements), so that
+// it never looks like a measurement.
 void addVertexArrows(const Scene& scene, const FrameMeasures& frame, FrameLists& lists) {
   if (!scene.show_arrows) return;
   const GravityMap& map = *frame.map;
   const WorkspaceGrid& grid = map.grid();
   const double span = frame.max_magnitude_n - frame.min_magnitude_n;
-  const double radius = 0.035 * frame.cell_m;
   for (int i = 0; i < grid.vertexCount(); ++i) {
-    const Eigen::Vector3d& g = map.vertices()[static_cast<std::size_t>(i)].gravity_n;
+    const VertexEstimate& vertex = map.vertices()[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d& g = vertex.gravity_n;
+    const double radius =
+        (valueKind(vertex) == ValueKind::kAtVertex ? 0.035 : 0.015) * frame.cell_m;
     const double value = span > 1e-12 ? (g.norm() - frame.min_magnitude_n) / span : 0.5;
     lists.colormap_arrows.push_back(makeInstance(grid.vertexPosition(i),
                                                  g * frame.map_arrow_m_per_n, radius,

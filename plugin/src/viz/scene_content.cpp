@@ -151,9 +151,11 @@ void chooseArrowScale(SceneBuild& scene) {
 
 namespace {
 
-// Arrows from `origins_mm` along `gravity_n`, scaled and coloured by |G| like every other.
+// Arrows from `origins_mm` along `gravity_n`, scaled and coloured by |G| like every other, drawn
+// at `opacity`.
 void addGravityArrows(SceneBuild& scene, const std::vector<Eigen::Vector3d>& origins_mm,
-                      const std::vector<Eigen::Vector3d>& gravity_n, double thickness) {
+                      const std::vector<Eigen::Vector3d>& gravity_n, double thickness,
+                      double opacity = 1.0) {
   if (origins_mm.empty()) return;
   vtkNew<vtkPoints> points;
   vtkNew<vtkDoubleArray> vectors;
@@ -196,24 +198,36 @@ void addGravityArrows(SceneBuild& scene, const std::vector<Eigen::Vector3d>& ori
   arrows->SetMapper(mapper);
   arrows->GetProperty()->SetAmbient(0.25);
   arrows->GetProperty()->SetDiffuse(0.8);
+  arrows->GetProperty()->SetOpacity(opacity);
   scene.renderer->AddActor(arrows);
 }
+
+// How much an arrow at a vertex whose value was not measured where it stands (beyond the
+// explored stops, or out of reach) shows: the field there is the fit's extrapolation, where no
+// hand can be, and must not look like a measurement.
+constexpr double kExtrapolatedArrowOpacity = 0.3;
+constexpr double kExtrapolatedArrowThickness = 0.6;
 
 }  // namespace
 
 // One arrow per vertex value and the |G_hat| scalar bar; the legend's first entry names them.
+// The values measured at their vertex are drawn in full, those beyond the stops (extrapolated
+// from the measurements) thin and faint.
 void addVertexArrows(SceneBuild& scene) {
   if (scene.summary.max_gravity_n <= 0.0) return;
   const WorkspaceGrid& grid = scene.map.grid();
-  std::vector<Eigen::Vector3d> origins_mm;
-  std::vector<Eigen::Vector3d> gravity_n;
+  std::vector<Eigen::Vector3d> measured_mm, extrapolated_mm;
+  std::vector<Eigen::Vector3d> measured_n, extrapolated_n;
   for (int i = 0; i < grid.vertexCount(); ++i) {
-    const Eigen::Vector3d& g = scene.map.vertices()[static_cast<std::size_t>(i)].gravity_n;
-    if (g.norm() <= 0.0) continue;
-    origins_mm.push_back(grid.vertexPosition(i) * kMmPerM);
-    gravity_n.push_back(g);
+    const VertexEstimate& vertex = scene.map.vertices()[static_cast<std::size_t>(i)];
+    if (vertex.gravity_n.norm() <= 0.0) continue;
+    const bool at_vertex = valueKind(vertex) == ValueKind::kAtVertex;
+    (at_vertex ? measured_mm : extrapolated_mm).push_back(grid.vertexPosition(i) * kMmPerM);
+    (at_vertex ? measured_n : extrapolated_n).push_back(vertex.gravity_n);
   }
-  addGravityArrows(scene, origins_mm, gravity_n, 1.0);
+  addGravityArrows(scene, measured_mm, measured_n, 1.0);
+  addGravityArrows(scene, extrapolated_mm, extrapolated_n, kExtrapolatedArrowThickness,
+                   kExtrapolatedArrowOpacity);
   addScalarBar(scene.overlay, scene.gravity_table, detail::pickText("|\u011c| [N]", "|G_hat| [N]"),
                scene.palette, scene.font_px, false, scene.right);
   vtkNew<vtkArrowSource> symbol;
@@ -226,6 +240,19 @@ void addVertexArrows(SceneBuild& scene) {
   const std::string text =
       kinds ? "measured at\nthe vertex: " + std::to_string(summary.measured_at_vertex) : "estimate";
   scene.legend.push_back({symbol->GetOutput(), text, {mid[0], mid[1], mid[2]}});
+  if (!extrapolated_mm.empty()) {
+    // The faint arrows' entry in the faint arrows' own colour: the colour map's middle, washed
+    // out toward the background as they are.
+    const detail::Rgb& background = scene.palette.background;
+    detail::Rgb faint{};
+    for (std::size_t c = 0; c < faint.size(); ++c) {
+      faint[c] =
+          kExtrapolatedArrowOpacity * mid[c] + (1.0 - kExtrapolatedArrowOpacity) * background[c];
+    }
+    scene.legend.push_back(
+        {symbol->GetOutput(),
+         "beyond the stops,\nextrapolated: " + std::to_string(extrapolated_mm.size()), faint});
+  }
 }
 
 // Points measured inside the stops for vertices beyond them: a pink bead with the measured
