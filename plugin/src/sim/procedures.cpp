@@ -409,9 +409,11 @@ bool nearBoundary(const SimulatedDevice& device, const Eigen::Vector3d& point_m,
 }  // namespace
 
 FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice& device,
-                                   int samples, std::uint64_t seed, double shell_m) {
-  if (samples < 1 || !(shell_m >= 0.0)) {
-    throw Error("measureFieldError: samples must be at least 1 and shell_m non-negative");
+                                   int samples, std::uint64_t seed, double shell_m,
+                                   double breakaway_n) {
+  if (samples < 1 || !(shell_m >= 0.0) || !(breakaway_n >= 0.0)) {
+    throw Error(
+        "measureFieldError: samples must be at least 1, shell_m and breakaway_n non-negative");
   }
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -419,6 +421,8 @@ FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice&
   // The Falcon's cube has its corners beyond the inscribed radius: draw from the cube's corners.
   const double half_box_m = std::sqrt(3.0) * bound_m;
   FieldErrorReport report;
+  report.breakaway_n = breakaway_n;
+  long above_breakaway = 0;
   std::vector<double> errors, shell_errors;
   errors.reserve(static_cast<std::size_t>(samples));
   constexpr int kMaxDrawsPerSample = 1000;
@@ -437,12 +441,15 @@ FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice&
     const double error = error_n / truth.norm();
     errors.push_back(error);
     report.max_n = std::max(report.max_n, error_n);
+    if (breakaway_n > 0.0 && error_n > breakaway_n) ++above_breakaway;
     if (error > report.max_rel) {
       report.max_rel = error;
       report.worst_point_m = point;
     }
     if (nearBoundary(device, point, shell_m)) shell_errors.push_back(error);
   }
+  report.above_breakaway_fraction =
+      static_cast<double>(above_breakaway) / static_cast<double>(report.samples);
   report.p50_rel = quantile(errors, 0.5);
   report.p90_rel = quantile(errors, 0.9);
   report.p99_rel = quantile(errors, 0.99);

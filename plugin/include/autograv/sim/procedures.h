@@ -215,6 +215,12 @@ struct FieldErrorReport {
   double shell_p90_rel = 0.0;  ///< 90th percentile in the shell.
   double shell_p99_rel = 0.0;  ///< 99th percentile in the shell.
   double shell_max_rel = 0.0;  ///< Largest in the shell.
+  /// The force a released stylus must feel to move: measureFieldError's `breakaway_n` (0 when not
+  /// given). Unit: [N]
+  double breakaway_n = 0.0;
+  /// Share of the points (of the reachable workspace's volume) whose error |G_hat - G| exceeds
+  /// breakaway_n: where a released stylus drifts instead of staying put (0 when none was given).
+  double above_breakaway_fraction = 0.0;
 };
 
 /// Points the tools draw for FieldErrorReport. The tail figures rest on few of them (the 99th
@@ -225,9 +231,10 @@ constexpr int kFieldErrorSamples = 200000;
 
 /// Draws `samples` reachable points uniformly (seeded) and measures the map's error there; a point
 /// is in the shell when a point `shell_m` away from it in one of 26 directions is unreachable.
-/// Deterministic. Not real-time safe. Unit of shell_m: [m]
+/// With `breakaway_n` > 0 (the device's breakaway force, sim::measureFriction), also the share of
+/// points whose error in newtons exceeds it. Deterministic. Not real-time safe. Units: [m], [N]
 FieldErrorReport measureFieldError(const GravityMap& map, const SimulatedDevice& device,
                                    int samples = kFieldErrorSamples, std::uint64_t seed = 1,
-                                   double shell_m = 5e-3);
+                                   double shell_m = 5e-3, double breakaway_n = 0.0);
 
 }  // namespace autograv::sim
