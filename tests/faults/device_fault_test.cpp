@@ -211,12 +211,12 @@ struct WizardRun {
 
   explicit WizardRun(const std::string& map_path) {
     WizardConfig config;
-    config.grid_center_m = simulated->workspaceCenter_m();
-    config.grid_size_m = Eigen::Vector3d::Constant(0.04);
+    config.centre_m = simulated->workspaceCenter_m();
+    config.advanced.box_size_m = Eigen::Vector3d::Constant(0.04);
     config.grid_resolution = Eigen::Vector3i::Constant(2);
     config.map_path = map_path;
     config.verify_points = 3;
-    config.explore = false;  // the faults of the grid run on this box
+    config.advanced.explore = false;  // the faults of the grid run on this box
     wizard = std::make_unique<CalibrationWizard>(device, config);
   }
 

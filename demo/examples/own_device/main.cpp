@@ -174,14 +174,13 @@ struct Options {
 WizardStep calibrate(const std::shared_ptr<example::PointMassDevice>& device,
                      const Options& options) {
   autograv::WizardConfig config;  // the library's defaults, but for a small, quick grid:
-  config.grid_center_m = Eigen::Vector3d::Zero();
-  config.grid_size_m = Eigen::Vector3d::Constant(0.04);   // 40 mm cube
-  config.grid_resolution = Eigen::Vector3i::Constant(3);  // 3 x 3 x 3 vertices
+  config.centre_m = Eigen::Vector3d::Zero();
+  config.advanced.box_size_m = Eigen::Vector3d::Constant(0.04);  // 40 mm cube
+  config.grid_resolution = Eigen::Vector3i::Constant(3);         // 3 x 3 x 3 vertices
   // That box, not one fitted to the workspace the wizard explores first; it is still measured
   // only inside what the exploration reached.
-  config.grid_from_workspace = false;
-  // config.parameters: the defaults, the dither method that calibrates through dry friction.
-  config.parameters.servo_period_s = kServoPeriod_s;
+  // config.advanced.parameters: the defaults, the dither method that calibrates through friction.
+  config.advanced.parameters.servo_period_s = kServoPeriod_s;
   config.map_path = options.map_path;
   autograv::CalibrationWizard wizard(device, config);  // throws autograv::Error for bad settings
 

@@ -14,11 +14,13 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/device/servo_clock.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
@@ -76,6 +78,19 @@ constexpr double kCentreStillSpeed_m_per_s = 0.02;
 constexpr int kMaxFailedWrites = 50;
 /// The "still held" notice stays up this long after the estimator last reported it. Unit: [s]
 constexpr double kStillHeldNotice_s = 1.5;
+
+/// The servo time of the current tick, as the wizard's servo side read it, for the wizard's
+/// compensation: one clock, read once per tick (a clock that advances on every reading, as
+/// FixedPeriodServoClock does, read twice would run at twice its rate). Servo thread only.
+class TickClock final : public ServoClock {
+ public:
+  /// The reading of this tick. Real-time safe. Unit: [s]
+  void set(double now_s) noexcept { now_s_ = now_s; }
+  double now_s() noexcept override { return now_s_; }
+
+ private:
+  double now_s_ = 0.0;
+};
 
 /// Live numbers the servo side of CalibrationWizard publishes each tick (plain data: copied
 /// under the try-lock, never allocated in the servo loop).
@@ -223,6 +238,7 @@ struct CalibrationWizard::Impl {
   WorkspaceGrid grid_;
   std::string checkpoint_path_;
   std::shared_ptr<GravityCompensatedDevice> device_;
+  std::shared_ptr<wizard::TickClock> tick_clock_;  // the compensation's clock
   // The paper's hold (eq. 10) with the estimator's floor on |G|: the wizard's own holds and moves.
   ImpedanceHold hold_law_;
 
@@ -267,6 +283,7 @@ struct CalibrationWizard::Impl {
   double invalid_periods_ = 0.0;
   double last_clock_s_ = 0.0;
   bool clock_read_ = false;
+  long long exact_ticks_ = 0;  // without a clock: ticks so far, the compensation's time
   ServoLoopStats loop_stats_;
   int loop_summary_countdown_ = 0;
   int failed_writes_ = 0;
