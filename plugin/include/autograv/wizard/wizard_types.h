@@ -212,6 +212,24 @@ struct WizardReview {
   int restored = 0;
 };
 
+/// What the device was made to deliver so far: figures from the forces the wizard sent to the
+/// device's driver (its own commands plus its compensation, after the force limit), so a real
+/// device reports them as a simulated one does. The driver may still saturate a motor of its
+/// own; a simulator knows that part too (sim::SimulatedDevice::saturationCount).
+struct WizardForces {
+  /// The device's continuous force rating the figures are judged against
+  /// (continuousForceRating_n of its specifications), known once Check passed. Unit: [N]
+  double continuous_rating_n = 0.0;
+  /// The device's force limit (DeviceSpecifications::max_linear_force_n). Unit: [N]
+  double limit_n = 0.0;
+  /// Largest force sent. Unit: [N]
+  double peak_n = 0.0;
+  /// Servo time during which the force sent was above continuous_rating_n. Unit: [s]
+  double above_continuous_s = 0.0;
+  /// Servo ticks whose force was at limit_n (the wizard or its compensation clamped it there).
+  std::uint64_t at_limit_ticks = 0;
+};
+
 /// Everything a front end shows, rebuilt by CalibrationWizard::status().
 struct WizardStatus {
   /// The current step.
@@ -325,6 +343,9 @@ struct WizardStatus {
 
   /// Aborted / Fault: what happened and what to do.
   std::string fault;
+
+  /// What the device was made to deliver so far, from the forces sent to it (any device).
+  WizardForces force;
 
   /// What the servo loop did so far (rate, lateness beyond the nominal period, longest gap).
   ServoLoopStats::Summary servo_loop;

@@ -162,7 +162,9 @@ CalibrationWizard::Impl::Impl(std::shared_ptr<HapticDevice> device, WizardConfig
   tick_clock_ = std::make_shared<wizard::TickClock>();
   compensation.clock = tick_clock_;
   compensation.enabled = false;  // the calibration itself must run uncompensated
-  device_ = std::make_shared<GravityCompensatedDevice>(std::move(device), compensation);
+  // Below the compensation, what reaches the driver is recorded: WizardStatus::force.
+  sent_force_ = std::make_shared<wizard::SentForce>(std::move(device));
+  device_ = std::make_shared<GravityCompensatedDevice>(sent_force_, compensation);
 
   const auto count = static_cast<std::size_t>(grid_.vertexCount());
   mirror_.resize(count);

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/device/forwarding_device.h"
 #include "autograv/device/servo_clock.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/servo_sample.h"
@@ -92,6 +93,29 @@ class TickClock final : public ServoClock {
   double now_s_ = 0.0;
 };
 
+/// Below the wizard's compensation, right above the driver: remembers the force that reached it
+/// on the latest tick (WizardStatus::force). Forwards everything else. Servo thread only.
+class SentForce final : public ForwardingDevice {
+ public:
+  /// Throws autograv::Error for a null device. Not real-time safe.
+  explicit SentForce(std::shared_ptr<HapticDevice> driver)
+      : ForwardingDevice(std::move(driver), "CalibrationWizard") {}
+  /// Forwards, remembering the force. Real-time safe when the driver's setForce is. Unit: [N]
+  bool setForce(const Eigen::Vector3d& force_n) override {
+    last_n_ = force_n;
+    return ForwardingDevice::setForce(force_n);
+  }
+  /// The force of the latest setForce. Unit: [N]
+  const Eigen::Vector3d& last_n() const noexcept { return last_n_; }
+
+ private:
+  Eigen::Vector3d last_n_ = Eigen::Vector3d::Zero();
+};
+
+/// A force within this fraction of the device's limit counts as at the limit (the clamps scale
+/// to the limit up to rounding).
+constexpr double kAtLimitFraction = 1.0 - 1e-9;
+
 /// Live numbers the servo side of CalibrationWizard publishes each tick (plain data: copied
 /// under the try-lock, never allocated in the servo loop).
 struct Live {
@@ -131,6 +155,7 @@ struct Live {
   double peak_force_n = 0.0;
   double lipschitz_n_per_m = 0.0;
   ServoLoopStats::Summary servo_loop;
+  WizardForces force;  // the rating and the limit are set by Check
   std::array<VerifyResult, kMaxVerifyPoints> verify{};
   int verify_count = 0;
   int verify_index = 0;
@@ -212,6 +237,7 @@ struct CalibrationWizard::Impl {
   void enter(WizardStep step) noexcept;
   void fail(int fault_code, HoldMode hold) noexcept;
   bool sampleLost(const ServoSample& sample) noexcept;
+  void recordSentForce(double interval_s) noexcept;
   void flushMirror() noexcept;  // wizard_checkpoint.cpp
   void publishLive() noexcept;
 
@@ -237,7 +263,8 @@ struct CalibrationWizard::Impl {
   WizardConfig config_;
   WorkspaceGrid grid_;
   std::string checkpoint_path_;
-  std::shared_ptr<GravityCompensatedDevice> device_;
+  std::shared_ptr<GravityCompensatedDevice> device_;  // over sent_force_, over the driver
+  std::shared_ptr<wizard::SentForce> sent_force_;
   std::shared_ptr<wizard::TickClock> tick_clock_;  // the compensation's clock
   // The paper's hold (eq. 10) with the estimator's floor on |G|: the wizard's own holds and moves.
   ImpedanceHold hold_law_;

@@ -127,6 +127,10 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
     const DeviceSpecifications& specifications = device_->specifications();
     validateSpecifications(specifications);
     max_force_n_ = specifications.max_linear_force_n;
+    // The servo side is idle during Check: the figures it keeps of the forces sent are judged
+    // against these.
+    live_.force.limit_n = max_force_n_;
+    live_.force.continuous_rating_n = continuousForceRating_n(specifications);
 
     const EstimationParameters& parameters = config_.advanced.parameters;
     // Without exploration a box fitted to the workspace has corners beyond it (found unreachable

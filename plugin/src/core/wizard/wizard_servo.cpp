@@ -100,6 +100,7 @@ WizardStep CalibrationWizard::Impl::servoTick() noexcept {
       fail(wizard::kFaultWritesFailed, HoldMode::kNone);
     }
   }
+  recordSentForce(periods * period_s);
   if (any_copy_pending_) flushMirror();
   publishLive();
   return phase_.load(std::memory_order_relaxed);
@@ -111,6 +112,15 @@ void CalibrationWizard::Impl::enter(WizardStep step) noexcept {
   live_.servo_loop = loop_stats_.summary();  // what the loop did up to here, for the texts
   live_.step = step;
   phase_.store(step, std::memory_order_release);
+}
+
+void CalibrationWizard::Impl::recordSentForce(double interval_s) noexcept {
+  // What reached the driver this tick: the wizard's force plus its compensation, clamped.
+  const double sent_n = sent_force_->last_n().norm();
+  WizardForces& force = live_.force;
+  force.peak_n = std::max(force.peak_n, sent_n);
+  if (sent_n > force.continuous_rating_n) force.above_continuous_s += interval_s;
+  if (sent_n >= force.limit_n * wizard::kAtLimitFraction) ++force.at_limit_ticks;
 }
 
 bool CalibrationWizard::Impl::sampleLost(const ServoSample& sample) noexcept {

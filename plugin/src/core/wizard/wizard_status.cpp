@@ -98,6 +98,7 @@ WizardStatus CalibrationWizard::Impl::status() const {
   s.position_valid = live.position_valid;
   s.time_s = live.time_s;
   s.servo_loop = live.servo_loop;
+  s.force = live.force;
   s.servo_warning = servoLoopWarning(live.servo_loop, config_.advanced.parameters.servo_period_s);
   s.centre_m = centre_m_;
   s.to_centre_m = centre_m_ - live.position_m;
