@@ -14,10 +14,10 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/vertex_estimator.h"
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_device.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {
