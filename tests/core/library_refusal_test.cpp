@@ -20,11 +20,11 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
-#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "core/estimation/vertex_estimator.h"
 #include "recording_device.h"
 
 namespace autograv {

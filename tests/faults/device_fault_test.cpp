@@ -111,7 +111,7 @@ TEST(DeviceFaultTest, StopsAnsweringMidVertex) {
   const TestFolder folder;
   const FaultyRun run = runWithScript(folder, [](const AutoCalibrator& c, sim::SimulatedDevice& d) {
     if (!afterThreeVertices(c) || c.state() != AutoCalibrator::Status::kEstimating ||
-        c.estimator().iteration() < 2) {
+        c.iteration() < 2) {
       return false;
     }
     d.injectFault(sim::DeviceFault::kStopsAnswering);
@@ -146,7 +146,7 @@ FaultyRun runWithNanBurst(const TestFolder& folder, int ticks) {
   return runWithScript(folder, [&left, ticks](const AutoCalibrator& c, sim::SimulatedDevice& d) {
     if (left > 0 && --left == 0) d.injectFault(sim::DeviceFault::kNone);
     if (left >= 0 || !afterThreeVertices(c) || c.state() != AutoCalibrator::Status::kEstimating ||
-        c.estimator().iteration() < 2) {
+        c.iteration() < 2) {
       return false;
     }
     d.injectFault(sim::DeviceFault::kNanPosition);

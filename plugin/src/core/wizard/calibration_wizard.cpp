@@ -12,7 +12,7 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
-#include "autograv/estimation/vertex_estimator.h"
+#include "core/estimation/vertex_estimator.h"
 #include "core/wizard/wizard_impl.h"
 
 namespace autograv {

@@ -27,13 +27,13 @@
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/initialization_estimator.h"
-#include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/explored_workspace.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "core/estimation/minimum_jerk_move.h"
 
 namespace autograv::wizard {
 

@@ -335,9 +335,8 @@ void CalibrationWizard::Impl::tickCalibration(const ServoSample& sample, std::ui
   live_.vertex = calibrator.currentVertex();
   live_.visited = calibrator.visitedCount();
   live_.to_visit = calibrator.toVisitCount();
-  live_.iteration = calibrator.estimator().iteration();
-  live_.delta_m =
-      calibrator.estimator().iteration() > 0 ? calibrator.estimator().lastPositionError_m() : kNaN;
+  live_.iteration = calibrator.iteration();
+  live_.delta_m = calibrator.iteration() > 0 ? calibrator.lastPositionError_m() : kNaN;
   live_.calibration_elapsed_s = calibrator.elapsed_s();
   live_.eta_s = live_.visited > 0
                     ? calibrator.elapsed_s() / live_.visited * (live_.to_visit - live_.visited)
