@@ -23,7 +23,7 @@ std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_
 /// Check -> Centre -> Release -> Explore -> AutoCalibration -> Review -> Save -> Verify -> Done.
 /// Explore finds the workspace from the device's own data; the grid is then fitted to it and
 /// measured inside it. A resumed run takes the grid and the workspace from its checkpoint and
-/// does not explore again. calibrate() (calibration_run.h) runs the whole of it in one call.
+/// does not explore again. calibrate() (calibrate.h) runs the whole of it in one call.
 ///
 /// Two sides, so that the servo loop never blocks, allocates or touches a file:
 ///  - servoTick(), on the servo thread once per period: reads the device, steps the current
