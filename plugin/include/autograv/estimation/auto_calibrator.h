@@ -16,8 +16,9 @@
 namespace autograv {
 
 /// The outer loop of the off-line autocalibration (paper Sections I and III, eqs. 9 and 13): visit
-/// every grid vertex on a smooth path, run the VertexEstimator there, carry the estimate on to the
-/// next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and skipped.
+/// every grid vertex on a smooth path, run the inner loop (eqs. 10-12) there, carry the estimate on
+/// to the next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and
+/// skipped.
 ///
 /// Its state lives in a private Impl that the constructor allocates whole (the inner loop at one
 /// vertex, the moves, every vertex's history), so that nothing on the servo path allocates.
@@ -97,8 +98,8 @@ class AutoCalibrator {
   static constexpr int kFitReachCells = 2;
   /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
   static constexpr double kMassUncertainty = 3.0;
-  /// When a stop holds the end-effector short of a measurement point
-  /// (VertexEstimator::stopContact), the point moves this far back from where the stop held it,
+  /// When a stop holds the end-effector short of a measurement point (the force grows, the
+  /// position does not follow), the point moves this far back from where the stop held it,
   /// away from the stop, and the vertex is measured there; once per vertex. Unit: [m]
   static constexpr double kStopRetreat_m = 0.004;
   /// Measurement points moved back from a stop so far in this run. Real-time safe.
