@@ -12,6 +12,9 @@ const std::vector<FlagTranslation>& flagTranslations() {
        "the same --grid and --box-mm (or --side-mm) as that run"},
       {"Fit the grid to the workspace instead (leave WizardConfig::advanced.box_size_m empty)",
        "Drop --box-mm and --side-mm: the grid is then fitted to the explored workspace"},
+      {"WizardConfig::advanced.explorer and advanced.min_workspace_extent_m would be ignored. "
+       "Leave them at their defaults to resume",
+       "--boundary-probes would be ignored. Drop it to resume"},
       {"WizardConfig::resume = true", "--resume"},
       {"WizardConfig::resume = false", "no --resume"},
       {"WizardConfig::map_path", "--out"},

@@ -20,6 +20,7 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
+#include "autograv/map/explored_workspace.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "autograv/sim/simulated_device.h"
@@ -217,6 +218,23 @@ std::vector<Refusal> everyRefusal() {
              saveMap(*mapFor("sim:omega", "", other), c.map_path + ".partial");
            },
            "other_resolution")},
+      {"exploration settings on a resumed workspace", "WizardConfig::advanced.explorer",
+       checking(
+           [](WizardConfig& c) {
+             c.advanced.box_size_m.reset();
+             c.advanced.explore = true;
+             c.advanced.explorer.directions = 14;
+             c.resume = true;
+             const WorkspaceGrid grid(c.centre_m, 0.05, c.grid_resolution.x());
+             std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+             MapMetadata metadata;
+             metadata.device_model = "sim:omega";
+             const std::vector<Eigen::Vector3d> directions = ExploredWorkspace::probeDirections(26);
+             metadata.workspace =
+                 ExploredWorkspace(c.centre_m, directions, std::vector<double>(26, 0.05));
+             saveMap(GravityMap(grid, vertices, metadata), c.map_path + ".partial");
+           },
+           "resumed_workspace")},
       {"an earlier checkpoint", "WizardConfig::resume = true",
        checking(
            [](WizardConfig& c) {

@@ -19,6 +19,19 @@ namespace autograv {
 
 using wizard::eventBit;
 
+bool wizard::sameExplorerOptions(const WorkspaceExplorer::Options& a,
+                                 const WorkspaceExplorer::Options& b) noexcept {
+  // A field added to the options must be compared here too.
+  static_assert(sizeof(WorkspaceExplorer::Options) == 2 * sizeof(int) + 8 * sizeof(double),
+                "compare every field of WorkspaceExplorer::Options");
+  return a.directions == b.directions && a.boundary_directions == b.boundary_directions &&
+         a.boundary_clearance_m == b.boundary_clearance_m &&
+         a.probe_speed_m_per_s == b.probe_speed_m_per_s && a.start_fraction == b.start_fraction &&
+         a.max_reach_m == b.max_reach_m && a.back_off_m == b.back_off_m &&
+         a.contact_force_n == b.contact_force_n && a.contact_lag_m == b.contact_lag_m &&
+         a.max_move_acceleration_m_per_s2 == b.max_move_acceleration_m_per_s2;
+}
+
 namespace {
 
 /// The extents of the box that only sizes the buffers of a run whose grid is fitted to the
@@ -57,20 +70,6 @@ WorkspaceGrid wizardGrid(const WizardConfig& config) {
   }
 }
 
-/// True when two sets of exploration options are the same.
-bool sameExplorerOptions(const WorkspaceExplorer::Options& a,
-                         const WorkspaceExplorer::Options& b) noexcept {
-  // A field added to the options must be compared here too.
-  static_assert(sizeof(WorkspaceExplorer::Options) == 2 * sizeof(int) + 8 * sizeof(double),
-                "compare every field of WorkspaceExplorer::Options");
-  return a.directions == b.directions && a.boundary_directions == b.boundary_directions &&
-         a.boundary_clearance_m == b.boundary_clearance_m &&
-         a.probe_speed_m_per_s == b.probe_speed_m_per_s && a.start_fraction == b.start_fraction &&
-         a.max_reach_m == b.max_reach_m && a.back_off_m == b.back_off_m &&
-         a.contact_force_n == b.contact_force_n && a.contact_lag_m == b.contact_lag_m &&
-         a.max_move_acceleration_m_per_s2 == b.max_move_acceleration_m_per_s2;
-}
-
 /// Refuses a setting that `config` gives but this run would not use: a run that does not explore
 /// judges no workspace, a run without release tests has none to time.
 void refuseUnusedSettings(const WizardConfig& config) {
@@ -92,7 +91,7 @@ void refuseUnusedSettings(const WizardConfig& config) {
     if (!(advanced.min_workspace_extent_m == defaults.min_workspace_extent_m)) {
       unused("min_workspace_extent_m");
     }
-    if (!sameExplorerOptions(advanced.explorer, defaults.explorer)) unused("explorer");
+    if (!wizard::sameExplorerOptions(advanced.explorer, defaults.explorer)) unused("explorer");
   }
   if (config.verify_points == 0) {
     const auto unused = [](const char* field) {

@@ -140,6 +140,19 @@ void CalibrationWizard::Impl::restoreCheckpoint(const std::string& device_model)
   grid_fixed_ = true;
   workspace_ = partial.metadata().workspace;
   resumed_vertices_ = partial.vertices();
+  // The checkpoint's workspace is resumed, not explored again: the exploration's settings would
+  // be ignored.
+  const WizardConfig::Advanced defaults;
+  const bool explorer_set =
+      !wizard::sameExplorerOptions(config_.advanced.explorer, defaults.explorer) ||
+      !(config_.advanced.min_workspace_extent_m == defaults.min_workspace_extent_m);
+  if (!workspace_.empty() && explorer_set) {
+    throw Error("checkpoint " + checkpoint_path_ +
+                " holds the workspace its run explored, which a resumed run keeps: "
+                "WizardConfig::advanced.explorer and advanced.min_workspace_extent_m would be "
+                "ignored. Leave them at their defaults to resume, or start afresh "
+                "(WizardConfig::resume = false) to explore with them");
+  }
 }
 
 }  // namespace autograv

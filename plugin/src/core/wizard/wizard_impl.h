@@ -37,6 +37,10 @@
 
 namespace autograv::wizard {
 
+/// True when two sets of exploration options are the same (calibration_wizard.cpp).
+bool sameExplorerOptions(const WorkspaceExplorer::Options& a,
+                         const WorkspaceExplorer::Options& b) noexcept;
+
 /// Bit of a WizardEvent in the pending-event word.
 constexpr std::uint32_t eventBit(int event) noexcept { return 1u << event; }
 
