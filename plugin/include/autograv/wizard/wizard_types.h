@@ -64,10 +64,10 @@ enum class CheckIssue : std::uint8_t {
 /// Largest number of release tests in Verify.
 inline constexpr int kMaxVerifyPoints = 8;
 
-/// Settings of one wizard run. Set-up only: the constructor of CalibrationWizard refuses, with an
-/// autograv::Error naming the field, a value it cannot use and a setting this run would not use
-/// (no setting is silently ignored). The first fields are what a run usually sets; `advanced`
-/// holds the rest, whose defaults are what `autograv wizard` uses.
+/// Settings of one wizard run. Set-up only. A value the run cannot use, and a setting it would
+/// not use, are refused with a message naming the field: by CalibrationWizard's constructor
+/// (autograv::Error), or by Check for what depends on the device or the checkpoint. No setting
+/// is silently ignored. The first fields are what a run usually sets; `advanced` holds the rest.
 struct WizardConfig {
   /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
   /// `autograv calibrate`, so either command resumes the other's run. Required.
@@ -114,11 +114,12 @@ struct WizardConfig {
     /// stops. False needs box_size_m: every vertex of that box is visited where it is, which only
     /// a box well inside the workspace allows.
     bool explore = true;
-    /// How the exploration probes (only with explore).
+    /// How the exploration probes (only with explore, and not when a resumed checkpoint holds
+    /// its workspace).
     WorkspaceExplorer::Options explorer;
     /// An explored workspace is refused (Fault, before the grid run) when it is thinner than
     /// this along an axis: something held the end-effector (a hand, an object, a wall). Only
-    /// with explore. Unit: [m]
+    /// with explore, as explorer. Unit: [m]
     double min_workspace_extent_m = 0.02;
     /// How the device travels between vertices and where each vertex starts.
     AutoCalibrator::Options calibrator;
