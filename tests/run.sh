@@ -85,15 +85,16 @@ cmake --build build/fuzz -j "$jobs" --target autograv_fuzzers
 tests/fuzz/run_fuzzers.sh build/fuzz "$fuzz_seconds"
 
 if [[ -f tests/core/compensation/gravity_compensated_device_concurrency_test.cpp ]]; then
-  step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread, the demo's A key"
+  step "ThreadSanitizer: map published to a live servo thread, wizard on its own servo thread, calibrate(), the demo's A key"
   cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-fsanitize=thread \
     "${release_flags[@]}" \
     -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \
     -DAUTOGRAV_BUILD_VIZ=OFF -DAUTOGRAV_BUILD_GL=OFF -DAUTOGRAV_BUILD_DEMO=OFF
   cmake --build build/tsan -j "$jobs" --target gravity_compensated_device_concurrency_test \
-    calibration_wizard_test demo_session_test
+    calibration_wizard_test calibrate_test demo_session_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/gravity_compensated_device_concurrency_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/calibration_wizard_test --gtest_filter='*OwnThread*'
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/calibrate_test
   TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/demo_session_test \
     --gtest_filter='*ServoThread*:*RealTimeThread*'
 fi

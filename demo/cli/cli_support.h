@@ -14,9 +14,9 @@
 #include "autograv/map/field_fit.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/workspace_grid.h"
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "sim/experiments.h"
 
 namespace autograv::cli {
 

@@ -6,12 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/sim/experiments.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
 #include "friction_option.h"
 #include "servo_timing_option.h"
+#include "sim/experiments.h"
 #include "sweep_report.h"
 
 namespace autograv::cli {

@@ -137,10 +137,10 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   };
   run.on_progress = [&](const AutoCalibrator& calibrator) {
     char detail[128];
-    const double delta_mm = calibrator.estimator().lastPositionError_m() * 1e3;
+    const double delta_mm = calibrator.lastPositionError_m() * 1e3;
     if (calibrator.state() == AutoCalibrator::Status::kEstimating && std::isfinite(delta_mm)) {
       std::snprintf(detail, sizeof detail, "vertex #%d iter %d, delta %.3f mm, sim %.0f s",
-                    calibrator.currentVertex(), calibrator.estimator().iteration(), delta_mm,
+                    calibrator.currentVertex(), calibrator.iteration(), delta_mm,
                     calibrator.elapsed_s());
     } else {
       std::snprintf(detail, sizeof detail, "%s, sim %.0f s", toString(calibrator.state()),

@@ -316,7 +316,7 @@ nlohmann::json reportJson(const WizardOptions& options, const std::string& out_p
       {"servo_timing", sim::toString(options.servo_timing)},
       {"servo_loop", servoLoopJson(options.servo_timing, status.servo_loop)},
       {"servo_warning", status.servo_warning},
-      {"parameters", parametersJson(wizard.config().parameters)}};
+      {"parameters", parametersJson(wizard.config().advanced.parameters)}};
 }
 
 /// The servo loop of a hardware device on its own thread, paced by the wall clock, while the
@@ -415,29 +415,27 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   // default the box around the workspace the device explores first, the user initializing near
   // the workspace's centre (a simulation's, or the origin where CHAI3D centres its positions);
   // with --box-mm or --side-mm that box, measured inside the explored workspace.
-  config.explore = true;
-  config.grid_from_workspace = gridFromWorkspace(options.grid);
-  if (config.grid_from_workspace) {
-    config.grid_center_m =
+  if (gridFromWorkspace(options.grid)) {
+    config.centre_m =
         simulation != nullptr ? simulation->workspaceCenter_m() : Eigen::Vector3d::Zero();
     config.grid_resolution = gridResolution(options.grid);
   } else {
     double workspace_coverage = 0.0;
     const WorkspaceGrid grid = resolveGrid(options.grid, *device, simulation, workspace_coverage);
-    config.grid_center_m = grid.center_m();
-    config.grid_size_m = grid.size_m();
+    config.centre_m = grid.center_m();
+    config.advanced.box_size_m = grid.size_m();
     config.grid_resolution = grid.resolution();
   }
-  config.parameters = options.parameters;
+  config.advanced.parameters = options.parameters;
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
-  applyDeviceDefaults(command, config.parameters, specifications);
+  applyDeviceDefaults(command, config.advanced.parameters, specifications);
   config.map_path = out_path;
   config.resume = options.resume;
-  config.centre_tolerance_m = options.tolerance_mm * 1e-3;
+  config.advanced.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
-  config.explorer.boundary_directions = options.boundary_probes;
-  config.field_model = options.field_model;
+  config.advanced.explorer.boundary_directions = options.boundary_probes;
+  config.advanced.field_model = options.field_model;
   const double period_s = options.parameters.servo_period_s;
   // The simulated loop's ticks, as --servo-timing draws them; an exact loop needs no clock (the
   // wizard then counts exact periods). Hardware runs on the wall clock's time.

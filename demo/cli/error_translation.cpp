@@ -7,15 +7,18 @@ const std::vector<FlagTranslation>& flagTranslations() {
   static const std::vector<FlagTranslation> table = {
       {"a calibration with WizardConfig::map_path set to this path makes one",
        "`autograv calibrate --out` with this path makes one"},
-      {"the WizardConfig::grid_size_m, WizardConfig::grid_resolution and "
-       "WizardConfig::grid_center_m of that run",
+      {"the WizardConfig::centre_m, WizardConfig::grid_resolution and "
+       "WizardConfig::advanced.box_size_m of that run",
        "the same --grid and --box-mm (or --side-mm) as that run"},
-      {"Fit the grid to the workspace instead (WizardConfig::grid_from_workspace = true)",
+      {"Fit the grid to the workspace instead (leave WizardConfig::advanced.box_size_m empty)",
        "Drop --box-mm and --side-mm: the grid is then fitted to the explored workspace"},
+      {"WizardConfig::advanced.explorer and advanced.min_workspace_extent_m would be ignored. "
+       "Leave them at their defaults to resume",
+       "--boundary-probes would be ignored. Drop it to resume"},
       {"WizardConfig::resume = true", "--resume"},
       {"WizardConfig::resume = false", "no --resume"},
       {"WizardConfig::map_path", "--out"},
-      {"WizardConfig::grid_size_m", "--box-mm (or --side-mm)"},
+      {"WizardConfig::advanced.box_size_m", "--box-mm (or --side-mm)"},
       {"WizardConfig::grid_resolution", "--grid"},
       {"EstimationParameters::beta_per_s2", "--beta"},
       {"EstimationParameters::alpha_per_s", "--alpha"},

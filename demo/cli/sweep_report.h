@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "autograv/sim/experiments.h"
+#include "sim/experiments.h"
 
 namespace autograv::cli {
 

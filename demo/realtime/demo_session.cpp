@@ -130,18 +130,16 @@ std::string DemoSession::startCalibration() {
   // wizard explores the workspace from the device's own data, fits the grid to it and measures
   // only inside it. The user initializes at the centre of the published map's grid, else of the
   // workspace.
-  config.explore = true;
-  config.grid_from_workspace = true;
-  config.grid_center_m = calibrationGrid().center_m();
+  config.centre_m = calibrationGrid().center_m();
   config.grid_resolution = Eigen::Vector3i::Constant(options_.calibration_resolution);
-  config.parameters = options_.estimation;
+  config.advanced.parameters = options_.estimation;
   config.map_path = options_.calibration_map_path;
   config.resume = std::filesystem::exists(options_.calibration_map_path + ".partial");
   config.verify_points = options_.calibration_verify_points;
   config.clock = clock_;  // servo time as the loop keeps it (LoopClock)
   // Opened and homed in the constructor, and ticked by the servo thread until the wizard's
   // servo half takes over: its Check must not open or home it again from this thread.
-  config.device_already_open = true;
+  config.advanced.device_already_open = true;
   wizards_.push_back(std::make_unique<CalibrationWizard>(device_, config));
   wizard_ui_ = wizards_.back().get();
   wizard_ui_->service();  // Check: the device is open already, so this passes at once

@@ -1,7 +1,7 @@
 // Every refusal a program meets through WizardConfig, EstimationParameters, loadMap, MapLibrary
 // and GravityCompensatedDevice speaks the program's language: it names the C++ parameter to
-// change (WizardConfig::grid_size_m, EstimationParameters::beta_per_s2, ...), never a flag of the
-// command line, which translates them itself (demo/cli/error_translation.h).
+// change (WizardConfig::advanced.box_size_m, EstimationParameters::beta_per_s2, ...), never a flag
+// of the command line, which translates them itself (demo/cli/error_translation.h).
 
 #include <cmath>
 #include <cstdlib>
@@ -20,11 +20,12 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
-#include "autograv/estimation/vertex_estimator.h"
+#include "autograv/map/explored_workspace.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "core/estimation/vertex_estimator.h"
 #include "recording_device.h"
 
 namespace autograv {
@@ -60,10 +61,10 @@ std::string thrownBy(const std::function<void()>& action) {
 
 WizardConfig smallConfig(const std::string& name) {
   WizardConfig config;
-  config.grid_size_m = Eigen::Vector3d::Constant(0.04);
+  config.advanced.box_size_m = Eigen::Vector3d::Constant(0.04);
   config.grid_resolution = Eigen::Vector3i::Constant(2);
   config.map_path = (folder() / (name + ".json")).string();
-  config.explore = false;  // the box as given: its own refusals
+  config.advanced.explore = false;  // the box as given: its own refusals
   return config;
 }
 
@@ -86,7 +87,7 @@ std::function<std::string()> checking(std::function<void(WizardConfig&)> change,
   return [change, name] {
     const auto device = omega();
     WizardConfig config = smallConfig(name);
-    config.grid_center_m = device->workspaceCenter_m();
+    config.centre_m = device->workspaceCenter_m();
     change(config);
     CalibrationWizard wizard(device, config);
     wizard.service();
@@ -145,61 +146,99 @@ std::vector<Refusal> everyRefusal() {
       // WizardConfig, refused by the constructor.
       {"no map path", "WizardConfig::map_path",
        constructing([](WizardConfig& c) { c.map_path = ""; })},
-      {"centre tolerance", "WizardConfig::centre_tolerance_m",
-       constructing([](WizardConfig& c) { c.centre_tolerance_m = 0.0; })},
-      {"release patience", "WizardConfig::release_patience_s",
-       constructing([](WizardConfig& c) { c.release_patience_s = -1.0; })},
-      {"verify settle", "WizardConfig::verify_settle_s",
-       constructing([](WizardConfig& c) { c.verify_settle_s = 0.0; })},
-      {"verify release", "WizardConfig::verify_release_s",
-       constructing([](WizardConfig& c) { c.verify_release_s = kNaN; })},
-      {"verify drift", "WizardConfig::verify_drift_limit_m",
-       constructing([](WizardConfig& c) { c.verify_drift_limit_m = 0.0; })},
+      {"centre tolerance", "WizardConfig::advanced.centre_tolerance_m",
+       constructing([](WizardConfig& c) { c.advanced.centre_tolerance_m = 0.0; })},
+      {"release patience", "WizardConfig::advanced.release_patience_s",
+       constructing([](WizardConfig& c) { c.advanced.release_patience_s = -1.0; })},
+      {"verify settle", "WizardConfig::advanced.verify_settle_s",
+       constructing([](WizardConfig& c) { c.advanced.verify_settle_s = 0.0; })},
+      {"verify release", "WizardConfig::advanced.verify_release_s",
+       constructing([](WizardConfig& c) { c.advanced.verify_release_s = kNaN; })},
+      {"verify drift", "WizardConfig::advanced.verify_drift_limit_m",
+       constructing([](WizardConfig& c) { c.advanced.verify_drift_limit_m = 0.0; })},
       {"servo period", "EstimationParameters::servo_period_s",
-       constructing([](WizardConfig& c) { c.parameters.servo_period_s = 0.0; })},
-      {"field ramp", "WizardConfig::field_ramp_s",
-       constructing([](WizardConfig& c) { c.field_ramp_s = -1.0; })},
-      {"compensation ramp", "WizardConfig::compensation_ramp_s",
-       constructing([](WizardConfig& c) { c.compensation_ramp_s = -1.0; })},
+       constructing([](WizardConfig& c) { c.advanced.parameters.servo_period_s = 0.0; })},
+      {"field ramp", "WizardConfig::advanced.field_ramp_s",
+       constructing([](WizardConfig& c) { c.advanced.field_ramp_s = -1.0; })},
       {"verify points", "WizardConfig::verify_points",
        constructing([](WizardConfig& c) { c.verify_points = 99; })},
-      {"grid centre", "WizardConfig::grid_center_m",
-       constructing([](WizardConfig& c) { c.grid_center_m.x() = kNaN; })},
-      {"grid size", "WizardConfig::grid_size_m",
-       constructing([](WizardConfig& c) { c.grid_size_m.z() = 0.0; })},
+      {"centre", "WizardConfig::centre_m",
+       constructing([](WizardConfig& c) { c.centre_m.x() = kNaN; })},
+      {"box size", "WizardConfig::advanced.box_size_m",
+       constructing([](WizardConfig& c) { c.advanced.box_size_m->z() = 0.0; })},
+      // Settings this run would not use.
+      {"no exploration without a box", "WizardConfig::advanced.box_size_m",
+       constructing([](WizardConfig& c) { c.advanced.box_size_m.reset(); })},
+      {"exploration options without exploring", "WizardConfig::advanced.explorer",
+       constructing([](WizardConfig& c) { c.advanced.explorer.directions = 14; })},
+      {"workspace extent without exploring", "WizardConfig::advanced.min_workspace_extent_m",
+       constructing([](WizardConfig& c) { c.advanced.min_workspace_extent_m = 0.03; })},
+      {"release test timing without release tests", "WizardConfig::advanced.verify_settle_s",
+       constructing([](WizardConfig& c) {
+         c.verify_points = 0;
+         c.advanced.verify_settle_s = 1.0;
+       })},
       {"grid resolution", "WizardConfig::grid_resolution",
        constructing([](WizardConfig& c) { c.grid_resolution.y() = 1; })},
-      {"smallest workspace", "WizardConfig::min_workspace_extent_m",
-       constructing([](WizardConfig& c) { c.min_workspace_extent_m = 0.0; })},
-      {"lookup refinement", "WizardConfig::lookup_refinement",
-       constructing([](WizardConfig& c) { c.lookup_refinement = 0; })},
+      {"smallest workspace", "WizardConfig::advanced.min_workspace_extent_m",
+       constructing([](WizardConfig& c) { c.advanced.min_workspace_extent_m = 0.0; })},
+      {"lookup refinement", "WizardConfig::advanced.lookup_refinement",
+       constructing([](WizardConfig& c) { c.advanced.lookup_refinement = 0; })},
       // WizardConfig, refused by the Check step against the device.
-      {"grid beyond the workspace", "WizardConfig::grid_size_m",
-       checking([](WizardConfig& c) { c.grid_size_m = Eigen::Vector3d(0.16, 0.12, 0.07); })},
+      {"grid beyond the workspace", "WizardConfig::advanced.box_size_m",
+       checking(
+           [](WizardConfig& c) { c.advanced.box_size_m = Eigen::Vector3d(0.16, 0.12, 0.07); })},
       {"k0 stiffer than the device", "EstimationParameters::k0_n_per_m",
-       checking([](WizardConfig& c) { c.parameters.k0_n_per_m = 1e7; })},
+       checking([](WizardConfig& c) { c.advanced.parameters.k0_n_per_m = 1e7; })},
       {"no weight converges", "EstimationParameters::beta_per_s2", checking([](WizardConfig& c) {
-         c.grid_size_m = Eigen::Vector3d::Constant(0.05);
+         c.advanced.box_size_m = Eigen::Vector3d::Constant(0.05);
          c.grid_resolution = Eigen::Vector3i::Constant(4);
-         c.parameters.lipschitz_prior_n_per_m = 200.0;
+         c.advanced.parameters.lipschitz_prior_n_per_m = 200.0;
        })},
       {"map folder missing", "WizardConfig::map_path", checking([](WizardConfig& c) {
          c.map_path = (folder() / "no such folder" / "map.json").string();
        })},
       {"resume without a checkpoint", "WizardConfig::resume",
        checking([](WizardConfig& c) { c.resume = true; }, "no_checkpoint")},
-      {"resume on another grid", "WizardConfig::grid_size_m",
+      {"resume on another grid", "WizardConfig::advanced.box_size_m",
        checking(
            [](WizardConfig& c) {
              c.resume = true;
-             const WorkspaceGrid other(c.grid_center_m, 0.05, 3);
+             const WorkspaceGrid other(c.centre_m, 0.05, 3);
              saveMap(*mapFor("sim:omega", "", other), c.map_path + ".partial");
            },
            "other_grid")},
+      {"resume a fitted grid at another resolution", "WizardConfig::grid_resolution",
+       checking(
+           [](WizardConfig& c) {
+             c.advanced.box_size_m.reset();
+             c.advanced.explore = true;
+             c.resume = true;
+             const WorkspaceGrid other(c.centre_m, 0.05, 3);
+             saveMap(*mapFor("sim:omega", "", other), c.map_path + ".partial");
+           },
+           "other_resolution")},
+      {"exploration settings on a resumed workspace", "WizardConfig::advanced.explorer",
+       checking(
+           [](WizardConfig& c) {
+             c.advanced.box_size_m.reset();
+             c.advanced.explore = true;
+             c.advanced.explorer.directions = 14;
+             c.resume = true;
+             const WorkspaceGrid grid(c.centre_m, 0.05, c.grid_resolution.x());
+             std::vector<VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
+             MapMetadata metadata;
+             metadata.device_model = "sim:omega";
+             const std::vector<Eigen::Vector3d> directions = ExploredWorkspace::probeDirections(26);
+             metadata.workspace =
+                 ExploredWorkspace(c.centre_m, directions, std::vector<double>(26, 0.05));
+             saveMap(GravityMap(grid, vertices, metadata), c.map_path + ".partial");
+           },
+           "resumed_workspace")},
       {"an earlier checkpoint", "WizardConfig::resume = true",
        checking(
            [](WizardConfig& c) {
-             const WorkspaceGrid grid(c.grid_center_m, c.grid_size_m, c.grid_resolution);
+             const WorkspaceGrid grid(c.centre_m, *c.advanced.box_size_m, c.grid_resolution);
              saveMap(*mapFor("sim:omega", "", grid), c.map_path + ".partial");
            },
            "earlier")},
@@ -231,9 +270,9 @@ std::vector<Refusal> everyRefusal() {
       {"dither periods per window", "EstimationParameters::dither_periods_per_window",
        estimating([](P& p) { p.dither_periods_per_window = 0; }, dither)},
       {"k0 at Check", "EstimationParameters::k0_n_per_m",
-       checking([](WizardConfig& c) { c.parameters.k0_n_per_m = 0.0; })},
+       checking([](WizardConfig& c) { c.advanced.parameters.k0_n_per_m = 0.0; })},
       {"alpha at Check", "EstimationParameters::alpha_per_s",
-       checking([](WizardConfig& c) { c.parameters.alpha_per_s = -5.0; })},
+       checking([](WizardConfig& c) { c.advanced.parameters.alpha_per_s = -5.0; })},
       {"convergence check", "EstimationParameters::beta_per_s2",
        [] { return checkConvergence(50.0, 1.0, 100.0).message; }},
       {"saturation check", "EstimationParameters::beta_per_s2",

@@ -111,7 +111,7 @@ TEST(DeviceFaultTest, StopsAnsweringMidVertex) {
   const TestFolder folder;
   const FaultyRun run = runWithScript(folder, [](const AutoCalibrator& c, sim::SimulatedDevice& d) {
     if (!afterThreeVertices(c) || c.state() != AutoCalibrator::Status::kEstimating ||
-        c.estimator().iteration() < 2) {
+        c.iteration() < 2) {
       return false;
     }
     d.injectFault(sim::DeviceFault::kStopsAnswering);
@@ -146,7 +146,7 @@ FaultyRun runWithNanBurst(const TestFolder& folder, int ticks) {
   return runWithScript(folder, [&left, ticks](const AutoCalibrator& c, sim::SimulatedDevice& d) {
     if (left > 0 && --left == 0) d.injectFault(sim::DeviceFault::kNone);
     if (left >= 0 || !afterThreeVertices(c) || c.state() != AutoCalibrator::Status::kEstimating ||
-        c.estimator().iteration() < 2) {
+        c.iteration() < 2) {
       return false;
     }
     d.injectFault(sim::DeviceFault::kNanPosition);
@@ -211,12 +211,12 @@ struct WizardRun {
 
   explicit WizardRun(const std::string& map_path) {
     WizardConfig config;
-    config.grid_center_m = simulated->workspaceCenter_m();
-    config.grid_size_m = Eigen::Vector3d::Constant(0.04);
+    config.centre_m = simulated->workspaceCenter_m();
+    config.advanced.box_size_m = Eigen::Vector3d::Constant(0.04);
     config.grid_resolution = Eigen::Vector3i::Constant(2);
     config.map_path = map_path;
     config.verify_points = 3;
-    config.explore = false;  // the faults of the grid run on this box
+    config.advanced.explore = false;  // the faults of the grid run on this box
     wizard = std::make_unique<CalibrationWizard>(device, config);
   }
 

@@ -93,7 +93,6 @@ if(at EQUAL -1)
 endif()
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/cmake_consumer")
 run("${WORK_DIR}/cmake_consumer/consumer")
-run("${WORK_DIR}/cmake_consumer/consumer_old_paths")
 message(STATUS "find_package(autograv) consumer built against the package and ran")
 
 # 2. pkg-config: the scratch root as a sysroot (PKG_CONFIG_SYSROOT_DIR prefixes the package's /usr

@@ -6,11 +6,11 @@
 
 #include "autograv/error.h"
 #include "autograv/estimation/pd_design.h"
-#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/workspace_grid.h"
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/point_mass_device.h"
 #include "autograv/sim/procedures.h"
+#include "core/estimation/vertex_estimator.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {

@@ -9,9 +9,9 @@
 #include "autograv/error.h"
 #include "autograv/maintenance/map_check.h"
 #include "autograv/maintenance/retare.h"
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/simulated_device.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {

@@ -13,11 +13,11 @@
 #include "allocation_counter.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
-#include "autograv/estimation/vertex_estimator.h"
-#include "autograv/sim/experiments.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_device.h"
+#include "core/estimation/vertex_estimator.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {

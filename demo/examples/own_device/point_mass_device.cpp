@@ -65,8 +65,8 @@ bool PointMassDevice::getLinearVelocity(Eigen::Vector3d& velocity_m_per_s) {
   return true;
 }
 
-bool PointMassDevice::getUserSwitch(int /*index*/, bool& pressed) {
-  pressed = false;  // the example confirms with WizardEvent::kConfirm, not the stylus button
+bool PointMassDevice::getUserSwitch(int index, bool& pressed) {
+  pressed = index == 0 && button_.load(std::memory_order_relaxed);
   return open_;
 }
 

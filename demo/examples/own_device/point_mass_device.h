@@ -19,7 +19,7 @@ namespace example {
 /// runs as fast as the servo loop ticks it, in simulated time.
 ///
 /// Threads: the servo thread calls the HapticDevice methods; any thread may move the hand
-/// (grab, moveHandTo, release), through atomics.
+/// (grab, moveHandTo, release) and press the stylus button (setButton), through atomics.
 class PointMassDevice final : public autograv::HapticDevice {
  public:
   /// `servo_period_s`: the time one setForce() advances. Unit: [s]
@@ -47,6 +47,9 @@ class PointMassDevice final : public autograv::HapticDevice {
   bool handHolding() const { return hand_holding_.load(); }
   /// True when the hand holds the end-effector within 1 mm of its target.
   bool handArrived() const { return hand_arrived_.load(); }
+  /// Presses (true) or lets up (false) the stylus button, user switch 0.
+  void setButton(bool pressed) { button_.store(pressed); }
+  bool buttonPressed() const { return button_.load(); }
 
   /// Puts the end-effector at rest at `position_m` (between runs, with no servo loop running).
   void placeAt(const Eigen::Vector3d& position_m);
@@ -67,6 +70,7 @@ class PointMassDevice final : public autograv::HapticDevice {
   // Set by the hand's thread, read by the servo thread.
   std::atomic<bool> hand_holding_{false};
   std::atomic<bool> hand_arrived_{false};
+  std::atomic<bool> button_{false};
   std::atomic<double> target_x_{0.0}, target_y_{0.0}, target_z_{0.0};
   std::atomic<double> time_s_{0.0};
 };

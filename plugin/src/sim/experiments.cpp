@@ -1,4 +1,4 @@
-#include "autograv/sim/experiments.h"
+#include "sim/experiments.h"
 
 #include <algorithm>
 #include <chrono>

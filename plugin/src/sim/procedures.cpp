@@ -10,9 +10,9 @@
 #include "autograv/error.h"
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/pd_design.h"
-#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/map_summary.h"
 #include "autograv/sim/paper_frame.h"
+#include "core/estimation/vertex_estimator.h"
 
 namespace autograv::sim {
 

@@ -1,4 +1,4 @@
-#include "autograv/estimation/steady_state_detector.h"
+#include "core/estimation/steady_state_detector.h"
 
 #include <cmath>
 

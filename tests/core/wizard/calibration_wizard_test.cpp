@@ -18,6 +18,9 @@
 #include <unistd.h>
 
 #include "allocation_counter.h"
+#include "autograv/device/device_specifications.h"
+#include "autograv/device/forwarding_device.h"
+#include "autograv/device/servo_clock.h"
 #include "autograv/error.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
@@ -112,7 +115,7 @@ struct Rig {
       sim::FrictionLevel friction = sim::FrictionLevel::kTypical) {
     device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice(name, seed, friction));
     if (!calibrated) device->setCalibrated(false);
-    config.grid_center_m = device->workspaceCenter_m();
+    config.centre_m = device->workspaceCenter_m();
     // Powered off, the end-effector rests away from the centre.
     device->resetState(device->workspaceCenter_m() + Eigen::Vector3d(0.01, -0.015, -0.02));
     wizard = std::make_unique<CalibrationWizard>(device, config);
@@ -171,11 +174,11 @@ struct Rig {
 
 WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double side_m = 0.04) {
   WizardConfig config;
-  config.grid_size_m = Eigen::Vector3d::Constant(side_m);
+  config.advanced.box_size_m = Eigen::Vector3d::Constant(side_m);
   config.grid_resolution = Eigen::Vector3i::Constant(resolution);
   config.map_path = map_path;
   config.verify_points = 1;  // one release test keeps the runs short; the full run tests three
-  config.explore = false;    // this box, every vertex where it is (the exploring runs below)
+  config.advanced.explore = false;  // this box, every vertex where it is (the exploring runs below)
   return config;
 }
 
@@ -281,10 +284,9 @@ TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
 TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path);
-  config.parameters.max_iterations = 5;  // some vertices fail: Review offers a redo
+  config.advanced.parameters.max_iterations = 5;  // some vertices fail: Review offers a redo
   // Every step, the exploration included (on this box: its vertices lie inside the workspace).
-  config.explore = true;
-  config.grid_from_workspace = false;
+  config.advanced.explore = true;  // and the box stays: measured inside the explored workspace
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kExplore, 30.0))
       << toString(rig.wizard->step()) << ": " << rig.wizard->status().message;
@@ -343,7 +345,7 @@ TEST(CalibrationWizardTest, ADeviceTheCallerOpenedIsNeitherReopenedNorHomedNorCl
   // still drives it while the wizard's Check runs on another thread.
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path);
-  config.device_already_open = true;
+  config.advanced.device_already_open = true;
   auto rig = std::make_unique<Rig>("sim:omega", config);
   ASSERT_TRUE(rig->device->open());
   rig->device->setCalibrated(false);  // so that a homing by the wizard would show
@@ -361,7 +363,7 @@ TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
   WizardConfig config = smallConfig(path, 4, 0.05);
   // With c = 200 N/m, convergence needs |G| >= 7 N, and holding 7 N plus the PD effort over a
   // 17 mm cell exceeds the 12 N of the device: no weight passes both checks.
-  config.parameters.lipschitz_prior_n_per_m = 200.0;
+  config.advanced.parameters.lipschitz_prior_n_per_m = 200.0;
   Rig rig("sim:omega", config);
   for (int i = 0; i < 3; ++i) rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
@@ -387,7 +389,8 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
   Rig rig("sim:omega", smallConfig(path, 3, 0.2));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
-  EXPECT_NE(rig.wizard->status().message.find("WizardConfig::grid_size_m"), std::string::npos)
+  EXPECT_NE(rig.wizard->status().message.find("WizardConfig::advanced.box_size_m"),
+            std::string::npos)
       << rig.wizard->status().message;
 }
 
@@ -396,8 +399,8 @@ TEST(CalibrationWizardTest, APlanThatCannotConvergeForThisDeviceIsRefusedAfterRe
   WizardConfig config = smallConfig(path, 2, 0.05);
   // beta |G| >= 2 c g holds for an end-effector above 3.9 N, not for this one's 2.1 N: only the
   // weight measured at the initialization can tell.
-  config.parameters.beta_per_s2 = 50.0;
-  config.parameters.alpha_per_s = 10.0;
+  config.advanced.parameters.beta_per_s2 = 50.0;
+  config.advanced.parameters.alpha_per_s = 10.0;
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kFault, 30.0)) << rig.wizard->status().message;
   const WizardStatus status = rig.wizard->status();
@@ -503,7 +506,8 @@ TEST(CalibrationWizardTest, AReleaseThatNeverSettlesIsReportedAndTheWizardWaits)
         hand.setTarget(rest_m + Eigen::Vector3d(0.0, 0.0, 1e-3 * std::sin(tremor_phase)));
         const WizardStatus status = rig.wizard->status();
         if (status.not_settling) {
-          EXPECT_GE(rig.device->time_s() - start_s, rig.wizard->config().release_patience_s);
+          EXPECT_GE(rig.device->time_s() - start_s,
+                    rig.wizard->config().advanced.release_patience_s);
           told |= status.message.find("has not settled") != std::string::npos &&
                   status.prompt.find("Let go") != std::string::npos;
         }
@@ -599,9 +603,9 @@ TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
   const std::string path = temporaryPath("map.json");
   WizardConfig config = smallConfig(path);
   // The paper's method with a tight cap: some vertices hit it.
-  config.parameters = EstimationParameters::paper();
-  config.parameters.k0_n_per_m = smallConfig(path).parameters.k0_n_per_m;
-  config.parameters.max_iterations = 5;
+  config.advanced.parameters = EstimationParameters::paper();
+  config.advanced.parameters.k0_n_per_m = smallConfig(path).advanced.parameters.k0_n_per_m;
+  config.advanced.parameters.max_iterations = 5;
   Rig rig("sim:omega", config);
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 300.0));
   rig.frame();
@@ -921,7 +925,7 @@ TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {
   const std::string path = temporaryPath("map.json");
   auto device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice("sim:omega", 5));
   WizardConfig config = smallConfig(path);
-  config.grid_center_m = device->workspaceCenter_m();
+  config.centre_m = device->workspaceCenter_m();
   CalibrationWizard wizard(device, config);
   std::atomic<bool> stop{false};
   std::size_t servo_allocations = 0;
@@ -934,7 +938,7 @@ TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {
       if (step == WizardStep::kCentre) {
         if (!hand.holding()) {
           hand.grab(device->truePosition_m());
-          hand.moveTo(config.grid_center_m, 0.05);
+          hand.moveTo(config.centre_m, 0.05);
         }
         ticks_at_goal = hand.atGoal() ? ticks_at_goal + 1 : 0;
         // Hold still half a second, then click the stylus button.
@@ -964,6 +968,83 @@ TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {
   ASSERT_EQ(wizard.step(), WizardStep::kDone) << wizard.status().message;
   EXPECT_TRUE(loadMap(path).isComplete());
   EXPECT_EQ(servo_allocations, 0u);
+}
+
+TEST(CalibrationWizardTest, ReadsItsClockOncePerTickForItselfAndItsCompensation) {
+  // A FixedPeriodServoClock advances on every reading. The wizard reads the run's clock once per
+  // tick and hands the reading to its compensation: read twice, such a clock would run at twice
+  // its rate for both.
+  const std::string path = temporaryPath("map.json");
+  WizardConfig config = smallConfig(path);
+  const auto clock = std::make_shared<FixedPeriodServoClock>(kPeriod);
+  config.clock = clock;
+  Rig rig("sim:omega", config);
+  rig.auto_hand = false;  // nobody carries it: the wizard waits in Centre, ticking
+  rig.wizard->service();
+  ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
+  constexpr int kFrames = 50;
+  for (int i = 0; i < kFrames; ++i) rig.frame();
+  constexpr double kTicks = kFrames * kTicksPerFrame;
+  EXPECT_NEAR(rig.wizard->status().time_s, kTicks * kPeriod, 1e-9);
+  EXPECT_NEAR(clock->now_s(), kTicks * kPeriod, 1e-9);  // the reading after kTicks readings
+}
+
+/// A driver as the wizard meets a real one: the HapticDevice interface and nothing behind it that
+/// the wizard or a front end could ask (no simulation), in front of a simulated device. It keeps
+/// its own figures of the forces it is sent, ticking an exact loop (one period per setForce).
+class ForceRecordingDriver final : public ForwardingDevice {
+ public:
+  explicit ForceRecordingDriver(std::shared_ptr<HapticDevice> inner)
+      : ForwardingDevice(std::move(inner)) {}
+  bool setForce(const Eigen::Vector3d& force_n) override {
+    const double norm_n = force_n.norm();
+    const DeviceSpecifications& specifications = inner().specifications();
+    peak_n = std::max(peak_n, norm_n);
+    if (norm_n > continuousForceRating_n(specifications)) above_continuous_s += kPeriod;
+    if (norm_n >= specifications.max_linear_force_n * (1.0 - 1e-9)) ++at_limit_ticks;
+    return ForwardingDevice::setForce(force_n);
+  }
+  double peak_n = 0.0;              ///< Unit: [N]
+  double above_continuous_s = 0.0;  ///< Unit: [s]
+  std::uint64_t at_limit_ticks = 0;
+};
+
+TEST(CalibrationWizardTest, ReportsTheForcesSentToADeviceWithNoSimulationBehindIt) {
+  const std::string path = temporaryPath("map.json");
+  const std::shared_ptr<sim::SimulatedDevice> simulated = sim::makeSimulatedDevice("sim:omni", 1);
+  const auto driver = std::make_shared<ForceRecordingDriver>(simulated);
+  WizardConfig config = smallConfig(path, 2, 0.03);
+  config.centre_m = simulated->workspaceCenter_m();
+  CalibrationWizard wizard(driver, config);
+  sim::ScriptedWizardUser user(*simulated);
+  // The simulator's own account of what its actuators delivered, for comparison.
+  const double rating_n = continuousForceRating_n(simulated->specifications());
+  double applied_above_continuous_s = 0.0;
+  while (!wizard.finished() && simulated->time_s() < 300.0) {
+    const WizardStatus now = wizard.status();
+    user.update(now);
+    if (now.step == WizardStep::kReview && now.review_valid) wizard.post(WizardEvent::kConfirm);
+    for (int i = 0; i < kTicksPerFrame; ++i) {
+      wizard.servoTick();
+      simulated->advance(kPeriod);
+      if (simulated->appliedForce_n().norm() > rating_n) applied_above_continuous_s += kPeriod;
+    }
+    wizard.service();
+  }
+  const WizardStatus status = wizard.status();
+  ASSERT_EQ(status.step, WizardStep::kDone) << status.message;
+  const WizardForces& force = status.force;
+  EXPECT_EQ(force.continuous_rating_n, rating_n);
+  EXPECT_EQ(force.limit_n, simulated->specifications().max_linear_force_n);
+  EXPECT_GT(force.peak_n, rating_n);  // this run goes above the Omni's 0.88 N, briefly
+  // What the driver was sent, tick by tick: the wizard's figures are those.
+  EXPECT_EQ(force.peak_n, driver->peak_n);
+  EXPECT_NEAR(force.above_continuous_s, driver->above_continuous_s, 1e-9);
+  EXPECT_EQ(force.at_limit_ticks, driver->at_limit_ticks);
+  // Sent and delivered are not the same (the simulated actuators deliver within their
+  // tolerances): both are recorded, the wizard reports what it sent.
+  RecordProperty("sent_above_continuous_s", std::to_string(force.above_continuous_s));
+  RecordProperty("applied_above_continuous_s", std::to_string(applied_above_continuous_s));
 }
 
 TEST(CalibrationWizardTest, RejectsAConfigurationWithoutAMapPath) {

@@ -2,15 +2,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
-#include "autograv/estimation/impedance_hold.h"
-#include "autograv/estimation/minimum_jerk_move.h"
-#include "autograv/estimation/vertex_estimator.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_grid.h"
@@ -18,8 +16,12 @@
 namespace autograv {
 
 /// The outer loop of the off-line autocalibration (paper Sections I and III, eqs. 9 and 13): visit
-/// every grid vertex on a smooth path, run the VertexEstimator there, carry the estimate on to the
-/// next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and skipped.
+/// every grid vertex on a smooth path, run the inner loop (eqs. 10-12) there, carry the estimate on
+/// to the next vertex. Stepped once per servo tick; never blocks. Failed vertices are marked and
+/// skipped.
+///
+/// Its state lives in a private Impl that the constructor allocates whole (the inner loop at one
+/// vertex, the moves, every vertex's history), so that nothing on the servo path allocates.
 class AutoCalibrator {
  public:
   /// What step() did on this tick.
@@ -96,12 +98,12 @@ class AutoCalibrator {
   static constexpr int kFitReachCells = 2;
   /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
   static constexpr double kMassUncertainty = 3.0;
-  /// When a stop holds the end-effector short of a measurement point
-  /// (VertexEstimator::stopContact), the point moves this far back from where the stop held it,
+  /// When a stop holds the end-effector short of a measurement point (the force grows, the
+  /// position does not follow), the point moves this far back from where the stop held it,
   /// away from the stop, and the vertex is measured there; once per vertex. Unit: [m]
   static constexpr double kStopRetreat_m = 0.004;
   /// Measurement points moved back from a stop so far in this run. Real-time safe.
-  int stopRetreats() const noexcept { return stop_retreats_; }
+  int stopRetreats() const noexcept;
 
   /// Allocates everything the run needs. Throws autograv::Error on bad parameters.
   /// Not real-time safe.
@@ -111,6 +113,11 @@ class AutoCalibrator {
   AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
                  double max_force_n)
       : AutoCalibrator(grid, parameters, max_force_n, Options()) {}
+  ~AutoCalibrator();
+  /// Moves the run; the moved-from calibrator may only be destroyed or assigned to.
+  AutoCalibrator(AutoCalibrator&&) noexcept;
+  /// Moves the run; the moved-from calibrator may only be destroyed or assigned to.
+  AutoCalibrator& operator=(AutoCalibrator&&) noexcept;
 
   /// Keeps the finished vertices of an earlier run (a checkpoint: converged or unreachable) and
   /// visits only the others.
@@ -126,9 +133,7 @@ class AutoCalibrator {
   /// match the grid. Not real-time safe.
   void setPlan(const MeasurementPlan& plan);
   /// Where vertex `index` is measured: the vertex, or the plan's point. Real-time safe. Unit: [m]
-  const Eigen::Vector3d& measurementPoint_m(int index) const noexcept {
-    return targets_[static_cast<std::size_t>(index)];
-  }
+  const Eigen::Vector3d& measurementPoint_m(int index) const noexcept;
 
   /// Starts from the end-effector at `position_m` with the estimate `initial_gravity_n` (G_hat_0
   /// from the manual initialization, eq. 7). Real-time safe.
@@ -145,75 +150,43 @@ class AutoCalibrator {
   void abort() noexcept;
 
   /// What the calibrator is doing now (never kVertexFinished, which step() reports once).
-  Status state() const noexcept { return state_; }
+  /// Real-time safe.
+  Status state() const noexcept;
   /// Vertices of the grid. Real-time safe.
-  int vertexCount() const noexcept { return grid_.vertexCount(); }
-  /// Vertices this run has to visit, and how many of them are done.
-  int toVisitCount() const noexcept { return static_cast<int>(order_.size()); }
+  int vertexCount() const noexcept;
+  /// Vertices this run has to visit. Real-time safe.
+  int toVisitCount() const noexcept;
   /// Vertices visited so far (the one in progress not counted). Real-time safe.
-  int visitedCount() const noexcept { return static_cast<int>(next_in_order_) - (active_ ? 1 : 0); }
-  /// Grid index of the vertex being approached or estimated; -1 when none.
-  int currentVertex() const noexcept { return current_vertex_; }
-  /// Grid index of the vertex finished most recently; -1 before the first.
-  int lastFinishedVertex() const noexcept { return last_finished_vertex_; }
-  /// The inner loop at the current vertex. Real-time safe.
-  const VertexEstimator& estimator() const noexcept { return estimator_; }
+  int visitedCount() const noexcept;
+  /// Grid index of the vertex being approached or estimated; -1 when none. Real-time safe.
+  int currentVertex() const noexcept;
+  /// Grid index of the vertex finished most recently; -1 before the first. Real-time safe.
+  int lastFinishedVertex() const noexcept;
+  /// Iteration in progress at the current vertex (0-based), i.e. the updates of eq. (12) made
+  /// there so far. Real-time safe.
+  int iteration() const noexcept;
+  /// Most recent ||Delta_j|| at the current vertex (eq. 12's position error), NaN before its
+  /// first update. Real-time safe. Unit: [m]
+  double lastPositionError_m() const noexcept;
   /// Every vertex's estimate so far, by grid index. Real-time safe.
-  const std::vector<VertexEstimate>& vertices() const noexcept { return vertices_; }
+  const std::vector<VertexEstimate>& vertices() const noexcept;
   /// The grid being calibrated. Real-time safe.
-  const WorkspaceGrid& grid() const noexcept { return grid_; }
-  /// Servo time since start(). Unit: [s]
-  double elapsed_s() const noexcept { return elapsed_periods_ * parameters_.servo_period_s; }
+  const WorkspaceGrid& grid() const noexcept;
+  /// Servo time since start(). Real-time safe. Unit: [s]
+  double elapsed_s() const noexcept;
   /// Largest |G_hat(X_a) - G_hat(X_b)| / |X_a - X_b| over converged neighbours so far: the
-  /// paper's constant c measured on the data. Unit: [N/m]
-  double lipschitzEstimate_n_per_m() const noexcept { return lipschitz_n_per_m_; }
-  /// Largest commanded force so far, after clamping. Unit: [N]
-  double peakForce_n() const noexcept { return peak_force_n_; }
+  /// paper's constant c measured on the data. Real-time safe. Unit: [N/m]
+  double lipschitzEstimate_n_per_m() const noexcept;
+  /// Largest commanded force so far, after clamping. Real-time safe. Unit: [N]
+  double peakForce_n() const noexcept;
 
   /// The map of everything estimated so far, unreachable vertices filled from the converged ones
   /// (fillUnreachableVertices). Not real-time safe.
   GravityMap makeMap(const MapMetadata& metadata) const;
 
  private:
-  void beginMove(const Eigen::Vector3d& from_m) noexcept;
-  void beginNextVertex(const Eigen::Vector3d& from_m) noexcept;
-  Eigen::Vector3d initialEstimateFor(int vertex) const noexcept;
-  // The affine fit of initialEstimateFor; false when too few measurements are near or the fit
-  // is not to be trusted.
-  bool fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept;
-  void recordFinished() noexcept;
-  Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
-
-  WorkspaceGrid grid_;
-  std::vector<Eigen::Vector3d> targets_;  // per vertex: where it is measured
-  ExploredWorkspace workspace_;           // where the plan's points lie; empty: unknown
-  std::vector<bool> met_stop_;            // per vertex: its point was moved back from a stop
-  EstimationParameters parameters_;
-  double max_force_n_;
-  Options options_;
-  ImpedanceHold hold_;  // the moves' and holds' law, with the estimator's floor
-  double max_invalid_periods_;
-  VertexEstimator estimator_;
-  bool retreated_ = false;  // the current vertex's point was moved back from a stop
-  int stop_retreats_ = 0;
-  MinimumJerkMove move_;
-  std::vector<VertexEstimate> vertices_;
-  std::vector<int> order_;
-  std::size_t next_in_order_ = 0;
-  Status state_ = Status::kIdle;
-  Status state_before_pause_ = Status::kIdle;
-  bool active_ = false;  // a vertex of order_ is being approached or estimated
-  int current_vertex_ = -1;
-  int previous_vertex_ = -1;
-  int last_finished_vertex_ = -1;
-  double elapsed_periods_ = 0.0;  // servo time since start(), in nominal periods
-  double move_periods_ = 0.0;     // servo time since the current move began
-  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // feedforward carried between vertices
-  Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
-  double invalid_periods_ = 0.0;  // servo time of consecutive bad samples
-  double lipschitz_n_per_m_ = 0.0;
-  double peak_force_n_ = 0.0;
+  struct Impl;  // the run's state (plugin/src/core/estimation/auto_calibrator.cpp)
+  std::unique_ptr<Impl> impl_;
 };
 
 const char* toString(AutoCalibrator::Status status) noexcept;

@@ -21,9 +21,9 @@ inline double apparentMass_kg(const Eigen::Vector3d& gravity_n, double min_gravi
 /// its force here, so the law is written once.
 ///
 /// Constraint (6) needs |G| > 0: the apparent mass has an explicit floor, passed by each user
-/// (VertexEstimator::kMinGravityN for the estimator, the calibrator and the wizard; the
-/// real-time demo's handover keeps its own 0.02 N): each part keeps the floor it always had, so
-/// no figure moves. Every member is real-time safe.
+/// (0.01 N for the estimator, the calibrator and the wizard; the real-time demo's handover keeps
+/// its own 0.02 N): each part keeps the floor it always had, so no figure moves. Every member is
+/// real-time safe.
 struct ImpedanceHold {
   /// Closed-loop stiffness. Unit: [1/s^2]
   double beta_per_s2 = 0.0;

@@ -1,7 +1,7 @@
 #pragma once
 
-#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,7 +10,6 @@
 #include "autograv/device/device_specifications.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
-#include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/map/explored_workspace.h"
 
 namespace autograv {
@@ -26,6 +25,7 @@ namespace autograv {
 /// force. After these radial probes, a second set of directions refines the boundary between
 /// their stops: each of those probes starts just inside the boundary the first ones found, so it
 /// covers a centimetre or so instead of half the reach. Stepped once per servo tick; never blocks.
+/// Its state lives in a private Impl that the constructor allocates whole.
 class WorkspaceExplorer {
  public:
   /// What the explorer is doing.
@@ -104,6 +104,11 @@ class WorkspaceExplorer {
   WorkspaceExplorer(const EstimationParameters& parameters,
                     const DeviceSpecifications& specifications)
       : WorkspaceExplorer(parameters, specifications, Options()) {}
+  ~WorkspaceExplorer();
+  /// Moves the exploration; the moved-from explorer may only be destroyed or assigned to.
+  WorkspaceExplorer(WorkspaceExplorer&&) noexcept;
+  /// Moves the exploration; the moved-from explorer may only be destroyed or assigned to.
+  WorkspaceExplorer& operator=(WorkspaceExplorer&&) noexcept;
 
   /// Starts from the end-effector at rest at `center_m` (the initialization's X0), held with the
   /// estimate `gravity_n` (G_hat_0). Real-time safe.
@@ -113,85 +118,46 @@ class WorkspaceExplorer {
   /// Stops probing; keeps holding the end-effector where it is. Real-time safe.
   void abort() noexcept;
 
-  /// What the explorer is doing now.
-  Status state() const noexcept { return state_; }
-  /// Directions to probe in all: the radial ones first, then the boundary ones.
-  int directionCount() const noexcept { return static_cast<int>(directions_.size()); }
+  /// What the explorer is doing now. Real-time safe.
+  Status state() const noexcept;
+  /// Directions to probe in all: the radial ones first, then the boundary ones. Real-time safe.
+  int directionCount() const noexcept;
   /// Every direction in the order probed (unit vectors), reach_m() in the same order.
-  const std::vector<Eigen::Vector3d>& directions() const noexcept { return directions_; }
+  /// Real-time safe.
+  const std::vector<Eigen::Vector3d>& directions() const noexcept;
   /// How many of directions() are probed from near the centre (Options::directions); the rest
-  /// start near the boundary those found.
-  int radialDirectionCount() const noexcept { return radial_count_; }
-  /// Directions finished so far.
-  int probedCount() const noexcept { return probed_; }
-  /// Servo time since start(). Unit: [s]
-  double elapsed_s() const noexcept { return elapsed_s_; }
-  /// The gravity estimate carried by the probe now (it follows the end-effector). Unit: [N]
-  const Eigen::Vector3d& gravity_n() const noexcept { return gravity_n_; }
-  /// Where the probe target is now. Unit: [m]
-  const Eigen::Vector3d& target_m() const noexcept { return target_m_; }
-  /// The probe force cap beyond the gravity estimate, and the contact threshold. Unit: [N]
-  double probeForceCap_n() const noexcept { return force_cap_n_; }
-  /// The probe effort that, with the end-effector not following, means a stop. Unit: [N]
-  double contactForce_n() const noexcept { return contact_force_n_; }
-  /// Reach found so far along each direction (0 for those not probed yet). Unit: [m]
-  const std::vector<double>& reach_m() const noexcept { return reach_m_; }
-  /// Longest time from the end-effector's last forward progress to a recognised stop. Unit: [s]
-  double longestRecognition_s() const noexcept { return longest_recognition_s_; }
-  /// Directions along which no stop was met within max_reach_m.
-  int openDirections() const noexcept { return open_directions_; }
+  /// start near the boundary those found. Real-time safe.
+  int radialDirectionCount() const noexcept;
+  /// Directions finished so far. Real-time safe.
+  int probedCount() const noexcept;
+  /// Servo time since start(). Real-time safe. Unit: [s]
+  double elapsed_s() const noexcept;
+  /// The gravity estimate carried by the probe now (it follows the end-effector). Real-time
+  /// safe. Unit: [N]
+  const Eigen::Vector3d& gravity_n() const noexcept;
+  /// Where the probe target is now. Real-time safe. Unit: [m]
+  const Eigen::Vector3d& target_m() const noexcept;
+  /// The probe force cap beyond the gravity estimate. Real-time safe. Unit: [N]
+  double probeForceCap_n() const noexcept;
+  /// The probe effort that, with the end-effector not following, means a stop. Real-time safe.
+  /// Unit: [N]
+  double contactForce_n() const noexcept;
+  /// Reach found so far along each direction (0 for those not probed yet). Real-time safe.
+  /// Unit: [m]
+  const std::vector<double>& reach_m() const noexcept;
+  /// Longest time from the end-effector's last forward progress to a recognised stop.
+  /// Real-time safe. Unit: [s]
+  double longestRecognition_s() const noexcept;
+  /// Directions along which no stop was met within max_reach_m. Real-time safe.
+  int openDirections() const noexcept;
 
   /// The explored workspace; valid once state() is kFinished. Throws autograv::Error before.
   /// Not real-time safe.
   ExploredWorkspace workspace() const;
 
  private:
-  /// Appends the boundary directions of a `count`-direction spread and their enclosures.
-  void addBoundaryDirections(int count);
-  void beginTransfer(const Eigen::Vector3d& from_m) noexcept;
-  /// Where the probe along direction `index` starts, from the centre. Unit: [m]
-  double probeStart_m(int index) const noexcept;
-  void finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept;
-  Eigen::Vector3d impedanceForce(const ServoSample& sample, const Eigen::Vector3d& target_m,
-                                 const Eigen::Vector3d& target_velocity, bool adapt) noexcept;
-
-  EstimationParameters parameters_;
-  double period_s_;
-  double max_force_n_;
-  Options options_;
-  double contact_force_n_ = 0.0;
-  double force_cap_n_ = 0.0;
-  bool followed_since_start_ = false;  // the end-effector has kept up since this probe began
-  std::vector<Eigen::Vector3d> directions_;
-  std::vector<double> reach_m_;
-  int radial_count_ = 0;
-  /// Per boundary direction: the triangle of radial directions around it and its weights on
-  /// their corners (direction = sum of weight times corner direction), so that the boundary the
-  /// radial stops make along it is 1 / sum(weight / reach) without allocating.
-  struct Enclosure {
-    std::array<int, 3> corner{};
-    Eigen::Vector3d weight = Eigen::Vector3d::Zero();
-  };
-  std::vector<Enclosure> enclosures_;
-  Status state_ = Status::kIdle;
-  MinimumJerkMove move_;
-  double elapsed_s_ = 0.0;  // servo time since start(), from the samples' intervals
-  double phase_s_ = 0.0;    // servo time since the current move or probe began
-  double dt_s_ = 0.0;       // this tick's interval
-  int current_ = 0;
-  int probed_ = 0;
-  int open_directions_ = 0;
-  double invalid_s_ = 0.0;  // servo time the readings have been invalid
-  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d probe_start_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d filtered_velocity_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
-  double last_progress_s_ = 0.0;  // servo time of the last tick the end-effector kept up
-  Eigen::Vector3d last_following_m_ = Eigen::Vector3d::Zero();  // and where it was then
-  double contact_since_s_ = -1.0;
-  double longest_recognition_s_ = 0.0;
+  struct Impl;  // the exploration's state (plugin/src/core/estimation/workspace_explorer.cpp)
+  std::unique_ptr<Impl> impl_;
 };
 
 const char* toString(WorkspaceExplorer::Status status) noexcept;

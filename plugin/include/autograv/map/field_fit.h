@@ -116,7 +116,7 @@ std::vector<Eigen::Vector3d> leaveOneOutResiduals_n(const std::vector<Eigen::Vec
 
 /// One candidate model's leave-one-out residuals, over |G| at each measurement.
 struct FieldModelScore {
-  FieldModel model = FieldModel::kConservative;
+  FieldModel model = FieldModel::kConservative;  ///< The candidate.
   double curl_weight = 0.0;  ///< The fit's curl weight (the corrected model's chosen one).
   double median_rel = 0.0;   ///< Median of |residual| / |G|.
   double p90_rel = 0.0;      ///< 90th percentile.
@@ -125,7 +125,7 @@ struct FieldModelScore {
 
 /// The model chooseFieldModel keeps, and every candidate's score.
 struct FieldModelChoice {
-  FieldModel model = FieldModel::kConservative;
+  FieldModel model = FieldModel::kConservative;  ///< The model kept.
   double curl_weight = 0.0;  ///< Of the kept model.
   /// The conservative, componentwise and corrected candidates, in that order.
   std::vector<FieldModelScore> scores;

@@ -60,10 +60,10 @@ struct EstimationParameters {
   double lipschitz_prior_n_per_m = 10.0;
 
   // Dither method only (kDither).
-  /// Amplitude of the dither force on each axis; 0 picks it at each vertex
-  /// (VertexEstimator::automaticDitherAmplitude_n): kAutoDitherFraction of the device's maximum
-  /// force, above the breakaway force of the devices we model, lowered to keep G_hat plus the
-  /// dither within the continuous force rating, but not below kMinAutoDither_n. Unit: [N]
+  /// Amplitude of the dither force on each axis; 0 lets the inner loop pick it at each vertex:
+  /// kAutoDitherFraction of the device's maximum force, above the breakaway force of the devices
+  /// we model, lowered to keep G_hat plus the dither within the continuous force rating, but not
+  /// below kMinAutoDither_n. Unit: [N]
   double dither_amplitude_n = 0.0;
   /// Base frequency: x and y are driven in quadrature at f, z at 3f (odd harmonics only, so the
   /// force and hence the motion are half-wave symmetric and the friction cancels). Well above the

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 /// \file
-/// What the inner loop leaves at one vertex (VertexEstimator writes it, GravityMap keeps it):
+/// What the inner loop leaves at one vertex (the estimation writes it, GravityMap keeps it):
 /// below both the estimation and the map, so that neither includes the other's folder.
 
 namespace autograv {

@@ -21,9 +21,9 @@ std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_
 
 /// The guided calibration (paper Sec. III-A then III-B) as a state machine with no UI code:
 /// Check -> Centre -> Release -> Explore -> AutoCalibration -> Review -> Save -> Verify -> Done.
-/// Explore (WizardConfig::explore) finds the workspace from the device's own data; the grid is
-/// then fitted to it and measured inside it. A resumed run takes the grid and the workspace
-/// from its checkpoint and does not explore again.
+/// Explore finds the workspace from the device's own data; the grid is then fitted to it and
+/// measured inside it. A resumed run takes the grid and the workspace from its checkpoint and
+/// does not explore again. calibrate() (calibrate.h) runs the whole of it in one call.
 ///
 /// Two sides, so that the servo loop never blocks, allocates or touches a file:
 ///  - servoTick(), on the servo thread once per period: reads the device, steps the current
@@ -32,7 +32,8 @@ std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_
 ///    open/calibrate, the checks, checkpoint and map files, the review table, publishing the map
 ///    to the compensation. status() is read on that same thread.
 /// post() may be called from any thread. All I/O with the device goes through a
-/// GravityCompensatedDevice owned by the wizard (compensation off until Verify).
+/// GravityCompensatedDevice owned by the wizard (compensation off until Verify); it reads the
+/// servo time the wizard read from WizardConfig::clock on the same tick: one clock, read once.
 ///
 /// Checkpoints: after each finished vertex the servo side copies it into a mirror (a try-lock it
 /// never waits on) and service() writes the mirror to map_path + ".partial" with saveMap (atomic).
@@ -41,8 +42,9 @@ std::string servoLoopWarning(const ServoLoopStats::Summary& loop, double period_
 /// nothing on the servo path allocates.
 class CalibrationWizard {
  public:
-  /// Checks the configuration (grid, paths); the device is opened by the Check step, not here.
-  /// Throws autograv::Error. Not real-time safe.
+  /// Checks the configuration (grid, paths, and that every setting given is one this run uses);
+  /// the device is opened by the Check step, not here. Throws autograv::Error naming the field.
+  /// Not real-time safe.
   CalibrationWizard(std::shared_ptr<HapticDevice> device, WizardConfig config);
   /// Sends zero force and closes the device if the wizard opened it. The servo loop must have
   /// stopped. Not real-time safe.
@@ -81,8 +83,9 @@ class CalibrationWizard {
   /// The configuration of this run. Real-time safe.
   const WizardConfig& config() const noexcept;
   /// The grid of this run: when it is fitted to the explored workspace, known once Explore has
-  /// ended (or Check has read the checkpoint of a resumed run); the configured box before. Same
-  /// thread as service(). Not real-time safe.
+  /// ended (or Check has read the checkpoint of a resumed run); before, a box of the same
+  /// resolution about WizardConfig::centre_m that only sizes the buffers. Same thread as
+  /// service(). Not real-time safe.
   const WorkspaceGrid& grid() const noexcept;
   /// The explored workspace (empty until known). Same thread as service(). Not real-time safe.
   const ExploredWorkspace& workspace() const noexcept;

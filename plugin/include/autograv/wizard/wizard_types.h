@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,77 +61,94 @@ enum class CheckIssue : std::uint8_t {
   kSettings,           ///< Specifications, grid or parameters refused; change them and restart.
 };
 
-/// Settings of one wizard run. Set-up only.
-struct WizardConfig {
-  /// Where the user brings the end-effector for the initialization (Centre), and the centre of
-  /// the box grid when the grid is not fitted to the explored workspace. Unit: [m]
-  Eigen::Vector3d grid_center_m = Eigen::Vector3d::Zero();
-  /// Box extents x, y, z of the grid when it is not fitted to the explored workspace
-  /// (grid_from_workspace false, or explore false). Unit: [m]
-  Eigen::Vector3d grid_size_m = Eigen::Vector3d::Constant(0.06);
-  Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(5);  ///< Vertices along x, y, z.
-  /// After the initialization, explore the workspace from the device's own data
-  /// (WorkspaceExplorer: a soft probe that backs off from every stop) and measure only inside
-  /// what it reached (planMeasurements): no move and no hold targets a point beyond the stops.
-  /// False: every vertex of the box is visited where it is, as before exploration existed.
-  bool explore = true;
-  /// With explore: the grid is the box around the explored workspace (gridAroundWorkspace with
-  /// grid_resolution), as `autograv calibrate` makes it by default. False: the box
-  /// grid_center_m, grid_size_m, measured inside the explored workspace.
-  bool grid_from_workspace = true;
-  /// How the exploration probes.
-  WorkspaceExplorer::Options explorer;
-  /// An explored workspace is refused (Fault, before the grid run) when it is thinner than this
-  /// along an axis: something held the end-effector (a hand, an object, a wall). Unit: [m]
-  double min_workspace_extent_m = 0.02;
-  /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement), lowered on a
-  /// grid so fine that it would pass kMaxLookupVertices (lookupRefinementFor).
-  int lookup_refinement = kDefaultLookupRefinement;
-  /// How the saved map reads the field between its measurements (MapMetadata::field_model): by
-  /// default chosen from the measurements (FieldModel::kChoose); set one to force it.
-  FieldModel field_model = kDefaultFieldModel;
-  /// The estimation (paper Secs. II-III); the wizard checks them against the device at Check.
-  EstimationParameters parameters;
-  /// How the device travels between vertices.
-  AutoCalibrator::Options calibrator;
-  /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
-  /// `autograv calibrate`, so either command resumes the other's run.
-  std::string map_path;
-  /// Continue from the checkpoint: its finished vertices are kept bit for bit.
-  bool resume = false;
-  /// The caller opened and homed the device and may still be driving it from its servo thread
-  /// until the wizard's servo half takes over: the Check step then neither opens nor homes it
-  /// again (that would touch the driver from the service thread while the servo thread uses
-  /// it), it only reads the specifications.
-  bool device_already_open = false;
-  /// Centre is confirmed only this close to grid_center_m. Unit: [m]
-  double centre_tolerance_m = 0.01;
-  /// Fade-in time of the k0 field. Unit: [s]
-  double field_ramp_s = 0.3;
-  /// After the field is on, how long the end-effector may take to settle before the wizard says
-  /// that it does not (it keeps waiting). Unit: [s]
-  double release_patience_s = 4.0;
-  /// Vertices of the release test in Verify (0 skips Verify; at most kMaxVerifyPoints).
-  int verify_points = 3;
-  /// Hold at a verify vertex with compensation fully on before letting go. Unit: [s]
-  double verify_settle_s = 0.8;
-  /// Length of one release test. Unit: [s]
-  double verify_release_s = 0.5;
-  /// A release test stops early (and the device is caught) past this drift. Unit: [m]
-  double verify_drift_limit_m = 0.01;
-  /// Fade of the compensation when Verify switches it on. Unit: [s]
-  double compensation_ramp_s = 0.5;
-  /// Serial number written into the map; empty takes the device's.
-  std::string device_serial;
-  /// The servo loop's time base, read once per servoTick() by the wizard and by its compensation:
-  /// every duration of the calibration is servo time from it, and the review says how regular
-  /// the loop was. For a wall-clock loop give a SteadyServoClock; for a simulated loop the clock
-  /// that loop keeps. Null: a loop that ticks exactly every parameters.servo_period_s.
-  std::shared_ptr<ServoClock> clock;
-};
-
 /// Largest number of release tests in Verify.
 inline constexpr int kMaxVerifyPoints = 8;
+
+/// Settings of one wizard run. Set-up only. A value the run cannot use, and a setting it would
+/// not use, are refused with a message naming the field: by CalibrationWizard's constructor
+/// (autograv::Error), or by Check for what depends on the device or the checkpoint. No setting
+/// is silently ignored. The first fields are what a run usually sets; `advanced` holds the rest.
+struct WizardConfig {
+  /// Where Save writes the map. Checkpoints go to map_path + ".partial", the convention of
+  /// `autograv calibrate`, so either command resumes the other's run. Required.
+  std::string map_path;
+  /// Continue from the checkpoint map_path + ".partial": its finished vertices are kept bit for
+  /// bit, and so are its grid and its explored workspace (the workspace is not explored again).
+  bool resume = false;
+  /// Where the user brings the end-effector in Centre, to let go of it there: near the middle of
+  /// the workspace (CHAI3D devices report positions about the origin). The grid is fitted around
+  /// the workspace explored from there. Unit: [m]
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();
+  /// Vertices along x, y, z of the grid: the box around the explored workspace (or
+  /// advanced.box_size_m), each vertex measured where the end-effector can be.
+  Eigen::Vector3i grid_resolution = Eigen::Vector3i::Constant(5);
+  /// Release tests in Verify, with the saved map's compensation on (0 skips Verify; at most
+  /// kMaxVerifyPoints).
+  int verify_points = 3;
+  /// The servo loop's time base, read once per servoTick(): every duration of the calibration is
+  /// servo time from it, the wizard's compensation (GravityCompensatedDevice) is given the same
+  /// reading, and the review says how regular the loop was. For a loop paced by the wall clock
+  /// give a SteadyServoClock (calibrate() does); for a loop in simulated time its own clock.
+  /// Null: a loop that ticks exactly every advanced.parameters.servo_period_s.
+  std::shared_ptr<ServoClock> clock;
+
+  /// The settings a run rarely changes. Each names the part of the method it tunes.
+  struct Advanced {
+    /// The estimation (paper Secs. II-III): gains, thresholds, the dither, the nominal servo
+    /// period. The wizard checks them against the device at Check.
+    EstimationParameters parameters;
+    /// How the saved map reads the field between its measurements (MapMetadata::field_model): by
+    /// default chosen from the measurements (FieldModel::kChoose); set one to force it.
+    FieldModel field_model = kDefaultFieldModel;
+    /// Lookup refinement written into the saved map (MapMetadata::lookup_refinement), lowered on
+    /// a grid so fine that it would pass kMaxLookupVertices (lookupRefinementFor).
+    int lookup_refinement = kDefaultLookupRefinement;
+    /// Extents x, y, z of a box grid centred on centre_m, instead of the box around the explored
+    /// workspace. It is still measured only inside the explored workspace (vertices beyond the
+    /// stops are measured just inside them, or solved from the others). Empty: the grid is
+    /// fitted to the explored workspace. Unit: [m]
+    std::optional<Eigen::Vector3d> box_size_m;
+    /// After the initialization, explore the workspace from the device's own data
+    /// (WorkspaceExplorer: a soft probe that backs off from every stop) and measure only inside
+    /// what it reached (planMeasurements), so that no move or hold targets a point beyond the
+    /// stops. False needs box_size_m: every vertex of that box is visited where it is, which only
+    /// a box well inside the workspace allows.
+    bool explore = true;
+    /// How the exploration probes (only with explore, and not when a resumed checkpoint holds
+    /// its workspace).
+    WorkspaceExplorer::Options explorer;
+    /// An explored workspace is refused (Fault, before the grid run) when it is thinner than
+    /// this along an axis: something held the end-effector (a hand, an object, a wall). Only
+    /// with explore, as explorer. Unit: [m]
+    double min_workspace_extent_m = 0.02;
+    /// How the device travels between vertices and where each vertex starts.
+    AutoCalibrator::Options calibrator;
+    /// Centre is confirmed only this close to centre_m. Unit: [m]
+    double centre_tolerance_m = 0.01;
+    /// Fade-in time of the k0 field in Release. Unit: [s]
+    double field_ramp_s = 0.3;
+    /// After the field is on, how long the end-effector may take to settle before the wizard
+    /// says that it does not (it keeps waiting). Unit: [s]
+    double release_patience_s = 4.0;
+    /// Hold at a verify vertex with compensation fully on before letting go (only with
+    /// verify_points > 0). Unit: [s]
+    double verify_settle_s = 0.8;
+    /// Length of one release test (only with verify_points > 0). Unit: [s]
+    double verify_release_s = 0.5;
+    /// A release test stops early (and the device is caught) past this drift (only with
+    /// verify_points > 0). Unit: [m]
+    double verify_drift_limit_m = 0.01;
+    /// The caller opened and homed the device and may still be driving it from its servo thread
+    /// until the wizard's servo half takes over: the Check step then neither opens nor homes it
+    /// again (that would touch the driver from the service thread while the servo thread uses
+    /// it), it only reads the specifications.
+    bool device_already_open = false;
+    /// Serial number written into the map; empty takes the device's.
+    std::string device_serial;
+  };
+  /// The rest of the settings; the defaults suit every device we know.
+  Advanced advanced;
+};
 
 /// One release test of Verify.
 struct VerifyResult {
@@ -138,12 +156,13 @@ struct VerifyResult {
   int vertex = -1;
   /// End-effector displacement while only the compensation acted. Unit: [m]
   double drift_m = 0.0;
-  /// Duration of the test (shorter than verify_release_s when the drift limit was hit). Unit: [s]
+  /// Duration of the test (shorter than WizardConfig::Advanced::verify_release_s when the drift
+  /// limit was hit). Unit: [s]
   double duration_s = 0.0;
   /// Constant force that would cause that drift on the apparent mass |G_hat|/g from rest:
   /// 2 M d / t^2 (friction hides part of it). Unit: [N]
   double residual_force_n = 0.0;
-  /// True once the test ended (drift limit or verify_release_s).
+  /// True once the test ended (drift limit or WizardConfig::Advanced::verify_release_s).
   bool finished = false;
 };
 
@@ -194,6 +213,24 @@ struct WizardReview {
   int restored = 0;
 };
 
+/// What the device was made to deliver so far: figures from the forces the wizard sent to the
+/// device's driver (its own commands plus its compensation, after the force limit), so a real
+/// device reports them as a simulated one does. The driver may still saturate a motor of its
+/// own; a simulator knows that part too (sim::SimulatedDevice::saturationCount).
+struct WizardForces {
+  /// The device's continuous force rating the figures are judged against
+  /// (continuousForceRating_n of its specifications), known once Check passed. Unit: [N]
+  double continuous_rating_n = 0.0;
+  /// The device's force limit (DeviceSpecifications::max_linear_force_n). Unit: [N]
+  double limit_n = 0.0;
+  /// Largest force sent. Unit: [N]
+  double peak_n = 0.0;
+  /// Servo time during which the force sent was above continuous_rating_n. Unit: [s]
+  double above_continuous_s = 0.0;
+  /// Servo ticks whose force was at limit_n (the wizard or its compensation clamped it there).
+  std::uint64_t at_limit_ticks = 0;
+};
+
 /// Everything a front end shows, rebuilt by CalibrationWizard::status().
 struct WizardStatus {
   /// The current step.
@@ -233,10 +270,11 @@ struct WizardStatus {
   // Release.
   /// Where the manual initialization (eq. 7) stands.
   InitializationEstimator::Status release_status = InitializationEstimator::Status::kRampingIn;
-  double sag_m = 0.0;              ///< Unit: [m]
-  bool still_held = false;         ///< The estimator saw the hand carry the weight recently.
-  bool not_settling = false;       ///< Field on for release_patience_s and still no steady state.
-  double release_elapsed_s = 0.0;  ///< Unit: [s]
+  double sag_m = 0.0;       ///< Unit: [m]
+  bool still_held = false;  ///< The estimator saw the hand carry the weight recently.
+  /// Field on for WizardConfig::Advanced::release_patience_s and still no steady state.
+  bool not_settling = false;
+  double release_elapsed_s = 0.0;                               ///< Unit: [s]
   Eigen::Vector3d initial_gravity_n = Eigen::Vector3d::Zero();  ///< G_hat_0. Unit: [N]
   /// True once G_hat_0 is known.
   bool initial_gravity_valid = false;
@@ -306,6 +344,9 @@ struct WizardStatus {
 
   /// Aborted / Fault: what happened and what to do.
   std::string fault;
+
+  /// What the device was made to deliver so far, from the forces sent to it (any device).
+  WizardForces force;
 
   /// What the servo loop did so far (rate, lateness beyond the nominal period, longest gap).
   ServoLoopStats::Summary servo_loop;

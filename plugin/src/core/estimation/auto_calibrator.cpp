@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include <Eigen/Cholesky>
 
 #include "autograv/error.h"
+#include "autograv/estimation/impedance_hold.h"
 #include "autograv/map/vertex_fill.h"
+#include "core/estimation/minimum_jerk_move.h"
+#include "core/estimation/vertex_estimator.h"
 
 namespace autograv {
 
@@ -27,8 +31,64 @@ bool isSettled(const VertexEstimate& vertex) noexcept {
 constexpr double kMaxFitDeparture = 0.5;
 }  // namespace
 
-AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
-                               double max_force_n, const Options& options)
+/// Everything an AutoCalibrator keeps, allocated whole by its constructor.
+struct AutoCalibrator::Impl {
+  Impl(const WorkspaceGrid& grid, const EstimationParameters& parameters, double max_force_n,
+       const Options& options);
+
+  void restore(const std::vector<VertexEstimate>& vertices);
+  void visitOnly(const std::vector<int>& indices);
+  void setPlan(const MeasurementPlan& plan);
+  void start(const Eigen::Vector3d& position_m, const Eigen::Vector3d& initial_gravity_n) noexcept;
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+  void pause() noexcept;
+  void resume() noexcept;
+  void abort() noexcept;
+  GravityMap makeMap(const MapMetadata& metadata) const;
+
+  void beginMove(const Eigen::Vector3d& from_m) noexcept;
+  void beginNextVertex(const Eigen::Vector3d& from_m) noexcept;
+  Eigen::Vector3d initialEstimateFor(int vertex) const noexcept;
+  // The affine fit of initialEstimateFor; false when too few measurements are near or the fit
+  // is not to be trusted.
+  bool fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept;
+  void recordFinished() noexcept;
+  Eigen::Vector3d holdForce(const ServoSample& sample) const noexcept;
+
+  WorkspaceGrid grid_;
+  std::vector<Eigen::Vector3d> targets_;  // per vertex: where it is measured
+  ExploredWorkspace workspace_;           // where the plan's points lie; empty: unknown
+  std::vector<bool> met_stop_;            // per vertex: its point was moved back from a stop
+  EstimationParameters parameters_;
+  double max_force_n_;
+  Options options_;
+  ImpedanceHold hold_;  // the moves' and holds' law, with the estimator's floor
+  double max_invalid_periods_;
+  VertexEstimator estimator_;
+  bool retreated_ = false;  // the current vertex's point was moved back from a stop
+  int stop_retreats_ = 0;
+  MinimumJerkMove move_;
+  std::vector<VertexEstimate> vertices_;
+  std::vector<int> order_;
+  std::size_t next_in_order_ = 0;
+  Status state_ = Status::kIdle;
+  Status state_before_pause_ = Status::kIdle;
+  bool active_ = false;  // a vertex of order_ is being approached or estimated
+  int current_vertex_ = -1;
+  int previous_vertex_ = -1;
+  int last_finished_vertex_ = -1;
+  double elapsed_periods_ = 0.0;  // servo time since start(), in nominal periods
+  double move_periods_ = 0.0;     // servo time since the current move began
+  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();  // feedforward carried between vertices
+  Eigen::Vector3d hold_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double invalid_periods_ = 0.0;  // servo time of consecutive bad samples
+  double lipschitz_n_per_m_ = 0.0;
+  double peak_force_n_ = 0.0;
+};
+
+AutoCalibrator::Impl::Impl(const WorkspaceGrid& grid, const EstimationParameters& parameters,
+                           double max_force_n, const Options& options)
     : grid_(grid),
       parameters_(parameters),
       max_force_n_(max_force_n),
@@ -53,7 +113,7 @@ AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParame
   }
 }
 
-void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
+void AutoCalibrator::Impl::restore(const std::vector<VertexEstimate>& vertices) {
   if (vertices.size() != vertices_.size()) {
     std::ostringstream message;
     message << "auto-calibrator: checkpoint has " << vertices.size() << " vertices, the grid "
@@ -72,7 +132,7 @@ void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
   next_in_order_ = 0;
 }
 
-void AutoCalibrator::visitOnly(const std::vector<int>& indices) {
+void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices) {
   std::vector<bool> wanted(vertices_.size(), false);
   for (int index : indices) {
     if (index < 0 || index >= grid_.vertexCount()) {
@@ -91,7 +151,7 @@ void AutoCalibrator::visitOnly(const std::vector<int>& indices) {
   next_in_order_ = 0;
 }
 
-void AutoCalibrator::setPlan(const MeasurementPlan& plan) {
+void AutoCalibrator::Impl::setPlan(const MeasurementPlan& plan) {
   if (static_cast<int>(plan.points_m.size()) != grid_.vertexCount() ||
       plan.measure.size() != plan.points_m.size()) {
     std::ostringstream message;
@@ -117,8 +177,8 @@ void AutoCalibrator::setPlan(const MeasurementPlan& plan) {
   next_in_order_ = 0;
 }
 
-void AutoCalibrator::start(const Eigen::Vector3d& position_m,
-                           const Eigen::Vector3d& initial_gravity_n) noexcept {
+void AutoCalibrator::Impl::start(const Eigen::Vector3d& position_m,
+                                 const Eigen::Vector3d& initial_gravity_n) noexcept {
   gravity_n_ = initial_gravity_n;
   elapsed_periods_ = 0.0;
   invalid_periods_ = 0.0;
@@ -130,7 +190,7 @@ void AutoCalibrator::start(const Eigen::Vector3d& position_m,
   beginNextVertex(position_m);
 }
 
-void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
+void AutoCalibrator::Impl::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
   if (next_in_order_ >= order_.size()) {
     active_ = false;
     current_vertex_ = -1;
@@ -143,7 +203,7 @@ void AutoCalibrator::beginNextVertex(const Eigen::Vector3d& from_m) noexcept {
   beginMove(from_m);
 }
 
-void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
+void AutoCalibrator::Impl::beginMove(const Eigen::Vector3d& from_m) noexcept {
   const Eigen::Vector3d target_m = targets_[static_cast<std::size_t>(current_vertex_)];
   const double distance_m = (target_m - from_m).norm();
   // Without an explored workspace nothing says where the stops are, and a point moved back from
@@ -162,7 +222,7 @@ void AutoCalibrator::beginMove(const Eigen::Vector3d& from_m) noexcept {
   state_ = Status::kMoving;
 }
 
-bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept {
+bool AutoCalibrator::Impl::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) const noexcept {
   // The converged measurements nearest the point, among the vertices within kFitReachCells
   // cells (a bounded search, whatever the grid's size), closest first.
   const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(vertex)];
@@ -229,7 +289,7 @@ bool AutoCalibrator::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n) cons
   return true;
 }
 
-Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
+Eigen::Vector3d AutoCalibrator::Impl::initialEstimateFor(int vertex) const noexcept {
   // eq. (9): start from the estimate carried from the previous vertex.
   if (!options_.extrapolate_initial_estimate || previous_vertex_ < 0) return gravity_n_;
   Eigen::Vector3d fitted_n;
@@ -248,14 +308,14 @@ Eigen::Vector3d AutoCalibrator::initialEstimateFor(int vertex) const noexcept {
   return 2.0 * previous.gravity_n - before.gravity_n;
 }
 
-Eigen::Vector3d AutoCalibrator::holdForce(const ServoSample& sample) const noexcept {
+Eigen::Vector3d AutoCalibrator::Impl::holdForce(const ServoSample& sample) const noexcept {
   Eigen::Vector3d force_n =
       hold_.holdForce_n(hold_m_, sample, hold_.apparentMass_kg(gravity_n_), gravity_n_);
   clampForce(force_n, max_force_n_);
   return force_n;
 }
 
-void AutoCalibrator::recordFinished() noexcept {
+void AutoCalibrator::Impl::recordFinished() noexcept {
   const int index = current_vertex_;
   auto& slot = vertices_[static_cast<std::size_t>(index)];
   const VertexEstimate& result = estimator_.estimate();
@@ -299,8 +359,8 @@ void AutoCalibrator::recordFinished() noexcept {
   }
 }
 
-AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
-                                            Eigen::Vector3d& force_n) noexcept {
+AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
+                                                  Eigen::Vector3d& force_n) noexcept {
   const double periods = servoPeriodsOf(sample, parameters_.servo_period_s);
   elapsed_periods_ += periods;
   if (state_ == Status::kIdle || state_ == Status::kDeviceFault) {
@@ -392,27 +452,107 @@ AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
   return state_;
 }
 
-void AutoCalibrator::pause() noexcept {
+void AutoCalibrator::Impl::pause() noexcept {
   if (state_ != Status::kMoving && state_ != Status::kEstimating) return;
   state_before_pause_ = state_;
   state_ = Status::kPaused;
 }
 
-void AutoCalibrator::resume() noexcept {
+void AutoCalibrator::Impl::resume() noexcept {
   if (state_ != Status::kPaused) return;
   // Restart the interrupted move (or the approach to the interrupted vertex) from the hold point.
   beginMove(hold_m_);
 }
 
-void AutoCalibrator::abort() noexcept {
+void AutoCalibrator::Impl::abort() noexcept {
   if (state_ == Status::kIdle || state_ == Status::kDeviceFault) return;
   state_ = Status::kAborted;
 }
 
-GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
+GravityMap AutoCalibrator::Impl::makeMap(const MapMetadata& metadata) const {
   std::vector<VertexEstimate> vertices = vertices_;
   fillUnreachableVertices(grid_, vertices);
   return GravityMap(grid_, std::move(vertices), metadata);
+}
+
+// --- The public class: each call goes to the Impl ---------------------------------------------
+
+AutoCalibrator::AutoCalibrator(const WorkspaceGrid& grid, const EstimationParameters& parameters,
+                               double max_force_n, const Options& options)
+    : impl_(std::make_unique<Impl>(grid, parameters, max_force_n, options)) {}
+
+AutoCalibrator::~AutoCalibrator() = default;
+AutoCalibrator::AutoCalibrator(AutoCalibrator&&) noexcept = default;
+AutoCalibrator& AutoCalibrator::operator=(AutoCalibrator&&) noexcept = default;
+
+void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
+  impl_->restore(vertices);
+}
+
+void AutoCalibrator::visitOnly(const std::vector<int>& indices) { impl_->visitOnly(indices); }
+
+void AutoCalibrator::setPlan(const MeasurementPlan& plan) { impl_->setPlan(plan); }
+
+const Eigen::Vector3d& AutoCalibrator::measurementPoint_m(int index) const noexcept {
+  return impl_->targets_[static_cast<std::size_t>(index)];
+}
+
+void AutoCalibrator::start(const Eigen::Vector3d& position_m,
+                           const Eigen::Vector3d& initial_gravity_n) noexcept {
+  impl_->start(position_m, initial_gravity_n);
+}
+
+AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
+                                            Eigen::Vector3d& force_n) noexcept {
+  return impl_->step(sample, force_n);
+}
+
+void AutoCalibrator::pause() noexcept { impl_->pause(); }
+
+void AutoCalibrator::resume() noexcept { impl_->resume(); }
+
+void AutoCalibrator::abort() noexcept { impl_->abort(); }
+
+int AutoCalibrator::stopRetreats() const noexcept { return impl_->stop_retreats_; }
+
+AutoCalibrator::Status AutoCalibrator::state() const noexcept { return impl_->state_; }
+
+int AutoCalibrator::vertexCount() const noexcept { return impl_->grid_.vertexCount(); }
+
+int AutoCalibrator::toVisitCount() const noexcept { return static_cast<int>(impl_->order_.size()); }
+
+int AutoCalibrator::visitedCount() const noexcept {
+  return static_cast<int>(impl_->next_in_order_) - (impl_->active_ ? 1 : 0);
+}
+
+int AutoCalibrator::currentVertex() const noexcept { return impl_->current_vertex_; }
+
+int AutoCalibrator::lastFinishedVertex() const noexcept { return impl_->last_finished_vertex_; }
+
+int AutoCalibrator::iteration() const noexcept { return impl_->estimator_.iteration(); }
+
+double AutoCalibrator::lastPositionError_m() const noexcept {
+  return impl_->estimator_.lastPositionError_m();
+}
+
+const std::vector<VertexEstimate>& AutoCalibrator::vertices() const noexcept {
+  return impl_->vertices_;
+}
+
+const WorkspaceGrid& AutoCalibrator::grid() const noexcept { return impl_->grid_; }
+
+double AutoCalibrator::elapsed_s() const noexcept {
+  return impl_->elapsed_periods_ * impl_->parameters_.servo_period_s;
+}
+
+double AutoCalibrator::lipschitzEstimate_n_per_m() const noexcept {
+  return impl_->lipschitz_n_per_m_;
+}
+
+double AutoCalibrator::peakForce_n() const noexcept { return impl_->peak_force_n_; }
+
+GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
+  return impl_->makeMap(metadata);
 }
 
 const char* toString(AutoCalibrator::Status status) noexcept {

@@ -2,16 +2,39 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "autograv/device/servo_sample.h"
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
+#include "core/estimation/steady_state_detector.h"
 
 namespace autograv {
 
-InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
-                                                 double max_force_n, double ramp_s,
-                                                 double damping_n_s_per_m)
+/// Everything an InitializationEstimator keeps.
+struct InitializationEstimator::Impl {
+  Impl(const EstimationParameters& parameters, double max_force_n, double ramp_s,
+       double damping_n_s_per_m);
+  void start(const Eigen::Vector3d& center_m) noexcept;
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+
+  EstimationParameters parameters_;
+  double max_force_n_;
+  double damping_n_s_per_m_;
+  double ramp_periods_;           // fade-in time, in nominal servo periods
+  double max_invalid_periods_;    // bad samples tolerated, in nominal servo periods
+  double elapsed_periods_ = 0.0;  // servo time since start(), valid samples only
+  SteadyStateDetector detector_;
+  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d estimate_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double sag_m_ = 0.0;
+  double invalid_periods_ = 0.0;
+  bool done_ = false;
+};
+
+InitializationEstimator::Impl::Impl(const EstimationParameters& parameters, double max_force_n,
+                                    double ramp_s, double damping_n_s_per_m)
     : parameters_(parameters),
       max_force_n_(max_force_n),
       damping_n_s_per_m_(damping_n_s_per_m),
@@ -28,7 +51,7 @@ InitializationEstimator::InitializationEstimator(const EstimationParameters& par
   detector_.setWindowTolerance_m(0.25 * parameters.eps_g_n / parameters.k0_n_per_m);
 }
 
-void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
+void InitializationEstimator::Impl::start(const Eigen::Vector3d& center_m) noexcept {
   center_m_ = center_m;
   elapsed_periods_ = 0.0;
   done_ = false;
@@ -39,8 +62,8 @@ void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
   detector_.reset();
 }
 
-InitializationEstimator::Status InitializationEstimator::step(const ServoSample& sample,
-                                                              Eigen::Vector3d& force_n) noexcept {
+InitializationEstimator::Status InitializationEstimator::Impl::step(
+    const ServoSample& sample, Eigen::Vector3d& force_n) noexcept {
   const double periods = servoPeriodsOf(sample, parameters_.servo_period_s);
   if (!sample.valid) {
     force_n = last_force_n_;
@@ -76,5 +99,36 @@ InitializationEstimator::Status InitializationEstimator::step(const ServoSample&
   done_ = true;
   return Status::kDone;
 }
+
+// --- The public class: each call goes to the Impl ---------------------------------------------
+
+InitializationEstimator::InitializationEstimator(const EstimationParameters& parameters,
+                                                 double max_force_n, double ramp_s,
+                                                 double damping_n_s_per_m)
+    : impl_(std::make_unique<Impl>(parameters, max_force_n, ramp_s, damping_n_s_per_m)) {}
+
+InitializationEstimator::~InitializationEstimator() = default;
+InitializationEstimator::InitializationEstimator(InitializationEstimator&&) noexcept = default;
+InitializationEstimator& InitializationEstimator::operator=(InitializationEstimator&&) noexcept =
+    default;
+
+void InitializationEstimator::start(const Eigen::Vector3d& center_m) noexcept {
+  impl_->start(center_m);
+}
+
+InitializationEstimator::Status InitializationEstimator::step(const ServoSample& sample,
+                                                              Eigen::Vector3d& force_n) noexcept {
+  return impl_->step(sample, force_n);
+}
+
+const Eigen::Vector3d& InitializationEstimator::gravityEstimate_n() const noexcept {
+  return impl_->estimate_n_;
+}
+
+const Eigen::Vector3d& InitializationEstimator::center_m() const noexcept {
+  return impl_->center_m_;
+}
+
+double InitializationEstimator::sag_m() const noexcept { return impl_->sag_m_; }
 
 }  // namespace autograv

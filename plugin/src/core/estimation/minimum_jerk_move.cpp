@@ -1,4 +1,4 @@
-#include "autograv/estimation/minimum_jerk_move.h"
+#include "core/estimation/minimum_jerk_move.h"
 
 #include <algorithm>
 #include <cmath>

@@ -109,11 +109,11 @@ FeasibilityCheck checkSaturation(double beta_per_s2, double gravity_norm_n, doub
     const double max_cell_m = (limit_n - gravity_norm_n) / stiffness_n_per_m;
     const double max_beta =
         (limit_n - gravity_norm_n) * kStandardGravity / (gravity_norm_n * cell_m);
-    message
-        << "; use grid cells of at most " << max_cell_m * 1e3
-        << " mm (a smaller WizardConfig::grid_size_m or a larger WizardConfig::grid_resolution), "
-           "or lower EstimationParameters::beta_per_s2 to at most "
-        << std::floor(max_beta) << " 1/s^2";
+    message << "; use grid cells of at most " << max_cell_m * 1e3
+            << " mm (a larger WizardConfig::grid_resolution or a smaller "
+               "WizardConfig::advanced.box_size_m), "
+               "or lower EstimationParameters::beta_per_s2 to at most "
+            << std::floor(max_beta) << " 1/s^2";
   } else {
     message << "; the device cannot even hold its own weight at this margin";
   }

@@ -1,4 +1,4 @@
-#include "autograv/estimation/vertex_estimator.h"
+#include "core/estimation/vertex_estimator.h"
 
 #include <algorithm>
 #include <cmath>

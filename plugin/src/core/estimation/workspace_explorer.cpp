@@ -1,12 +1,15 @@
 #include "autograv/estimation/workspace_explorer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
+#include "core/estimation/minimum_jerk_move.h"
 
 namespace autograv {
 
@@ -29,9 +32,67 @@ constexpr double kMinReach_m = 1e-3;
 constexpr double kFarBehindLags = 3.0;
 }  // namespace
 
-WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
-                                     const DeviceSpecifications& specifications,
-                                     const Options& options)
+/// Everything a WorkspaceExplorer keeps, allocated whole by its constructor.
+struct WorkspaceExplorer::Impl {
+  Impl(const EstimationParameters& parameters, const DeviceSpecifications& specifications,
+       const Options& options);
+
+  void start(const Eigen::Vector3d& center_m, const Eigen::Vector3d& gravity_n) noexcept;
+  Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
+  void abort() noexcept;
+  ExploredWorkspace workspace() const;
+  int directionCount() const noexcept { return static_cast<int>(directions_.size()); }
+
+  /// Appends the boundary directions of a `count`-direction spread and their enclosures.
+  void addBoundaryDirections(int count);
+  void beginTransfer(const Eigen::Vector3d& from_m) noexcept;
+  /// Where the probe along direction `index` starts, from the centre. Unit: [m]
+  double probeStart_m(int index) const noexcept;
+  void finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept;
+  Eigen::Vector3d impedanceForce(const ServoSample& sample, const Eigen::Vector3d& target_m,
+                                 const Eigen::Vector3d& target_velocity, bool adapt) noexcept;
+
+  EstimationParameters parameters_;
+  double period_s_;
+  double max_force_n_;
+  Options options_;
+  double contact_force_n_ = 0.0;
+  double force_cap_n_ = 0.0;
+  bool followed_since_start_ = false;  // the end-effector has kept up since this probe began
+  std::vector<Eigen::Vector3d> directions_;
+  std::vector<double> reach_m_;
+  int radial_count_ = 0;
+  /// Per boundary direction: the triangle of radial directions around it and its weights on
+  /// their corners (direction = sum of weight times corner direction), so that the boundary the
+  /// radial stops make along it is 1 / sum(weight / reach) without allocating.
+  struct Enclosure {
+    std::array<int, 3> corner{};
+    Eigen::Vector3d weight = Eigen::Vector3d::Zero();
+  };
+  std::vector<Enclosure> enclosures_;
+  Status state_ = Status::kIdle;
+  MinimumJerkMove move_;
+  double elapsed_s_ = 0.0;  // servo time since start(), from the samples' intervals
+  double phase_s_ = 0.0;    // servo time since the current move or probe began
+  double dt_s_ = 0.0;       // this tick's interval
+  int current_ = 0;
+  int probed_ = 0;
+  int open_directions_ = 0;
+  double invalid_s_ = 0.0;  // servo time the readings have been invalid
+  Eigen::Vector3d center_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity_n_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d target_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d probe_start_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d filtered_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_force_n_ = Eigen::Vector3d::Zero();
+  double last_progress_s_ = 0.0;  // servo time of the last tick the end-effector kept up
+  Eigen::Vector3d last_following_m_ = Eigen::Vector3d::Zero();  // and where it was then
+  double contact_since_s_ = -1.0;
+  double longest_recognition_s_ = 0.0;
+};
+
+WorkspaceExplorer::Impl::Impl(const EstimationParameters& parameters,
+                              const DeviceSpecifications& specifications, const Options& options)
     : parameters_(parameters),
       period_s_(parameters.servo_period_s),
       max_force_n_(specifications.max_linear_force_n),
@@ -82,7 +143,7 @@ WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
   reach_m_.assign(directions_.size(), 0.0);
 }
 
-void WorkspaceExplorer::addBoundaryDirections(int count) {
+void WorkspaceExplorer::Impl::addBoundaryDirections(int count) {
   enclosures_.assign(directions_.size(), Enclosure{});
   if (count < 6) return;
   // The radial directions' triangulation, the one their explored workspace will have.
@@ -100,7 +161,7 @@ void WorkspaceExplorer::addBoundaryDirections(int count) {
   }
 }
 
-double WorkspaceExplorer::probeStart_m(int index) const noexcept {
+double WorkspaceExplorer::Impl::probeStart_m(int index) const noexcept {
   if (index < radial_count_) {
     const double previous_reach_m = index > 0 ? reach_m_[static_cast<std::size_t>(index - 1)] : 0.0;
     return options_.start_fraction * previous_reach_m;
@@ -115,8 +176,8 @@ double WorkspaceExplorer::probeStart_m(int index) const noexcept {
   return std::max(options_.start_fraction * boundary_m, boundary_m - options_.boundary_clearance_m);
 }
 
-void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
-                              const Eigen::Vector3d& gravity_n) noexcept {
+void WorkspaceExplorer::Impl::start(const Eigen::Vector3d& center_m,
+                                    const Eigen::Vector3d& gravity_n) noexcept {
   center_m_ = center_m;
   gravity_n_ = gravity_n;
   target_m_ = center_m;
@@ -131,7 +192,7 @@ void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
   beginTransfer(center_m);
 }
 
-void WorkspaceExplorer::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
+void WorkspaceExplorer::Impl::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
   Eigen::Vector3d to_m = center_m_;
   if (current_ < directionCount()) {
     to_m = center_m_ + probeStart_m(current_) * directions_[static_cast<std::size_t>(current_)];
@@ -143,7 +204,8 @@ void WorkspaceExplorer::beginTransfer(const Eigen::Vector3d& from_m) noexcept {
   state_ = Status::kTransfer;
 }
 
-void WorkspaceExplorer::finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept {
+void WorkspaceExplorer::Impl::finishDirection(double reach_m,
+                                              const Eigen::Vector3d& from_m) noexcept {
   const Eigen::Vector3d& u = directions_[static_cast<std::size_t>(current_)];
   // A stop right at the centre still leaves a workspace, if a thin one.
   reach_m = std::max(reach_m, kMinReach_m);
@@ -158,10 +220,10 @@ void WorkspaceExplorer::finishDirection(double reach_m, const Eigen::Vector3d& f
   state_ = Status::kBackingOff;
 }
 
-Eigen::Vector3d WorkspaceExplorer::impedanceForce(const ServoSample& sample,
-                                                  const Eigen::Vector3d& target_m,
-                                                  const Eigen::Vector3d& target_velocity,
-                                                  bool adapt) noexcept {
+Eigen::Vector3d WorkspaceExplorer::Impl::impedanceForce(const ServoSample& sample,
+                                                        const Eigen::Vector3d& target_m,
+                                                        const Eigen::Vector3d& target_velocity,
+                                                        bool adapt) noexcept {
   const double stiffness_n_per_m = contact_force_n_ / options_.contact_lag_m;
   const double mass_kg = apparentMass_kg(gravity_n_, kProbeMinGravityN);
   const double damping_n_s_per_m =
@@ -178,8 +240,8 @@ Eigen::Vector3d WorkspaceExplorer::impedanceForce(const ServoSample& sample,
   return force_n;
 }
 
-WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
-                                                  Eigen::Vector3d& force_n) noexcept {
+WorkspaceExplorer::Status WorkspaceExplorer::Impl::step(const ServoSample& sample,
+                                                        Eigen::Vector3d& force_n) noexcept {
   if (state_ == Status::kIdle || state_ == Status::kDeviceFault) {
     force_n.setZero();
     return state_;
@@ -292,18 +354,73 @@ WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
   return state_;
 }
 
-void WorkspaceExplorer::abort() noexcept {
+void WorkspaceExplorer::Impl::abort() noexcept {
   if (state_ == Status::kIdle || state_ == Status::kDeviceFault) return;
   state_ = Status::kAborted;
 }
 
-ExploredWorkspace WorkspaceExplorer::workspace() const {
+ExploredWorkspace WorkspaceExplorer::Impl::workspace() const {
   if (state_ != Status::kFinished) {
     throw Error(std::string("workspace explorer: the exploration is ") + toString(state_) +
                 ", not finished; its workspace is not known yet");
   }
   return ExploredWorkspace(center_m_, directions_, reach_m_);
 }
+
+// --- The public class: each call goes to the Impl ---------------------------------------------
+
+WorkspaceExplorer::WorkspaceExplorer(const EstimationParameters& parameters,
+                                     const DeviceSpecifications& specifications,
+                                     const Options& options)
+    : impl_(std::make_unique<Impl>(parameters, specifications, options)) {}
+
+WorkspaceExplorer::~WorkspaceExplorer() = default;
+WorkspaceExplorer::WorkspaceExplorer(WorkspaceExplorer&&) noexcept = default;
+WorkspaceExplorer& WorkspaceExplorer::operator=(WorkspaceExplorer&&) noexcept = default;
+
+void WorkspaceExplorer::start(const Eigen::Vector3d& center_m,
+                              const Eigen::Vector3d& gravity_n) noexcept {
+  impl_->start(center_m, gravity_n);
+}
+
+WorkspaceExplorer::Status WorkspaceExplorer::step(const ServoSample& sample,
+                                                  Eigen::Vector3d& force_n) noexcept {
+  return impl_->step(sample, force_n);
+}
+
+void WorkspaceExplorer::abort() noexcept { impl_->abort(); }
+
+WorkspaceExplorer::Status WorkspaceExplorer::state() const noexcept { return impl_->state_; }
+
+int WorkspaceExplorer::directionCount() const noexcept { return impl_->directionCount(); }
+
+const std::vector<Eigen::Vector3d>& WorkspaceExplorer::directions() const noexcept {
+  return impl_->directions_;
+}
+
+int WorkspaceExplorer::radialDirectionCount() const noexcept { return impl_->radial_count_; }
+
+int WorkspaceExplorer::probedCount() const noexcept { return impl_->probed_; }
+
+double WorkspaceExplorer::elapsed_s() const noexcept { return impl_->elapsed_s_; }
+
+const Eigen::Vector3d& WorkspaceExplorer::gravity_n() const noexcept { return impl_->gravity_n_; }
+
+const Eigen::Vector3d& WorkspaceExplorer::target_m() const noexcept { return impl_->target_m_; }
+
+double WorkspaceExplorer::probeForceCap_n() const noexcept { return impl_->force_cap_n_; }
+
+double WorkspaceExplorer::contactForce_n() const noexcept { return impl_->contact_force_n_; }
+
+const std::vector<double>& WorkspaceExplorer::reach_m() const noexcept { return impl_->reach_m_; }
+
+double WorkspaceExplorer::longestRecognition_s() const noexcept {
+  return impl_->longest_recognition_s_;
+}
+
+int WorkspaceExplorer::openDirections() const noexcept { return impl_->open_directions_; }
+
+ExploredWorkspace WorkspaceExplorer::workspace() const { return impl_->workspace(); }
 
 const char* toString(WorkspaceExplorer::Status status) noexcept {
   switch (status) {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "autograv/device/servo_sample.h"
-#include "autograv/estimation/minimum_jerk_move.h"
+#include "core/estimation/minimum_jerk_move.h"
 #include "core/maintenance/hold_toward.h"
 
 namespace autograv {

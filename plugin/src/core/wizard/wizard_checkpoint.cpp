@@ -37,8 +37,8 @@ std::vector<VertexEstimate> loadCheckpoint(const std::string& path, const Worksp
     std::ostringstream message;
     message << "checkpoint " << path << " was made for another grid (" << partial.grid().describe()
             << "; this run " << grid.describe()
-            << "); use the WizardConfig::grid_size_m, WizardConfig::grid_resolution and "
-               "WizardConfig::grid_center_m of that run";
+            << "); use the WizardConfig::centre_m, WizardConfig::grid_resolution and "
+               "WizardConfig::advanced.box_size_m of that run";
     throw Error(message.str());
   }
   return partial.vertices();
@@ -70,13 +70,14 @@ std::vector<VertexEstimate> CalibrationWizard::Impl::mirrorCopy(std::uint64_t* v
 MapMetadata CalibrationWizard::Impl::metadata() const {
   MapMetadata metadata;
   metadata.device_model = device_->specifications().model_name;
-  metadata.device_serial = config_.device_serial.empty() ? device_->specifications().serial_number
-                                                         : config_.device_serial;
-  metadata.parameters = config_.parameters;
+  metadata.device_serial = config_.advanced.device_serial.empty()
+                               ? device_->specifications().serial_number
+                               : config_.advanced.device_serial;
+  metadata.parameters = config_.advanced.parameters;
   metadata.workspace = workspace_;
   metadata.lookup_refinement =
-      lookupRefinementFor(grid_, config_.lookup_refinement, config_.field_model);
-  metadata.field_model = config_.field_model;
+      lookupRefinementFor(grid_, config_.advanced.lookup_refinement, config_.advanced.field_model);
+  metadata.field_model = config_.advanced.field_model;
   return metadata;  // created_utc is filled in by saveMap
 }
 
@@ -118,8 +119,20 @@ bool CalibrationWizard::Impl::finished() const {
 
 void CalibrationWizard::Impl::restoreCheckpoint(const std::string& device_model) {
   const GravityMap partial = loadCheckpointMap(checkpoint_path_, device_model);
-  if (config_.explore && config_.grid_from_workspace) {
-    // The grid was fitted to the workspace the interrupted run explored: keep both.
+  if (config_.advanced.explore && !config_.advanced.box_size_m) {
+    // The grid was fitted to the workspace the interrupted run explored: keep both, at the
+    // resolution this run asks for.
+    const Eigen::Vector3i resolution = partial.grid().resolution();
+    if (resolution != config_.grid_resolution) {
+      std::ostringstream message;
+      message << "checkpoint " << checkpoint_path_ << " was made on a " << resolution.x() << "x"
+              << resolution.y() << "x" << resolution.z() << " grid, this run asks for "
+              << config_.grid_resolution.x() << "x" << config_.grid_resolution.y() << "x"
+              << config_.grid_resolution.z()
+              << "; resume with the WizardConfig::grid_resolution of that run, or start afresh "
+                 "(WizardConfig::resume = false)";
+      throw Error(message.str());
+    }
     grid_ = partial.grid();
   } else if (!partial.grid().sameGeometry(grid_)) {
     loadCheckpoint(checkpoint_path_, grid_, device_model);  // throws, saying what to change
@@ -127,6 +140,19 @@ void CalibrationWizard::Impl::restoreCheckpoint(const std::string& device_model)
   grid_fixed_ = true;
   workspace_ = partial.metadata().workspace;
   resumed_vertices_ = partial.vertices();
+  // The checkpoint's workspace is resumed, not explored again: the exploration's settings would
+  // be ignored.
+  const WizardConfig::Advanced defaults;
+  const bool explorer_set =
+      !wizard::sameExplorerOptions(config_.advanced.explorer, defaults.explorer) ||
+      !(config_.advanced.min_workspace_extent_m == defaults.min_workspace_extent_m);
+  if (!workspace_.empty() && explorer_set) {
+    throw Error("checkpoint " + checkpoint_path_ +
+                " holds the workspace its run explored, which a resumed run keeps: "
+                "WizardConfig::advanced.explorer and advanced.min_workspace_extent_m would be "
+                "ignored. Leave them at their defaults to resume, or start afresh "
+                "(WizardConfig::resume = false) to explore with them");
+  }
 }
 
 }  // namespace autograv

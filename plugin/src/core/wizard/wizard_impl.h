@@ -14,25 +14,32 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "autograv/compensation/gravity_compensated_device.h"
+#include "autograv/device/forwarding_device.h"
+#include "autograv/device/servo_clock.h"
 #include "autograv/device/servo_loop_stats.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/auto_calibrator.h"
 #include "autograv/estimation/impedance_hold.h"
 #include "autograv/estimation/initialization_estimator.h"
-#include "autograv/estimation/minimum_jerk_move.h"
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/explored_workspace.h"
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/measurement_plan.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "core/estimation/minimum_jerk_move.h"
 
 namespace autograv::wizard {
+
+/// True when two sets of exploration options are the same (calibration_wizard.cpp).
+bool sameExplorerOptions(const WorkspaceExplorer::Options& a,
+                         const WorkspaceExplorer::Options& b) noexcept;
 
 /// Bit of a WizardEvent in the pending-event word.
 constexpr std::uint32_t eventBit(int event) noexcept { return 1u << event; }
@@ -77,6 +84,42 @@ constexpr int kMaxFailedWrites = 50;
 /// The "still held" notice stays up this long after the estimator last reported it. Unit: [s]
 constexpr double kStillHeldNotice_s = 1.5;
 
+/// The servo time of the current tick, as the wizard's servo side read it, for the wizard's
+/// compensation: one clock, read once per tick (a clock that advances on every reading, as
+/// FixedPeriodServoClock does, read twice would run at twice its rate). Servo thread only.
+class TickClock final : public ServoClock {
+ public:
+  /// The reading of this tick. Real-time safe. Unit: [s]
+  void set(double now_s) noexcept { now_s_ = now_s; }
+  double now_s() noexcept override { return now_s_; }
+
+ private:
+  double now_s_ = 0.0;
+};
+
+/// Below the wizard's compensation, right above the driver: remembers the force that reached it
+/// on the latest tick (WizardStatus::force). Forwards everything else. Servo thread only.
+class SentForce final : public ForwardingDevice {
+ public:
+  /// Throws autograv::Error for a null device. Not real-time safe.
+  explicit SentForce(std::shared_ptr<HapticDevice> driver)
+      : ForwardingDevice(std::move(driver), "CalibrationWizard") {}
+  /// Forwards, remembering the force. Real-time safe when the driver's setForce is. Unit: [N]
+  bool setForce(const Eigen::Vector3d& force_n) override {
+    last_n_ = force_n;
+    return ForwardingDevice::setForce(force_n);
+  }
+  /// The force of the latest setForce. Unit: [N]
+  const Eigen::Vector3d& last_n() const noexcept { return last_n_; }
+
+ private:
+  Eigen::Vector3d last_n_ = Eigen::Vector3d::Zero();
+};
+
+/// A force within this fraction of the device's limit counts as at the limit (the clamps scale
+/// to the limit up to rounding).
+constexpr double kAtLimitFraction = 1.0 - 1e-9;
+
 /// Live numbers the servo side of CalibrationWizard publishes each tick (plain data: copied
 /// under the try-lock, never allocated in the servo loop).
 struct Live {
@@ -116,6 +159,7 @@ struct Live {
   double peak_force_n = 0.0;
   double lipschitz_n_per_m = 0.0;
   ServoLoopStats::Summary servo_loop;
+  WizardForces force;  // the rating and the limit are set by Check
   std::array<VerifyResult, kMaxVerifyPoints> verify{};
   int verify_count = 0;
   int verify_index = 0;
@@ -197,6 +241,7 @@ struct CalibrationWizard::Impl {
   void enter(WizardStep step) noexcept;
   void fail(int fault_code, HoldMode hold) noexcept;
   bool sampleLost(const ServoSample& sample) noexcept;
+  void recordSentForce(double interval_s) noexcept;
   void flushMirror() noexcept;  // wizard_checkpoint.cpp
   void publishLive() noexcept;
 
@@ -222,7 +267,9 @@ struct CalibrationWizard::Impl {
   WizardConfig config_;
   WorkspaceGrid grid_;
   std::string checkpoint_path_;
-  std::shared_ptr<GravityCompensatedDevice> device_;
+  std::shared_ptr<GravityCompensatedDevice> device_;  // over sent_force_, over the driver
+  std::shared_ptr<wizard::SentForce> sent_force_;
+  std::shared_ptr<wizard::TickClock> tick_clock_;  // the compensation's clock
   // The paper's hold (eq. 10) with the estimator's floor on |G|: the wizard's own holds and moves.
   ImpedanceHold hold_law_;
 
@@ -267,6 +314,7 @@ struct CalibrationWizard::Impl {
   double invalid_periods_ = 0.0;
   double last_clock_s_ = 0.0;
   bool clock_read_ = false;
+  long long exact_ticks_ = 0;  // without a clock: ticks so far, the compensation's time
   ServoLoopStats loop_stats_;
   int loop_summary_countdown_ = 0;
   int failed_writes_ = 0;

@@ -102,7 +102,7 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
   try {
     // opened_: the wizard opened the device, so it closes it too; one the caller opened stays
     // the caller's.
-    if (!opened_ && !config_.device_already_open) {
+    if (!opened_ && !config_.advanced.device_already_open) {
       if (!device_->open()) {
         check_message_ =
             "The device did not open. Is it plugged in, switched on and not in use by another "
@@ -113,7 +113,7 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
       }
       opened_ = true;
     }
-    if (!config_.device_already_open && !device_->calibrate(force_calibrate_)) {
+    if (!config_.advanced.device_already_open && !device_->calibrate(force_calibrate_)) {
       force_calibrate_ = true;  // the retry runs the device's own homing
       check_message_ =
           "The device reports itself uncalibrated: its encoders are not homed, so every position "
@@ -127,18 +127,22 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
     const DeviceSpecifications& specifications = device_->specifications();
     validateSpecifications(specifications);
     max_force_n_ = specifications.max_linear_force_n;
+    // The servo side is idle during Check: the figures it keeps of the forces sent are judged
+    // against these.
+    live_.force.limit_n = max_force_n_;
+    live_.force.continuous_rating_n = continuousForceRating_n(specifications);
 
-    const EstimationParameters& parameters = config_.parameters;
+    const EstimationParameters& parameters = config_.advanced.parameters;
     // Without exploration a box fitted to the workspace has corners beyond it (found unreachable
     // and filled), but the middle of each face must lie inside the workspace sphere, or whole
     // faces are holes. An explored run measures only inside what the probe reached.
     const double half_extent_m = 0.5 * grid_.size_m().maxCoeff();
-    if (!config_.explore && half_extent_m > specifications.workspace_radius_m) {
+    if (!config_.advanced.explore && half_extent_m > specifications.workspace_radius_m) {
       std::ostringstream message;
       message << "The grid does not fit in the workspace: it reaches " << millimetres(half_extent_m)
               << " from the centre along an axis, the workspace radius is "
               << millimetres(specifications.workspace_radius_m)
-              << ". Use a WizardConfig::grid_size_m with no extent over "
+              << ". Use a WizardConfig::advanced.box_size_m with no extent over "
               << std::floor(2.0 * specifications.workspace_radius_m * 1e3) * 1e-3 << " m ("
               << std::floor(2.0 * specifications.workspace_radius_m * 1e3) << " mm).";
       throw Error(message.str());
@@ -153,7 +157,7 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
       throw Error(message.str());
     }
     const std::vector<std::string> refusal = refusalForAnyGravity(
-        parameters, AutoCalibrator::largestHoldStep_m(parameters, config_.calibrator),
+        parameters, AutoCalibrator::largestHoldStep_m(parameters, config_.advanced.calibrator),
         max_force_n_);
     if (!refusal.empty()) {
       std::string message =
@@ -168,14 +172,15 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
     const double field_damping_n_s_per_m =
         std::min(kFieldDamping_n_s_per_m, 0.5 * specifications.max_linear_damping_n_s_per_m);
     initialization_ = std::make_unique<InitializationEstimator>(
-        parameters, max_force_n_, config_.field_ramp_s, field_damping_n_s_per_m);
-    if (config_.explore) {
-      explorer_ = std::make_unique<WorkspaceExplorer>(parameters, specifications, config_.explorer);
+        parameters, max_force_n_, config_.advanced.field_ramp_s, field_damping_n_s_per_m);
+    if (config_.advanced.explore) {
+      explorer_ = std::make_unique<WorkspaceExplorer>(parameters, specifications,
+                                                      config_.advanced.explorer);
       probe_directions_ = explorer_->directions();
       explored_reach_m_.assign(probe_directions_.size(), 0.0);
       live_.direction_count = explorer_->directionCount();
     }
-    grid_fixed_ = !config_.explore || !config_.grid_from_workspace;
+    grid_fixed_ = config_.advanced.box_size_m.has_value();
 
     const std::filesystem::path folder = std::filesystem::path(config_.map_path).parent_path();
     std::error_code error;
@@ -196,7 +201,7 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
       return;
     }
     // The workspace of a resumed run is kept: it is not explored again.
-    explore_now_ = config_.explore && workspace_.empty();
+    explore_now_ = config_.advanced.explore && workspace_.empty();
     if (!explore_now_) {
       useGrid(grid_, config_.resume ? &resumed_vertices_ : nullptr);
     } else {
@@ -218,12 +223,12 @@ void CalibrationWizard::Impl::runCheck(bool retry) {
 
 void CalibrationWizard::Impl::useGrid(const WorkspaceGrid& grid,
                                       const std::vector<VertexEstimate>* restored) {
-  AutoCalibrator::Options options = config_.calibrator;
+  AutoCalibrator::Options options = config_.advanced.calibrator;
   if (!(options.continuous_force_n > 0.0)) {
     options.continuous_force_n = continuousForceRating_n(device_->specifications());
   }
   auto calibrator =
-      std::make_unique<AutoCalibrator>(grid, config_.parameters, max_force_n_, options);
+      std::make_unique<AutoCalibrator>(grid, config_.advanced.parameters, max_force_n_, options);
   if (restored != nullptr) calibrator->restore(*restored);
   MeasurementPlan plan = planMeasurements(grid, workspace_);
   calibrator->setPlan(plan);
@@ -233,7 +238,7 @@ void CalibrationWizard::Impl::useGrid(const WorkspaceGrid& grid,
   // into it allocate nothing.
   std::vector<VertexEstimate> mirror = calibrator->vertices();
   for (auto& vertex : mirror) {
-    vertex.history.reserve(static_cast<std::size_t>(config_.parameters.max_iterations));
+    vertex.history.reserve(static_cast<std::size_t>(config_.advanced.parameters.max_iterations));
   }
   restored_.assign(count, 0);
   if (restored != nullptr) {
@@ -283,7 +288,7 @@ void CalibrationWizard::Impl::acceptWorkspace() {
     const Eigen::Vector3d extent_m =
         gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(2)).size_m();
     Eigen::Index thinnest = 0;
-    if (extent_m.minCoeff(&thinnest) < config_.min_workspace_extent_m) {
+    if (extent_m.minCoeff(&thinnest) < config_.advanced.min_workspace_extent_m) {
       static const char* const kAxes[3] = {"x (toward you)", "y (left-right)", "z (up-down)"};
       std::ostringstream message;
       message << "The explored workspace is too small to calibrate: the probe reached only "
@@ -291,7 +296,7 @@ void CalibrationWizard::Impl::acceptWorkspace() {
               << millimetres(extent_m.x()) << " x " << millimetres(extent_m.y()) << " x "
               << millimetres(extent_m.z()) << "; reach " << millimetres(workspace.minRadius_m())
               << " to " << millimetres(workspace.maxRadius_m()) << " from the centre), at least "
-              << millimetres(config_.min_workspace_extent_m)
+              << millimetres(config_.advanced.min_workspace_extent_m)
               << " is needed along every axis. Something held the end-effector: let go of it, "
                  "clear the space around the device (nothing may touch the arm), and start "
                  "again.";
@@ -312,7 +317,7 @@ void CalibrationWizard::Impl::acceptWorkspace() {
       message << "The grid " << grid.describe() << " has only " << measured
               << " measurement points inside the explored workspace: it lies mostly beyond "
                  "the stops. Fit the grid to the workspace instead "
-                 "(WizardConfig::grid_from_workspace = true).";
+                 "(leave WizardConfig::advanced.box_size_m empty).";
       calibrator_.reset();
       throw Error(message.str());
     }
@@ -355,9 +360,9 @@ void CalibrationWizard::Impl::service() {
     // The moves are minimum-jerk paths: the gap they leave, not a whole cell, is what the PD
     // must close (AutoCalibrator::largestHoldStep_m).
     const std::vector<std::string> problems = checkCalibrationPlan(
-        config_.parameters,
-        AutoCalibrator::largestHoldStep_m(config_.parameters, config_.calibrator), max_force_n_,
-        plan_gravity_n_);
+        config_.advanced.parameters,
+        AutoCalibrator::largestHoldStep_m(config_.advanced.parameters, config_.advanced.calibrator),
+        max_force_n_, plan_gravity_n_);
     plan_message_.clear();
     for (const auto& problem : problems) plan_message_ += "\n  - " + problem;
     replies_.fetch_or(problems.empty() ? wizard::kReplyPlanAccepted : wizard::kReplyPlanRefused,

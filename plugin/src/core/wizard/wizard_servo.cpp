@@ -23,14 +23,19 @@ WizardStep CalibrationWizard::Impl::servoTick() noexcept {
   const WizardStep phase = phase_.load(std::memory_order_acquire);
   if (phase == WizardStep::kCheck) return phase;  // service() owns the device during Check
   ++phase_ticks_;
-  const double period_s = config_.parameters.servo_period_s;
-  // Servo time since the previous tick, read once per tick (unknown without a clock: one period).
+  const double period_s = config_.advanced.parameters.servo_period_s;
+  // Servo time since the previous tick, read once per tick (unknown without a clock: one period),
+  // and handed to the compensation, which reads its clock in setForce below.
   double interval_s = 0.0;
   if (config_.clock) {
     const double now_s = config_.clock->now_s();
     if (clock_read_) interval_s = now_s - last_clock_s_;
     last_clock_s_ = now_s;
     clock_read_ = true;
+    tick_clock_->set(now_s);
+  } else {
+    // Multiplied, not summed, as FixedPeriodServoClock does.
+    tick_clock_->set(static_cast<double>(exact_ticks_++) * period_s);
   }
   const ServoSample sample = readServoSample(*device_, interval_s);
   const double periods = servoPeriodsOf(sample, period_s);
@@ -95,6 +100,7 @@ WizardStep CalibrationWizard::Impl::servoTick() noexcept {
       fail(wizard::kFaultWritesFailed, HoldMode::kNone);
     }
   }
+  recordSentForce(periods * period_s);
   if (any_copy_pending_) flushMirror();
   publishLive();
   return phase_.load(std::memory_order_relaxed);
@@ -108,14 +114,23 @@ void CalibrationWizard::Impl::enter(WizardStep step) noexcept {
   phase_.store(step, std::memory_order_release);
 }
 
+void CalibrationWizard::Impl::recordSentForce(double interval_s) noexcept {
+  // What reached the driver this tick: the wizard's force plus its compensation, clamped.
+  const double sent_n = sent_force_->last_n().norm();
+  WizardForces& force = live_.force;
+  force.peak_n = std::max(force.peak_n, sent_n);
+  if (sent_n > force.continuous_rating_n) force.above_continuous_s += interval_s;
+  if (sent_n >= force.limit_n * wizard::kAtLimitFraction) ++force.at_limit_ticks;
+}
+
 bool CalibrationWizard::Impl::sampleLost(const ServoSample& sample) noexcept {
   if (sample.valid) {
     invalid_periods_ = 0.0;
     return false;
   }
   // A dropped frame now and then is ridden over; a device that stays silent is a fault.
-  invalid_periods_ += servoPeriodsOf(sample, config_.parameters.servo_period_s);
-  if (invalid_periods_ > maxInvalidPeriods(config_.parameters.servo_period_s)) {
+  invalid_periods_ += servoPeriodsOf(sample, config_.advanced.parameters.servo_period_s);
+  if (invalid_periods_ > maxInvalidPeriods(config_.advanced.parameters.servo_period_s)) {
     fail(wizard::kFaultDeviceStopped, HoldMode::kNone);
   }
   return true;
@@ -139,7 +154,7 @@ void CalibrationWizard::Impl::tickCentre(const ServoSample& sample, bool pressed
     return;
   }
   if (sampleLost(sample)) return;
-  const bool within = (centre_m_ - sample.position_m).norm() <= config_.centre_tolerance_m;
+  const bool within = (centre_m_ - sample.position_m).norm() <= config_.advanced.centre_tolerance_m;
   const bool confirm = has(events, WizardEvent::kConfirm) || (pressed && !last_switch_);
   if (!confirm) return;
   if (!within) {
@@ -164,8 +179,8 @@ void CalibrationWizard::Impl::tickCentre(const ServoSample& sample, bool pressed
   live_.not_settling = false;
   live_.initial_gravity_valid = false;
   waiting_since_periods_ =
-      servo_periods_ +
-      static_cast<double>(std::lround(config_.field_ramp_s / config_.parameters.servo_period_s));
+      servo_periods_ + static_cast<double>(std::lround(config_.advanced.field_ramp_s /
+                                                       config_.advanced.parameters.servo_period_s));
   hold_mode_ = HoldMode::kField;
   enter(WizardStep::kRelease);
 }
@@ -176,7 +191,7 @@ void CalibrationWizard::Impl::tickRelease(const ServoSample& sample, std::uint32
                                           std::uint32_t replies,
                                           Eigen::Vector3d& force_n) noexcept {
   using Status = InitializationEstimator::Status;
-  const double period_s = config_.parameters.servo_period_s;
+  const double period_s = config_.advanced.parameters.servo_period_s;
   const Status status = initialization_->step(sample, force_n);
   live_.release_status = status;
   live_.sag_m = initialization_->sag_m();
@@ -194,7 +209,8 @@ void CalibrationWizard::Impl::tickRelease(const ServoSample& sample, std::uint32
       waiting_since_periods_ = servo_periods_;  // patience restarts: the user was told to let go
       break;
     case Status::kWaiting:
-      if ((servo_periods_ - waiting_since_periods_) * period_s > config_.release_patience_s) {
+      if ((servo_periods_ - waiting_since_periods_) * period_s >
+          config_.advanced.release_patience_s) {
         live_.not_settling = true;
       }
       break;
@@ -319,9 +335,8 @@ void CalibrationWizard::Impl::tickCalibration(const ServoSample& sample, std::ui
   live_.vertex = calibrator.currentVertex();
   live_.visited = calibrator.visitedCount();
   live_.to_visit = calibrator.toVisitCount();
-  live_.iteration = calibrator.estimator().iteration();
-  live_.delta_m =
-      calibrator.estimator().iteration() > 0 ? calibrator.estimator().lastPositionError_m() : kNaN;
+  live_.iteration = calibrator.iteration();
+  live_.delta_m = calibrator.iteration() > 0 ? calibrator.lastPositionError_m() : kNaN;
   live_.calibration_elapsed_s = calibrator.elapsed_s();
   live_.eta_s = live_.visited > 0
                     ? calibrator.elapsed_s() / live_.visited * (live_.to_visit - live_.visited)
@@ -451,10 +466,11 @@ void CalibrationWizard::Impl::tickSave(const ServoSample& sample, std::uint32_t 
 void CalibrationWizard::Impl::beginVerifyMove(const Eigen::Vector3d& from_m) noexcept {
   // Where the vertex was measured, inside the explored workspace.
   const Eigen::Vector3d target_m = verify_targets_m_[static_cast<std::size_t>(live_.verify_index)];
-  verify_move_.start(from_m, target_m,
-                     MinimumJerkMove::durationFor((target_m - from_m).norm(),
-                                                  config_.calibrator.max_move_acceleration_m_per_s2,
-                                                  config_.calibrator.min_move_duration_s));
+  verify_move_.start(
+      from_m, target_m,
+      MinimumJerkMove::durationFor((target_m - from_m).norm(),
+                                   config_.advanced.calibrator.max_move_acceleration_m_per_s2,
+                                   config_.advanced.calibrator.min_move_duration_s));
   hold_gravity_n_ = verify_map_->gravityAt(target_m);
   verify_stage_ = VerifyStage::kMove;
   verify_periods_ = 0.0;
@@ -462,7 +478,7 @@ void CalibrationWizard::Impl::beginVerifyMove(const Eigen::Vector3d& from_m) noe
 
 void CalibrationWizard::Impl::tickVerify(const ServoSample& sample, std::uint32_t events,
                                          Eigen::Vector3d& force_n) noexcept {
-  const double period_s = config_.parameters.servo_period_s;
+  const double period_s = config_.advanced.parameters.servo_period_s;
   verify_periods_ += servoPeriodsOf(sample, period_s);
   const double stage_s = verify_periods_ * period_s;
   if (sampleLost(sample)) {
@@ -505,7 +521,7 @@ void CalibrationWizard::Impl::tickVerify(const ServoSample& sample, std::uint32_
     }
     case VerifyStage::kSettle:
       holdForce(sample, force_n);
-      if (stage_s >= config_.verify_settle_s && device_->compensationLevel() >= 1.0) {
+      if (stage_s >= config_.advanced.verify_settle_s && device_->compensationLevel() >= 1.0) {
         release_start_m_ = sample.position_m;
         verify_stage_ = VerifyStage::kRelease;
         verify_periods_ = 0.0;
@@ -516,7 +532,9 @@ void CalibrationWizard::Impl::tickVerify(const ServoSample& sample, std::uint32_
       const double drift_m = (sample.position_m - release_start_m_).norm();
       result.drift_m = drift_m;
       result.duration_s = stage_s;
-      if (drift_m <= config_.verify_drift_limit_m && stage_s < config_.verify_release_s) break;
+      if (drift_m <= config_.advanced.verify_drift_limit_m &&
+          stage_s < config_.advanced.verify_release_s)
+        break;
       result.residual_force_n =
           2.0 * hold_law_.apparentMass_kg(hold_gravity_n_) * drift_m / (stage_s * stage_s);
       result.finished = true;

@@ -98,12 +98,14 @@ WizardStatus CalibrationWizard::Impl::status() const {
   s.position_valid = live.position_valid;
   s.time_s = live.time_s;
   s.servo_loop = live.servo_loop;
-  s.servo_warning = servoLoopWarning(live.servo_loop, config_.parameters.servo_period_s);
+  s.force = live.force;
+  s.servo_warning = servoLoopWarning(live.servo_loop, config_.advanced.parameters.servo_period_s);
   s.centre_m = centre_m_;
   s.to_centre_m = centre_m_ - live.position_m;
   s.centre_distance_m = s.to_centre_m.norm();
-  s.centre_tolerance_m = config_.centre_tolerance_m;
-  s.within_tolerance = live.position_valid && s.centre_distance_m <= config_.centre_tolerance_m;
+  s.centre_tolerance_m = config_.advanced.centre_tolerance_m;
+  s.within_tolerance =
+      live.position_valid && s.centre_distance_m <= config_.advanced.centre_tolerance_m;
   s.release_status = live.release_status;
   s.sag_m = live.sag_m;
   s.still_held = live.last_still_held_s >= 0.0 &&
@@ -157,7 +159,7 @@ WizardStatus CalibrationWizard::Impl::status() const {
     }
   }
 
-  const EstimationParameters& parameters = config_.parameters;
+  const EstimationParameters& parameters = config_.advanced.parameters;
   std::ostringstream message;
   switch (s.step) {
     case WizardStep::kCheck:
@@ -182,8 +184,8 @@ WizardStatus CalibrationWizard::Impl::status() const {
         message << "Distance to the centre: " << mm(s.centre_distance_m) << " (move "
                 << directionWords(s.to_centre_m) << ").\n";
         if (live.confirm_rejected && !s.within_tolerance) {
-          message << "Not close enough yet: confirm within " << mm(config_.centre_tolerance_m)
-                  << " of the centre.\n";
+          message << "Not close enough yet: confirm within "
+                  << mm(config_.advanced.centre_tolerance_m) << " of the centre.\n";
         } else if (live.confirm_rejected_moving) {
           message << "Not taken: it was moving. Hold it still, then confirm again.\n";
         }
@@ -191,7 +193,7 @@ WizardStatus CalibrationWizard::Impl::status() const {
       message << "Hold the end-effector and bring it near the centre of the workspace.";
       s.prompt = s.within_tolerance ? "Hold it still there and press Enter (or the stylus button)."
                                     : "Move it closer to the centre (within " +
-                                          mm(config_.centre_tolerance_m) + ").";
+                                          mm(config_.advanced.centre_tolerance_m) + ").";
       break;
 
     case WizardStep::kRelease:
@@ -370,7 +372,7 @@ WizardStatus CalibrationWizard::Impl::status() const {
       if (tested > 0) {
         message << "\nRelease test with compensation on: largest drift " << mm(s.max_drift_m)
                 << " over " << tested << " vertices in "
-                << format("%.2f s", config_.verify_release_s) << ".";
+                << format("%.2f s", config_.advanced.verify_release_s) << ".";
         for (const VerifyResult& result : s.verify) {
           if (!result.finished) continue;
           message << "\n  vertex #" << result.vertex << ": drift " << mm(result.drift_m)

@@ -1,5 +1,8 @@
 #pragma once
 
+// Private to core: the inner loop AutoCalibrator runs at each vertex. Programs run it through
+// AutoCalibrator or CalibrationWizard; the tests and the research harness include it from here.
+
 #include <array>
 #include <cstdint>
 
@@ -8,8 +11,8 @@
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/estimation/impedance_hold.h"
-#include "autograv/estimation/steady_state_detector.h"
 #include "autograv/types/vertex_estimate.h"
+#include "core/estimation/steady_state_detector.h"
 
 namespace autograv {
 

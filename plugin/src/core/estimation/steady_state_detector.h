@@ -1,5 +1,8 @@
 #pragma once
 
+// Private to core: the steady-state rules of the VertexEstimator and the
+// InitializationEstimator.
+
 #include <Eigen/Core>
 
 #include "autograv/estimation/estimation_parameters.h"

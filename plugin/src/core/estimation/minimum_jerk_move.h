@@ -1,5 +1,7 @@
 #pragma once
 
+// Private to core: the paths of the calibrator's, the explorer's and the wizard's moves.
+
 #include <Eigen/Core>
 
 namespace autograv {

@@ -1,5 +1,8 @@
 #pragma once
 
+// Private to the libraries and not installed: a research harness, not API. The command line and
+// the tests include it from plugin/src.
+//
 // The experiments the figures of `autograv bench` and the integration tests come from: the tools'
 // calibration of the default cube, the friction sweep over every simulated device and level with
 // its seeds folded, and the speed of the simulators, the decorator and the map lookup.
