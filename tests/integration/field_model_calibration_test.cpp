@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "autograv/map/gravity_map.h"
-#include "autograv/sim/experiments.h"
+#include "sim/experiments.h"
 #include "autograv/sim/procedures.h"
 
 namespace autograv {
