@@ -33,7 +33,7 @@ std::atomic<bool> g_stop_requested{false};
 extern "C" void requestStop(int) { g_stop_requested.store(true); }
 
 struct CalibrateOptions {
-  std::string device = "sim:omega";
+  std::string device;
   GridOptions grid;
   std::string out_path;
   std::string report_path;

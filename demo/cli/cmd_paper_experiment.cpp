@@ -16,7 +16,7 @@ namespace autograv::cli {
 namespace {
 
 struct PaperExperimentOptions {
-  std::string device = "sim:omega";
+  std::string device;
   std::string report_path;
   // The simulated device's (--seed, --friction, --unit, --actuators), once parsed.
   std::uint64_t seed = 1;

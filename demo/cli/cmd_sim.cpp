@@ -18,7 +18,7 @@ namespace autograv::cli {
 namespace {
 
 struct SimOptions {
-  std::string device = "sim:omega";
+  std::string device;
   double seconds = 1.0;
   std::string report_path;
   // The simulated device's (--seed, --friction, --unit, --actuators), once parsed.

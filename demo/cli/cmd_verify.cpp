@@ -53,7 +53,7 @@ constexpr double kCatchDrift_m = 0.003;
 
 struct VerifyOptions {
   std::string map_path;
-  std::string device = "sim:omni";
+  std::string device;
   // The simulated device's and loop's (--seed, --friction, --unit, --actuators, --servo-timing),
   // once parsed; --seed also draws the points.
   std::uint64_t seed = 1;

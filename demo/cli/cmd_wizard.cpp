@@ -46,7 +46,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct WizardOptions {
-  std::string device = "sim:omega";
+  std::string device;
   std::string out_path;  // empty: the device's place in the map library
   std::string maps_dir;
   std::string report_path;

@@ -18,7 +18,7 @@
 namespace autograv::cli {
 
 struct MaintenanceOptions {
-  std::string device = "sim:omni";
+  std::string device;
   std::string map_path;  ///< Empty: the device's map in the library.
   std::string maps_dir;
   std::string report_path;
