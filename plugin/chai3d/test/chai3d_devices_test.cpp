@@ -60,17 +60,17 @@ TEST_F(Chai3dDevicesTest, TheHandlerFindsTheStandInDevicesAndTheRegistryListsThe
 
   ASSERT_TRUE(chai3dDevicesAvailable());
   const std::vector<DeviceListing> devices = listDevices();
-  int found = 0;
-  for (const DeviceListing& device : devices) {
-    if (device.name == "chai3d:0") {
-      ++found;
-      EXPECT_EQ(device.specifications.model_name, "sim:omni");
-      EXPECT_DOUBLE_EQ(device.specifications.max_linear_force_n, 3.3);
-      EXPECT_TRUE(device.specifications.serial_number.empty());  // CHAI3D reports none
-    }
-    if (device.name == "chai3d:1") ++found;
-  }
-  EXPECT_EQ(found, 2);
+  const auto listed = [&devices](const std::string& name) {
+    return std::find_if(devices.begin(), devices.end(),
+                        [&name](const DeviceListing& device) { return device.name == name; });
+  };
+  const auto first = listed("chai3d:0");
+  ASSERT_NE(first, devices.end());
+  EXPECT_EQ(first->specifications.model_name, "sim:omni");
+  EXPECT_DOUBLE_EQ(first->specifications.max_linear_force_n, 3.3);
+  EXPECT_TRUE(first->specifications.serial_number.empty());  // CHAI3D reports none
+  EXPECT_NE(listed("chai3d:1"), devices.end());
+  EXPECT_EQ(listed("chai3d:2"), devices.end());
 }
 
 TEST_F(Chai3dDevicesTest, AChai3dNameOpensTheAdapterAndExposesTheSimulationBehindIt) {
