@@ -23,7 +23,7 @@ printf '\n=== 1. calibrate %s (5x5x5 grid, simulated time)\n' "$device"
 
 printf '\n=== 2. render the map (VTK, headless under xvfb-run)\n'
 xvfb-run -a -s "-screen 0 1600x1200x24" "$autograv" render "$out/${name}_map.json" \
-  -o "$out/${name}_scene.png" --size 1280x960 --truth "$device"
+  -o "$out/${name}_scene.png" --size-px 1280x960 --truth "$device"
 echo "scene: $out/${name}_scene.png"
 
 printf '\n=== 3. verify: release at 100 random points, compensation on and off\n'

@@ -9,7 +9,7 @@ namespace autograv::cli {
 /// Adds --boundary-probes N to `command`: how many directions the exploration probes after its
 /// radial ones, each from just inside the boundary those found
 /// (WorkspaceExplorer::Options::boundary_directions, whose default `count` keeps when the option
-/// is not given). The one definition that calibrate and wizard share.
+/// is not given). AdvancedOptions declares it once for calibrate and wizard.
 inline CLI::Option* addBoundaryProbesOption(CLI::App& command, int& count) {
   return command
       .add_option("--boundary-probes", count,

@@ -21,6 +21,7 @@ nlohmann::json gridJson(const WorkspaceGrid& grid) {
 }
 
 CLI::Option* addDeviceOption(CLI::App& command, std::string& device) {
+  device = kDefaultDevice;
   std::string names;
   for (const std::string& name : sim::simulatedDeviceNames()) names += name + ", ";
   names += chai3dDevicesAvailable() ? "chai3d:N (CHAI3D's N-th device)"
@@ -31,6 +32,7 @@ CLI::Option* addDeviceOption(CLI::App& command, std::string& device) {
 }
 
 CLI::Option* addSimulatedDeviceOption(CLI::App& command, std::string& device) {
+  device = kDefaultDevice;
   return command.add_option("--device", device, "Simulated device")
       ->check(CLI::IsMember(sim::simulatedDeviceNames()))
       ->capture_default_str();

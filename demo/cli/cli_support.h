@@ -33,8 +33,15 @@ nlohmann::json vectorJson(const Eigen::Matrix<Scalar, 3, 1>& vector) {
 /// A grid in a JSON report: its resolution, size_m and center_m.
 nlohmann::json gridJson(const WorkspaceGrid& grid);
 
+/// The device of every command that takes --device and is not given one: the paper's device, the
+/// one autograv-demo simulates by default, and the quickest simulated calibration; the same
+/// everywhere, so that `autograv calibrate --out m.json` then `autograv verify m.json` (or check,
+/// retare) run on the device the map was made for.
+inline constexpr const char* kDefaultDevice = "sim:omega";
+
 /// How every command names its device: adds `--device` (sim:omni, sim:omega, chai3d:N; checked when
-/// the device is opened, since CHAI3D's devices are only known then).
+/// the device is opened, since CHAI3D's devices are only known then), kDefaultDevice by default
+/// (`device` is set to it).
 CLI::Option* addDeviceOption(CLI::App& command, std::string& device);
 
 /// A point load and a tilt for simulated devices (`--payload-g`, `--tilt-deg`), to test against
@@ -53,7 +60,8 @@ void addSimulatedUnitOptions(CLI::App& command, sim::SimulatedUnit& unit);
 void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load);
 void applySimulatedLoad(sim::SimulatedDevice& device, const SimulatedLoad& load);
 
-/// `--device` for commands that run on a simulated device only: one of simulatedDeviceNames().
+/// `--device` for commands that run on a simulated device only: one of simulatedDeviceNames(),
+/// kDefaultDevice by default.
 CLI::Option* addSimulatedDeviceOption(CLI::App& command, std::string& device);
 
 /// `--report PATH`: where a command writes its JSON report (writeJsonReport).

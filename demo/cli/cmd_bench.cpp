@@ -6,12 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "advanced_options.h"
+#include "sim/experiments.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
-#include "friction_option.h"
 #include "servo_timing_option.h"
-#include "sim/experiments.h"
 #include "sweep_report.h"
 
 namespace autograv::cli {
@@ -100,7 +100,11 @@ std::shared_ptr<const GravityMap> runCalibrations(const BenchOptions& options,
   return omni_map;
 }
 
-void runBenchCommand(const BenchOptions& options) {
+void runBenchCommand(BenchOptions options, const AdvancedOptions& advanced) {
+  options.friction = advanced.simulation().friction;
+  options.unit = advanced.simulation().unit;
+  options.servo_timing = advanced.simulation().servo_timing;
+  options.method = advanced.estimation().method.value_or(EstimationMethod::kDither);
   nlohmann::json report;
   if (options.friction_sweep || options.methods) {
     runFrictionSweep(options, report);
@@ -135,10 +139,11 @@ void runBenchCommand(const BenchOptions& options) {
   writeJsonReport(options.report_path, report);
 }
 
-void addBenchCommand(CLI::App& app) {
+void addBenchCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* command = app.add_subcommand(
       "bench", "Measure simulator speed, calibration iterations and time, and decorator cost");
+  command->group(kResearchCommands);
   // A count within [least, most], its default shown.
   const auto add_count = [command](const char* flag, int& count, const char* description, int least,
                                    int most) {
@@ -148,9 +153,6 @@ void addBenchCommand(CLI::App& app) {
   };
   add_count("--grid", options->grid, "Vertices per axis of the benchmark calibration", 2, 8);
   command->add_flag("--quick", options->quick, "Shorter runs (noisier figures)");
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
-  addServoTimingOption(*command, options->servo_timing);
   command->add_flag("--friction-sweep", options->friction_sweep,
                     "Instead: calibrate and verify every simulated device at every friction level");
   add_count("--sweep-grid", options->sweep_grid, "Vertices per axis in the sweep", 2, 8);
@@ -159,16 +161,12 @@ void addBenchCommand(CLI::App& app) {
                     "Instead: the friction sweep for the paper's method and the dither method, "
                     "side by side on the same seeds");
   add_count("--seeds", options->seeds, "Seeds 1..N of every --methods cell", 1, 20);
-  command
-      ->add_option_function<std::string>(
-          "--method",
-          [options](const std::string& name) { options->method = parseEstimationMethod(name); },
-          "Estimation method of the calibrations (default dither)")
-      ->check(CLI::IsMember({"paper", "dither"}));
   command->add_option("--plot", options->plot_path,
                       "With --friction-sweep or --methods: plot it to this PNG");
   addReportOption(*command, options->report_path);
-  command->callback([options] { runBenchCommand(*options); });
+  advanced->accept(*command,
+                   {{"--friction", "--unit", "--actuators"}, knob::kServoTiming, knob::kMethod});
+  command->callback([options, advanced] { runBenchCommand(*options, *advanced); });
 }
 
 }  // namespace

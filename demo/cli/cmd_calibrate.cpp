@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "advanced_options.h"
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/estimation/workspace_explorer.h"
@@ -19,14 +20,10 @@
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/wizard/calibration_wizard.h"
-#include "boundary_probes_option.h"
 #include "calibration_report.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
-#include "field_model_option.h"
-#include "friction_option.h"
-#include "servo_timing_option.h"
 
 namespace autograv::cli {
 
@@ -36,29 +33,21 @@ std::atomic<bool> g_stop_requested{false};
 extern "C" void requestStop(int) { g_stop_requested.store(true); }
 
 struct CalibrateOptions {
-  std::string device = "sim:omega";
+  std::string device;
   GridOptions grid;
-  std::uint64_t seed = 1;
-  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
-  sim::SimulatedUnit unit;
   std::string out_path;
   std::string report_path;
   bool resume = false;
-  bool copy_initial_estimate = false;
-  int redo_failed = 1;
-  int boundary_probes = WorkspaceExplorer::Options().boundary_directions;
-  SimulatedLoad load;
-  EstimationParameters parameters;
-  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
-  std::optional<std::uint64_t> servo_timing_seed;  // default: seed
-  FieldModel field_model = kDefaultFieldModel;
 };
 
-void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& command) {
-  auto device = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
-  applySimulatedLoad(*device, options.load);
-  EstimationParameters parameters = options.parameters;
-  applyDeviceDefaults(command, parameters, device->specifications());
+void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions& advanced) {
+  const SimulationKnobs& simulation = advanced.simulation();
+  const CalibrationRunKnobs& knobs = advanced.run();
+  auto device =
+      openSimulatedDevice(options.device, simulation.seed, simulation.friction, simulation.unit);
+  applySimulatedLoad(*device, simulation.load);
+  const EstimationParameters parameters = estimationParameters(
+      advanced.estimation(), EstimationMethod::kDither, device->specifications());
   const DeviceSpecifications& specs = device->specifications();
   // Default grid: the box around the workspace the device explores first; the simulated user
   // initializes near the workspace's centre, as a person would.
@@ -75,17 +64,17 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
     run.grid_resolution = box.resolution();
   }
   run.parameters = parameters;
-  run.calibrator.extrapolate_initial_estimate = !options.copy_initial_estimate;
-  run.redo_passes = options.redo_failed;
-  run.explorer.boundary_directions = options.boundary_probes;
-  run.servo_timing = options.servo_timing;
-  run.servo_timing_seed = options.servo_timing_seed.value_or(options.seed);
+  run.calibrator.extrapolate_initial_estimate = !knobs.copy_initial_estimate;
+  run.redo_passes = knobs.redo_failed;
+  run.explorer.boundary_directions = knobs.boundary_probes;
+  run.servo_timing = simulation.servo_timing;
+  run.servo_timing_seed = simulation.servo_timing_seed.value_or(simulation.seed);
 
   MapMetadata metadata;
   metadata.device_model = specs.model_name;
   metadata.device_serial = specs.serial_number;
   metadata.parameters = parameters;  // created_utc stays empty: saveMap stamps each write
-  metadata.field_model = options.field_model;
+  metadata.field_model = knobs.field_model;
   const std::string checkpoint_path = options.out_path + ".partial";
   // Refuse now, not after minutes of calibration, when the files cannot be written.
   checkWritable(options.out_path, "map");
@@ -115,9 +104,9 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   }
 
   std::printf("Calibrating %s: seed %llu, friction %s, unit %d with %s actuators\n",
-              specs.model_name.c_str(), static_cast<unsigned long long>(options.seed),
-              sim::toString(options.friction), options.unit.number,
-              sim::toString(options.unit.actuators));
+              specs.model_name.c_str(), static_cast<unsigned long long>(simulation.seed),
+              sim::toString(simulation.friction), simulation.unit.number,
+              sim::toString(simulation.unit.actuators));
   if (run.workspace.empty()) {
     std::printf("Exploring the workspace: %d probe directions under a %.2f N cap...\n",
                 run.explorer.directions,
@@ -128,8 +117,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   ProgressBar progress("vertex");
   run.on_explored = [&](const ExploredWorkspace& workspace, const WorkspaceGrid& grid) {
     metadata.workspace = workspace;
-    metadata.lookup_refinement =
-        lookupRefinementFor(grid, kDefaultLookupRefinement, options.field_model);
+    metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
     std::printf("Explored: reach %.1f to %.1f mm from the centre; grid %s\n",
                 workspace.minRadius_m() * 1e3, workspace.maxRadius_m() * 1e3,
                 grid.describe().c_str());
@@ -169,8 +157,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
 
   const WorkspaceGrid& grid = result.grid;
   workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
-  metadata.lookup_refinement =
-      lookupRefinementFor(grid, kDefaultLookupRefinement, options.field_model);
+  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);
@@ -189,56 +176,42 @@ void runCalibrateCommand(const CalibrateOptions& options, const CLI::App& comman
   std::error_code ignored;
   std::filesystem::remove(checkpoint_path, ignored);
 
-  CalibrationOutcome outcome{options.out_path,     options.seed, options.friction,
-                             options.servo_timing, specs,        parameters};
+  CalibrationOutcome outcome{options.out_path,        simulation.seed, simulation.friction,
+                             simulation.servo_timing, specs,           parameters};
   outcome.servo_timing_seed = run.servo_timing_seed;
-  outcome.unit = options.unit;
-  outcome.actuator_gains = sim::actuatorGains(specs.model_name, options.unit);
+  outcome.unit = simulation.unit;
+  outcome.actuator_gains = sim::actuatorGains(specs.model_name, simulation.unit);
   outcome.wall_s = wall_s;
   outcome.workspace_coverage = workspace_coverage;
-  outcome.accuracy = sim::measureAccuracy(map, *device, 1000, options.seed);
+  outcome.accuracy = sim::measureAccuracy(map, *device, 1000, simulation.seed);
   // The field where the hand can be, judged against the simulation's truth (scoring only).
-  outcome.field = sim::measureFieldError(map, *device, sim::kFieldErrorSamples, options.seed);
+  outcome.field = sim::measureFieldError(map, *device, sim::kFieldErrorSamples, simulation.seed);
   outcome.agreement = judgeAgreement(map);
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
-  auto bench = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
+  auto bench =
+      openSimulatedDevice(options.device, simulation.seed, simulation.friction, simulation.unit);
   outcome.device_friction = sim::measureFriction(*bench);
   printCalibrationOutcome(outcome, result, map);
   writeJsonReport(options.report_path, calibrationReportJson(outcome, result, map));
 }
 
-void addCalibrateCommand(CLI::App& app) {
+void addCalibrateCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<CalibrateOptions>();
   CLI::App* command = app.add_subcommand(
-      "calibrate", "Run the whole off-line autocalibration on a simulated device and save the map");
+      "calibrate",
+      "Run the whole off-line autocalibration on a simulated device and save the map (a real "
+      "device is calibrated with `autograv wizard`)");
   addDeviceOption(*command, options->device)->check(simulatedOnly("calibrate"));
-  addSimulatedLoadOptions(*command, options->load);
-  addGridOptions(*command, options->grid);
-  command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
-  addServoTimingOption(*command, options->servo_timing);
-  command->add_option(
-      "--servo-timing-seed", options->servo_timing_seed,
-      "Seed of the desktop, realtime or free loop's lateness (default: --seed): the same "
-      "device with another draw of late ticks");
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
-  command->add_option("--report", options->report_path, "Write a JSON report here");
+  addGridOptions(*command, options->grid);
+  addReportOption(*command, options->report_path);
   command->add_flag("--resume", options->resume,
                     "Continue an interrupted run from <out>.partial, keeping its vertices");
-  command->add_flag("--copy-initial-estimate", options->copy_initial_estimate,
-                    "Start each vertex from the previous estimate exactly as eq. (9) says, "
-                    "instead of extrapolating from the two previous vertices");
-  command
-      ->add_option("--redo-failed", options->redo_failed,
-                   "Visit the vertices that did not converge again, up to this many passes")
-      ->check(CLI::Range(0, 10))
-      ->capture_default_str();
-  addBoundaryProbesOption(*command, options->boundary_probes);
-  addFieldModelOption(*command, options->field_model);
-  addEstimationOptions(*command, options->parameters);
-  command->callback([options, command] { runCalibrateCommand(*options, *command); });
+  advanced->accept(*command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kServoTiming,
+                              knob::kServoTimingSeed, knob::kEstimation, knob::kCalibrationRun,
+                              knob::kFieldModel});
+  command->callback([options, advanced] { runCalibrateCommand(*options, *advanced); });
 }
 
 }  // namespace

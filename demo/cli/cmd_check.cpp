@@ -16,9 +16,9 @@ namespace autograv::cli {
 
 namespace {
 
-void runCheckCommand(const MaintenanceOptions& options, const CLI::App& command, int vertices,
-                     double tolerance_percent) {
-  MaintenanceSetup setup = openForMaintenance(options, command);
+void runCheckCommand(const MaintenanceOptions& options, const AdvancedOptions& advanced,
+                     int vertices, double tolerance_percent) {
+  MaintenanceSetup setup = openForMaintenance(options, advanced);
   MapCheckOptions check;
   check.measurement.parameters = setup.parameters;
   check.vertex_count = vertices;
@@ -42,7 +42,7 @@ void runCheckCommand(const MaintenanceOptions& options, const CLI::App& command,
   if (result.fit != MapFit::kFits) throw CLI::RuntimeError(1);  // exit status 1, reason printed
 }
 
-void addCheckCommand(CLI::App& app) {
+void addCheckCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<MaintenanceOptions>();
   auto vertices = std::make_shared<int>(3);
   auto tolerance_percent = std::make_shared<double>(MapCheckOptions().tolerance_rel * 100.0);
@@ -52,7 +52,7 @@ void addCheckCommand(CLI::App& app) {
       "(then it says whether to retare or calibrate again)");
   command->add_option("--map", options->map_path,
                       "Map to check (default: the device's map in the library)");
-  addMaintenanceOptions(*command, *options);
+  addMaintenanceOptions(*command, *options, *advanced);
   command->add_option("--vertices", *vertices, "Vertices to measure at")
       ->check(CLI::Range(1, 8))
       ->capture_default_str();
@@ -61,8 +61,8 @@ void addCheckCommand(CLI::App& app) {
                    "Largest difference from the map at a vertex that still fits [% of |G|]")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  command->callback([options, command, vertices, tolerance_percent] {
-    runCheckCommand(*options, *command, *vertices, *tolerance_percent);
+  command->callback([options, advanced, vertices, tolerance_percent] {
+    runCheckCommand(*options, *advanced, *vertices, *tolerance_percent);
   });
 }
 

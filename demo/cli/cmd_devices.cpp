@@ -39,7 +39,7 @@ void runDevicesCommand(const std::string& report_path) {
   writeJsonReport(report_path, {{"devices", report}, {"chai3d", chai3dDevicesAvailable()}});
 }
 
-void addDevicesCommand(CLI::App& app) {
+void addDevicesCommand(CLI::App& app, const Advanced& /*advanced*/) {
   auto report_path = std::make_shared<std::string>();
   CLI::App* command = app.add_subcommand(
       "devices", "List the devices this build can open (simulated, and CHAI3D's connected ones)");

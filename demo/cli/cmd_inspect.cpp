@@ -216,7 +216,7 @@ void runInspectCommand(const InspectOptions& options) {
   }
 }
 
-void addInspectCommand(CLI::App& app) {
+void addInspectCommand(CLI::App& app, const Advanced& /*advanced*/) {
   auto options = std::make_shared<InspectOptions>();
   CLI::App* command = app.add_subcommand(
       "inspect", "Validate a gravity map file and print a summary (grid, device, convergence)");

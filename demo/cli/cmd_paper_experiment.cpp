@@ -4,31 +4,34 @@
 
 #include <nlohmann/json.hpp>
 
+#include "advanced_options.h"
 #include "autograv/sim/paper_frame.h"
 #include "autograv/sim/procedures.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "estimation_options.h"
-#include "friction_option.h"
 
 namespace autograv::cli {
 
 namespace {
 
 struct PaperExperimentOptions {
-  std::string device = "sim:omega";
+  std::string device;
+  std::string report_path;
+  // The simulated device's (--seed, --friction, --unit, --actuators), once parsed.
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   sim::SimulatedUnit unit;
-  std::string report_path;
-  EstimationParameters parameters;  // the paper's values are the defaults
 };
 
-void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI::App& command) {
+void runPaperExperimentCommand(PaperExperimentOptions options, const AdvancedOptions& advanced) {
+  options.seed = advanced.simulation().seed;
+  options.friction = advanced.simulation().friction;
+  options.unit = advanced.simulation().unit;
   auto device = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
-  EstimationParameters parameters = options.parameters;
-  applyDeviceDefaults(command, parameters, device->specifications());
-  const auto& p = parameters;
+  // The paper's values are the defaults.
+  const EstimationParameters p = estimationParameters(
+      advanced.estimation(), EstimationMethod::kPaper, device->specifications());
   std::printf(
       "Paper Sec. V on %s (seed %llu, friction %s): alpha = %g 1/s, beta = %g 1/s^2, "
       "k0 = %g N/mm,\nn_S = %d, eps_S = %g mm/s, n_G = %d, eps_G = %g g\n",
@@ -102,23 +105,21 @@ void runPaperExperimentCommand(const PaperExperimentOptions& options, const CLI:
   writeJsonReport(options.report_path, report);
 }
 
-void addPaperExperimentCommand(CLI::App& app) {
+void addPaperExperimentCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<PaperExperimentOptions>();
   CLI::App* command = app.add_subcommand(
       "paper-experiment",
       "Reproduce the paper's Section V: estimate the apparent gravity at X_D = [0,-30,0] mm on "
       "the simulated Omega with the paper's parameters");
+  command->group(kResearchCommands);
   addSimulatedDeviceOption(*command, options->device);
-  command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
   addReportOption(*command, options->report_path);
-  addEstimationOptions(*command, options->parameters, EstimationMethod::kPaper);
-  command->callback([options, command] { runPaperExperimentCommand(*options, *command); });
+  advanced->accept(*command, {knob::kSimulatedDevice, knob::kEstimation});
+  command->callback([options, advanced] { runPaperExperimentCommand(*options, *advanced); });
 }
 
 }  // namespace
 
-AUTOGRAV_REGISTER_COMMAND(20, addPaperExperimentCommand);
+AUTOGRAV_REGISTER_COMMAND(85, addPaperExperimentCommand);
 
 }  // namespace autograv::cli

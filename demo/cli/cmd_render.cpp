@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "advanced_options.h"
 #include "autograv/error.h"
 #include "commands.h"
 
@@ -30,7 +31,7 @@ namespace {
 
 struct TruthOptions {
   std::string device;  // "sim:omega", "sim:omni"; empty = no ground truth
-  std::uint64_t seed = 1;
+  Advanced advanced;   // its --seed
 };
 
 struct CompareOptions {
@@ -78,11 +79,12 @@ struct CompareCommandOptions {
   CompareOptions compare;
 };
 
-void addTruthOptions(CLI::App* command, TruthOptions& truth) {
-  command->add_option(
-      "--truth", truth.device,
-      "Simulated device whose true gravity is the reference (sim:omega, sim:omni, sim:falcon)");
-  command->add_option("--seed", truth.seed, "Seed of that simulated device")->capture_default_str();
+void addTruthOptions(CLI::App* command, TruthOptions& truth, const Advanced& advanced) {
+  command->add_option("--truth", truth.device,
+                      "Simulated device whose true gravity is the reference (sim:omega, "
+                      "sim:omni, sim:falcon; its seed: --seed)");
+  truth.advanced = advanced;
+  advanced->accept(*command, {{"--seed"}});
 }
 
 void addCompareOptions(CLI::App* command, CompareOptions& compare) {
@@ -107,7 +109,7 @@ void parseSize(const std::string& text, int& width_px, int& height_px) {
   int h = 0;
   char extra = 0;
   if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &extra) != 2) {
-    throw Error("--size " + text + ": expected WIDTHxHEIGHT in pixels, e.g. 1280x960");
+    throw Error("--size-px " + text + ": expected WIDTHxHEIGHT in pixels, e.g. 1280x960");
   }
   width_px = w;
   height_px = h;
@@ -131,7 +133,8 @@ struct Truth {
 
 std::optional<Truth> makeTruth(const TruthOptions& options) {
   if (options.device.empty()) return std::nullopt;
-  std::shared_ptr<sim::SimulatedDevice> device = openSimulatedDevice(options.device, options.seed);
+  std::shared_ptr<sim::SimulatedDevice> device =
+      openSimulatedDevice(options.device, options.advanced->simulation().seed);
   Truth truth;
   truth.workspace_radius_m = device->specifications().workspace_radius_m;
   truth.workspace_center_m = device->workspaceCenter_m();
@@ -199,7 +202,7 @@ void runRender(const RenderOptions& options) {
   if (options.workspace_radius_mm >= 0.0)
     scene.workspace_radius_m = options.workspace_radius_mm * 1e-3;
   if (!options.position_mm.empty()) {
-    if (options.position_mm.size() != 3) throw Error("--position: expected X,Y,Z in mm");
+    if (options.position_mm.size() != 3) throw Error("--position-mm: expected X,Y,Z in mm");
     scene.device_position_m =
         Eigen::Vector3d(options.position_mm[0], options.position_mm[1], options.position_mm[2]) *
         1e-3;
@@ -278,7 +281,14 @@ void addMapAndOutput(CLI::App* command, Options& options, const std::string& out
   command->add_option("-o,--out", options.out_path, output)->required();
 }
 
-void addRenderCommand(CLI::App& app) {
+// WIDTHxHEIGHT in pixels, as --size-px (once --size).
+void addSizeOption(CLI::App* command, std::string& size) {
+  command->add_option("--size-px", size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  addRenamedOption<std::string>(*command, "--size", "--size-px",
+                                [&size](const std::string& value) { size = value; });
+}
+
+void addRenderCommand(CLI::App& app, const Advanced& advanced) {
   const auto [command, options] = addSubcommand<RenderOptions>(
       app, "render",
       "Render a map: workspace, grid, gravity arrows, where each value was measured (PNG, "
@@ -286,26 +296,37 @@ void addRenderCommand(CLI::App& app) {
       runRender);
   addMapAndOutput(command, *options, "PNG to write");
   command->add_option("--view", options->view, "Camera: iso, front or top")->capture_default_str();
-  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  addSizeOption(command, options->size);
   command->add_option("--background", options->background, "white or dark")->capture_default_str();
   command->add_option("--color-map", options->color_map, "viridis, coolwarm or grayscale")
       ->capture_default_str();
   command->add_option("--workspace-radius-mm", options->workspace_radius_mm,
                       "Draw the workspace sphere with this radius when the map has no "
                       "explored workspace (default: the --truth device's, else the grid's box)");
-  command->add_option("--position", options->position_mm, "Device position X,Y,Z in mm")
+  command->add_option("--position-mm", options->position_mm, "Device position X,Y,Z [mm]")
       ->delimiter(',')
       ->expected(3);
+  command
+      ->add_option_function<std::vector<double>>(
+          "--position",
+          [&position = options->position_mm](const std::vector<double>& position_mm) {
+            noteRenamed("--position", "--position-mm");
+            position = position_mm;
+          },
+          "Old spelling of --position-mm")
+      ->delimiter(',')
+      ->expected(3)
+      ->group(kOldSpellingsGroup);
   command->add_flag("--no-explored-workspace", options->hide_explored_workspace,
                     "Draw the sphere or box instead of the map's explored workspace");
   command->add_option("--title", options->title, "Title (default: model, grid, converged)");
-  addTruthOptions(command, options->truth);
+  addTruthOptions(command, options->truth, advanced);
   command->add_option("--compare", options->golden_path,
                       "Golden PNG: exit 1 with a difference picture when the render departs");
   addCompareOptions(command, options->compare);
 }
 
-void addPlotCommand(CLI::App& app) {
+void addPlotCommand(CLI::App& app, const Advanced& advanced) {
   const auto [command, options] = addSubcommand<PlotCommandOptions>(
       app, "plot", "Plot the convergence at a vertex (Figs. 8-9) or a whole-map summary (PNG)",
       runPlot);
@@ -313,17 +334,17 @@ void addPlotCommand(CLI::App& app) {
   command->add_option("--vertex", options->vertex, "Vertex index: Delta_j and M_hat_j over j");
   command->add_flag("--summary", options->summary,
                     "Histograms of iterations per vertex (and of the error with --truth)");
-  command->add_option("--size", options->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  addSizeOption(command, options->size);
   command->add_option("--background", options->background, "white or dark")->capture_default_str();
   command->add_option("--title", options->title, "Title (default: from the map)");
-  addTruthOptions(command, options->truth);
+  addTruthOptions(command, options->truth, advanced);
 }
 
-void addExportCommand(CLI::App& app) {
+void addExportCommand(CLI::App& app, const Advanced& advanced) {
   const auto [command, options] = addSubcommand<ExportCommandOptions>(
       app, "export", "Write a map for ParaView: .vti (image data) or .vtu", runExport);
   addMapAndOutput(command, *options, "File to write (.vti or .vtu)");
-  addTruthOptions(command, options->truth);
+  addTruthOptions(command, options->truth, advanced);
 }
 
 void addCompareCommand(CLI::App& app) {
@@ -335,10 +356,10 @@ void addCompareCommand(CLI::App& app) {
   addCompareOptions(command, options->compare);
 }
 
-void addRenderCommands(CLI::App& app) {
-  addRenderCommand(app);
-  addPlotCommand(app);
-  addExportCommand(app);
+void addRenderCommands(CLI::App& app, const Advanced& advanced) {
+  addRenderCommand(app, advanced);
+  addPlotCommand(app, advanced);
+  addExportCommand(app, advanced);
   addCompareCommand(app);
 }
 

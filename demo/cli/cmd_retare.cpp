@@ -26,8 +26,9 @@ struct RetareCommandOptions {
   int vertices = 3;
 };
 
-void runRetareCommand(const RetareCommandOptions& options, const CLI::App& command) {
-  MaintenanceSetup setup = openForMaintenance(options.common, command);
+void runRetareCommand(const RetareCommandOptions& options, const AdvancedOptions& advanced) {
+  MaintenanceSetup setup = openForMaintenance(options.common, advanced);
+  const SimulatedLoad& load = advanced.simulation().load;
   const std::string& name = setup.device.name;
   std::printf(
       "re-taring %s for %s: measuring at %d vertices near the centre; keep the "
@@ -58,17 +59,16 @@ void runRetareCommand(const RetareCommandOptions& options, const CLI::App& comma
                            {"disagreement_rel", result.disagreement_rel},
                            {"vertices", result.measurement.vertices},
                            {"simulated_seconds", result.measurement.seconds},
-                           {"payload_true_g", options.common.load.payload_g}};
+                           {"payload_true_g", load.payload_g}};
   if (setup.device.simulation) {
-    const sim::AccuracyReport accuracy =
-        sim::measureAccuracy(result.map, *setup.device.simulation, 1000, options.common.seed);
+    const sim::AccuracyReport accuracy = sim::measureAccuracy(result.map, *setup.device.simulation,
+                                                              1000, advanced.simulation().seed);
     report["max_error_rel"] = accuracy.max_error_rel;  // against the simulation's ground truth
     report["rms_residual_rel"] = accuracy.rms_residual_rel;
-    if (options.common.load.tilt_deg == 0.0) {
+    if (load.tilt_deg == 0.0) {
       // The re-tare's own error: its shift against the true weight of the simulated payload
       // (the rest of max_error_rel is the original map's).
-      const Eigen::Vector3d weight_n(0.0, 0.0,
-                                     options.common.load.payload_g * 1e-3 * kStandardGravity);
+      const Eigen::Vector3d weight_n(0.0, 0.0, load.payload_g * 1e-3 * kStandardGravity);
       const double shift_error_rel = (result.shift_n - weight_n).norm() / accuracy.mean_true_norm_n;
       report["shift_error_rel"] = shift_error_rel;
       std::printf("the shift is %.3f %% of mean |G| off the payload's true weight\n",
@@ -88,7 +88,7 @@ void runRetareCommand(const RetareCommandOptions& options, const CLI::App& comma
   writeJsonReport(options.common.report_path, report);
 }
 
-void addRetareCommand(CLI::App& app) {
+void addRetareCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<RetareCommandOptions>();
   CLI::App* command = app.add_subcommand(
       "retare",
@@ -96,7 +96,7 @@ void addRetareCommand(CLI::App& app) {
       "map");
   command->add_option("map", options->common.map_path,
                       "Map to re-tare (default: the device's map in the library)");
-  addMaintenanceOptions(*command, options->common);
+  addMaintenanceOptions(*command, options->common, *advanced);
   command->add_option("--out", options->out_path,
                       "Where to write the re-tared map (default: back into the library)");
   command->add_option("--vertices", options->vertices, "Vertices to measure at")
@@ -105,7 +105,7 @@ void addRetareCommand(CLI::App& app) {
   command->add_option("--compare", options->compare_path,
                       "A map to compare the result with, vertex by vertex (e.g. a full "
                       "calibration made with the new handle)");
-  command->callback([options, command] { runRetareCommand(*options, *command); });
+  command->callback([options, advanced] { runRetareCommand(*options, *advanced); });
 }
 
 }  // namespace

@@ -12,22 +12,25 @@
 #include "autograv/sim/friction_measurement.h"
 #include "cli_support.h"
 #include "commands.h"
-#include "friction_option.h"
 
 namespace autograv::cli {
 
 namespace {
 
 struct SimOptions {
-  std::string device = "sim:omega";
+  std::string device;
   double seconds = 1.0;
+  std::string report_path;
+  // The simulated device's (--seed, --friction, --unit, --actuators), once parsed.
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   sim::SimulatedUnit unit;
-  std::string report_path;
 };
 
-void runSimCommand(const SimOptions& options) {
+void runSimCommand(SimOptions options, const SimulationKnobs& simulation) {
+  options.seed = simulation.seed;
+  options.friction = simulation.friction;
+  options.unit = simulation.unit;
   if (!(std::isfinite(options.seconds) && options.seconds > 0.0 && options.seconds <= 3600.0)) {
     throw Error("--seconds must be in (0, 3600]");
   }
@@ -124,26 +127,24 @@ void runSimCommand(const SimOptions& options) {
   writeJsonReport(options.report_path, report);
 }
 
-void addSimCommand(CLI::App& app) {
+void addSimCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<SimOptions>();
   CLI::App* command = app.add_subcommand(
       "sim",
       "Release a simulated end-effector at rest at the workspace centre with zero force and "
       "report where it drifts (what a user feels without gravity compensation)");
+  command->group(kResearchCommands);
   addSimulatedDeviceOption(*command, options->device);
-  command->add_option("--seconds", options->seconds, "Simulated time to run. Unit: [s]")
+  command->add_option("--seconds", options->seconds, "Simulated time to run [s]")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  command->add_option("--seed", options->seed, "Noise seed (same seed, same run)")
-      ->capture_default_str();
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
   addReportOption(*command, options->report_path);
-  command->callback([options] { runSimCommand(*options); });
+  advanced->accept(*command, {knob::kSimulatedDevice});
+  command->callback([options, advanced] { runSimCommand(*options, advanced->simulation()); });
 }
 
 }  // namespace
 
-AUTOGRAV_REGISTER_COMMAND(10, addSimCommand);
+AUTOGRAV_REGISTER_COMMAND(80, addSimCommand);
 
 }  // namespace autograv::cli

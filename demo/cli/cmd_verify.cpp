@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "advanced_options.h"
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/device_specifications.h"
 #include "autograv/device/servo_clock.h"
@@ -21,7 +22,6 @@
 #include "autograv/sim/verification.h"
 #include "cli_support.h"
 #include "commands.h"
-#include "friction_option.h"
 #include "servo_timing_option.h"
 
 namespace autograv::cli {
@@ -53,7 +53,9 @@ constexpr double kCatchDrift_m = 0.003;
 
 struct VerifyOptions {
   std::string map_path;
-  std::string device = "sim:omni";
+  std::string device;
+  // The simulated device's and loop's (--seed, --friction, --unit, --actuators, --servo-timing),
+  // once parsed; --seed also draws the points.
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   sim::SimulatedUnit unit;
@@ -79,7 +81,11 @@ void addPercentilesJson(nlohmann::json& json, const std::string& prefix, const P
   json[prefix + "_max" + suffix] = values.max * scale;
 }
 
-void runVerifyCommand(const VerifyOptions& options) {
+void runVerifyCommand(VerifyOptions options, const SimulationKnobs& simulated) {
+  options.seed = simulated.seed;
+  options.friction = simulated.friction;
+  options.unit = simulated.unit;
+  options.servo_timing = simulated.servo_timing;
   const DeviceHandle handle =
       openDevice(options.device, options.seed, options.friction, options.unit);
   const std::shared_ptr<sim::SimulatedDevice>& simulation = handle.simulation;
@@ -337,31 +343,33 @@ void runVerifyCommand(const VerifyOptions& options) {
   std::printf("\nPASS\n");
 }
 
-void addVerifyCommand(CLI::App& app) {
+void addVerifyCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<VerifyOptions>();
   CLI::App* command = app.add_subcommand(
       "verify",
       "Measure the force a map misses at seeded points of its workspace (the device carries "
       "itself there; a PD hold approached from both sides), then release the end-effector with "
-      "compensation on and off and report the drift");
+      "compensation on and off and report the drift; exit 0 on PASS, 1 on FAIL");
   command->add_option("map", options->map_path, "Map file (JSON)")->required();
   addDeviceOption(*command, options->device);
-  command->add_option("--seed", options->seed, "Seed of the points and the device noise")
-      ->capture_default_str();
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
-  addServoTimingOption(*command, options->servo_timing);
   command->add_option("--points", options->points, "Test points")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   command->add_option("--duration-s", options->duration_s, "Time after each release [s]")
       ->check(CLI::Range(0.001, 60.0))
       ->capture_default_str();
-  // The pass limits: each a positive number, its default shown.
+  command->add_flag("!--no-uncompensated", options->compare_uncompensated,
+                    "Skip the releases with compensation off (the end-effector falls, caught "
+                    "after a few millimetres)");
+  addReportOption(*command, options->report_path);
+  command->add_flag("--allow-model-mismatch", options->allow_model_mismatch,
+                    "Use a map made for another device model");
+  // What PASS requires, apart: each a positive number, its default shown.
   const auto add_limit = [command](const char* flag, double& limit, const char* description) {
     command->add_option(flag, limit, description)
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group("Pass limits");
   };
   add_limit("--max-drift-ratio", options->max_drift_ratio,
             "Fail when drift median on / off exceeds this");
@@ -376,13 +384,8 @@ void addVerifyCommand(CLI::App& app) {
             "probe saw (median): above it a released stylus slides");
   add_limit("--stuck-threshold-mm", options->stuck_threshold_mm,
             "A release that moved less than this counts as stuck (a few encoder counts)");
-  command->add_flag("!--no-uncompensated", options->compare_uncompensated,
-                    "Skip the releases with compensation off (the end-effector falls, caught "
-                    "after a few millimetres)");
-  command->add_option("--report", options->report_path, "Write a JSON report here");
-  command->add_flag("--allow-model-mismatch", options->allow_model_mismatch,
-                    "Use a map made for another device model");
-  command->callback([options] { runVerifyCommand(*options); });
+  advanced->accept(*command, {knob::kSimulatedDevice, knob::kServoTiming});
+  command->callback([options, advanced] { runVerifyCommand(*options, advanced->simulation()); });
 }
 
 }  // namespace

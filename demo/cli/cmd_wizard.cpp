@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "advanced_options.h"
 #include "autograv/device/real_time_priority.h"
 #include "autograv/device/wall_clock_tick_source.h"
 #include "autograv/devices/device_registry.h"
@@ -30,13 +31,10 @@
 #include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
-#include "boundary_probes_option.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
 #include "estimation_options.h"
-#include "field_model_option.h"
-#include "friction_option.h"
 #include "servo_timing_option.h"
 #include "wizard_screen.h"
 #include "wizard_terminal.h"
@@ -48,27 +46,44 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct WizardOptions {
-  std::string device = "sim:omega";
+  std::string device;
   std::string out_path;  // empty: the device's place in the map library
   std::string maps_dir;
   std::string report_path;
   bool resume = false;
-  bool auto_hand = false;
   bool yes = false;
+  GridOptions grid;  // the options and defaults of `autograv calibrate`
+  double tolerance_mm = 10.0;
+  int verify_points = 3;
+  // The research and simulation options (AdvancedOptions), once parsed.
+  bool auto_hand = false;
   bool uncalibrated = false;
   std::uint64_t seed = 1;
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
   sim::SimulatedUnit unit;
-  GridOptions grid;     // the options and defaults of `autograv calibrate`
   double speed = -1.0;  // < 0: real time on a terminal, as fast as possible otherwise
   double frame_ms = 20.0;
-  double tolerance_mm = 10.0;
-  int verify_points = 3;
   int boundary_probes = WorkspaceExplorer::Options().boundary_directions;
   FieldModel field_model = kDefaultFieldModel;
-  EstimationParameters parameters;
+  EstimationKnobs estimation;
   sim::ServoTiming servo_timing = sim::ServoTiming::kExact;
 };
+
+/// `options` with the research and simulation options of `advanced` filled in.
+WizardOptions withAdvanced(WizardOptions options, const AdvancedOptions& advanced) {
+  options.auto_hand = advanced.wizard().auto_hand;
+  options.uncalibrated = advanced.wizard().uncalibrated;
+  options.speed = advanced.wizard().speed;
+  options.frame_ms = advanced.wizard().frame_ms;
+  options.seed = advanced.simulation().seed;
+  options.friction = advanced.simulation().friction;
+  options.unit = advanced.simulation().unit;
+  options.servo_timing = advanced.simulation().servo_timing;
+  options.boundary_probes = advanced.run().boundary_probes;
+  options.field_model = advanced.run().field_model;
+  options.estimation = advanced.estimation();
+  return options;
+}
 
 // One arrow key moves the simulated hand's target this far, at this speed.
 constexpr double kHandStep_m = 0.005;
@@ -356,7 +371,7 @@ class ServoThread {
   std::optional<RealTimePriority> priority_;
 };
 
-void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
+void runWizardCommand(const WizardOptions& options) {
   const bool interactive = interactiveTerminal();
   if (!interactive && !options.auto_hand) {
     throw Error(
@@ -426,17 +441,17 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
     config.advanced.box_size_m = grid.size_m();
     config.grid_resolution = grid.resolution();
   }
-  config.advanced.parameters = options.parameters;
   // The same device-aware k0 as `autograv calibrate`: the paper's 500 N/m makes the Omni's arm
   // buzz in the field instead of settling.
-  applyDeviceDefaults(command, config.advanced.parameters, specifications);
+  config.advanced.parameters =
+      estimationParameters(options.estimation, EstimationMethod::kDither, specifications);
   config.map_path = out_path;
   config.resume = options.resume;
   config.advanced.centre_tolerance_m = options.tolerance_mm * 1e-3;
   config.verify_points = options.verify_points;
   config.advanced.explorer.boundary_directions = options.boundary_probes;
   config.advanced.field_model = options.field_model;
-  const double period_s = options.parameters.servo_period_s;
+  const double period_s = config.advanced.parameters.servo_period_s;
   // The simulated loop's ticks, as --servo-timing draws them; an exact loop needs no clock (the
   // wizard then counts exact periods). Hardware runs on the wall clock's time.
   sim::ServoTimingModel timing(options.servo_timing, options.seed, period_s);
@@ -598,7 +613,7 @@ void runWizardCommand(const WizardOptions& options, const CLI::App& command) {
   if (status.step == WizardStep::kFault) throw Error(status.message);
 }
 
-void addWizardCommand(CLI::App& app) {
+void addWizardCommand(CLI::App& app, const Advanced& advanced) {
   auto options = std::make_shared<WizardOptions>();
   CLI::App* command = app.add_subcommand(
       "wizard",
@@ -611,25 +626,9 @@ void addWizardCommand(CLI::App& app) {
   addMapsOption(*command, options->maps_dir);
   command->add_flag("--resume", options->resume,
                     "Continue an interrupted run (of wizard or calibrate) from <out>.partial");
-  command->add_flag("--auto-hand", options->auto_hand,
-                    "The simulated hand does the manual step by itself (required without a "
-                    "terminal, where prompts are answered automatically)");
   command->add_flag("--yes", options->yes,
-                    "Answer the prompts automatically on a terminal too (redo failed vertices "
-                    "once, then save)");
-  command->add_option("--seed", options->seed, "Noise seed")->capture_default_str();
-  addFrictionOption(*command, options->friction);
-  addSimulatedUnitOptions(*command, options->unit);
-  addServoTimingOption(*command, options->servo_timing);
+                    "Answer the prompts automatically (redo failed vertices once, then save)");
   addGridOptions(*command, options->grid);
-  command
-      ->add_option("--speed", options->speed,
-                   "Simulated seconds per wall second; 0 runs as fast as possible (default: 1 "
-                   "on a terminal, 0 otherwise)")
-      ->check(CLI::NonNegativeNumber);
-  command->add_option("--frame-ms", options->frame_ms, "Simulated time per screen frame [ms]")
-      ->check(CLI::Range(1.0, 200.0))
-      ->capture_default_str();
   command
       ->add_option("--tolerance-mm", options->tolerance_mm,
                    "How close to the centre the Centre step accepts [mm]")
@@ -640,13 +639,10 @@ void addWizardCommand(CLI::App& app) {
                    "Release tests in the Verify step (0 skips it)")
       ->check(CLI::Range(0, kMaxVerifyPoints))
       ->capture_default_str();
-  addBoundaryProbesOption(*command, options->boundary_probes);
-  addFieldModelOption(*command, options->field_model);
-  command->add_flag("--uncalibrated", options->uncalibrated,
-                    "Start the simulated device un-homed (to see the Check step stop)");
-  command->add_option("--report", options->report_path, "Write a JSON report here");
-  addEstimationOptions(*command, options->parameters);
-  command->callback([options, command] { runWizardCommand(*options, *command); });
+  addReportOption(*command, options->report_path);
+  advanced->accept(*command, {knob::kSimulatedDevice, knob::kServoTiming, knob::kEstimation,
+                              knob::kBoundaryProbes, knob::kFieldModel, knob::kSimulatedWizard});
+  command->callback([options, advanced] { runWizardCommand(withAdvanced(*options, *advanced)); });
 }
 
 }  // namespace

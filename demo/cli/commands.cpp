@@ -21,11 +21,11 @@ bool registerCommand(int order, AddCommandFunction add) {
   return true;
 }
 
-void addRegisteredCommands(CLI::App& app) {
+void addRegisteredCommands(CLI::App& app, const Advanced& advanced) {
   auto commands = registry();
   std::stable_sort(commands.begin(), commands.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& command : commands) command.second(app);
+  for (const auto& command : commands) command.second(app, advanced);
 }
 
 std::unique_ptr<CLI::App> makeApp() {
@@ -33,7 +33,18 @@ std::unique_ptr<CLI::App> makeApp() {
       "autograv - autocalibrated gravity compensation for 3-DoF impedance haptic devices");
   app->require_subcommand(1);
   app->set_version_flag("--version", "autograv " AUTOGRAV_VERSION_STRING);
-  addRegisteredCommands(*app);
+  // The program's own options (the research and simulation ones) may follow the command's.
+  app->fallthrough();
+  app->formatter(makeHelpFormatter());
+  const Advanced advanced = AdvancedOptions::declare(*app);
+  addRegisteredCommands(*app, advanced);
+  for (CLI::App* command : app->get_subcommands([](CLI::App*) { return true; })) {
+    if (command->get_group() != kResearchCommands) command->group(kUserCommands);
+  }
+  advanced->refuseOthers(*app);
+  app->footer(
+      "Each command's options: autograv <command> --help. Research and simulation options "
+      "(friction, seeds, estimation parameters): autograv --help-advanced.");
   return app;
 }
 

@@ -2,8 +2,8 @@
 
 // The library names what a caller can change by its C++ name (`WizardConfig::grid_resolution`,
 // `EstimationParameters::beta_per_s2`); the command line says the same in its own flags
-// (`--grid`, `--beta`). This is the one table between the two, applied wherever the command
-// line prints a message that came from the library.
+// (`--box-mm`, `--beta-per-s2`). This is the one table between the two, applied wherever the
+// command line prints a message that came from the library.
 
 #include <string>
 #include <utility>

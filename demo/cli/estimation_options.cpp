@@ -6,70 +6,11 @@
 #include <vector>
 
 #include "autograv/error.h"
-#include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/workspace_fit.h"
 #include "autograv/sim/procedures.h"
 
 namespace autograv::cli {
-
-void addEstimationOptions(CLI::App& command, EstimationParameters& p,
-                          EstimationMethod default_method) {
-  p = default_method == EstimationMethod::kDither ? EstimationParameters{}
-                                                  : EstimationParameters::paper();
-  command
-      .add_option_function<std::string>(
-          "--method", [&p](const std::string& name) { p.method = parseEstimationMethod(name); },
-          std::string("Estimation method: 'dither' converges through dry friction, 'paper' is "
-                      "eqs. 7-13 as published (default ") +
-              toString(default_method) + ")")
-      ->check(CLI::IsMember({"paper", "dither"}));
-  command
-      .add_option_function<double>(
-          "--dither-mn", [&p](double millinewtons) { p.dither_amplitude_n = millinewtons * 1e-3; },
-          "Dither amplitude per axis for --method dither [mN] (default: 9 % of the device's max "
-          "force, lowered at each point so that |G_hat| plus the dither stays within the "
-          "continuous force rating, but not below 230 mN)")
-      ->check(CLI::NonNegativeNumber);
-  command
-      .add_option("--dither-hz", p.dither_frequency_hz,
-                  "Dither base frequency for --method dither [Hz]: x and y at f, z at 3f, one "
-                  "averaging window per period; above the hold's bandwidth (about 4 Hz) and at "
-                  "most a quarter of the 1 kHz servo rate")
-      ->check(CLI::Range(5.0, 250.0))
-      ->capture_default_str();
-  command.add_option("--alpha", p.alpha_per_s, "PD damping alpha, K_D = alpha M [1/s]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command.add_option("--beta", p.beta_per_s2, "PD stiffness beta, K_P = beta M [1/s^2]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      .add_option_function<double>(
-          "--k0", [&p](double n_per_mm) { p.k0_n_per_m = n_per_mm * 1e3; },
-          "Initialization field stiffness [N/mm] (default 0.5, at most a tenth of the device's "
-          "max stiffness)")
-      ->check(CLI::PositiveNumber);
-  command.add_option("--n-s", p.n_s, "Slow samples that make a steady state")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str();
-  command
-      .add_option_function<double>(
-          "--eps-s", [&p](double mm_per_s) { p.eps_s_m_per_s = mm_per_s * 1e-3; },
-          "Steady-state speed threshold [mm/s] (default 0.1)")
-      ->check(CLI::PositiveNumber);
-  command.add_option("--n-g", p.n_g, "Small updates that end a vertex")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  command
-      .add_option_function<double>(
-          "--eps-g", [&p](double grams) { p.eps_g_n = grams * 1e-3 * kStandardGravity; },
-          "Estimate-change threshold [g-force] (default 0.5)")
-      ->check(CLI::PositiveNumber);
-  command.add_option("--max-iterations", p.max_iterations, "Iteration cap per vertex")
-      ->check(CLI::Range(1, 10000))
-      ->capture_default_str();
-}
 
 namespace {
 
@@ -162,18 +103,6 @@ WorkspaceGrid resolveGrid(const GridOptions& options, const HapticDevice& device
                            ? sim::deviceWorkspaceCoverage(*simulation, grid)
                            : workspaceCoverage(grid, reachable, sphere_center_m, radius_m);
   return grid;
-}
-
-void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,
-                         const DeviceSpecifications& specifications) {
-  if (command.count("--k0") == 0) {
-    parameters.k0_n_per_m = defaultInitializationStiffness(specifications);
-  }
-  if (command.count("--n-g") == 0) {
-    parameters.n_g = parameters.method == EstimationMethod::kDither
-                         ? EstimationParameters{}.n_g
-                         : EstimationParameters::paper().n_g;
-  }
 }
 
 nlohmann::json parametersJson(const EstimationParameters& p) {

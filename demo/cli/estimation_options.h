@@ -5,20 +5,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "autograv/device/device_specifications.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/sim/simulated_device.h"
 
 namespace autograv::cli {
-
-/// Resets `parameters` to the defaults of `default_method` (EstimationParameters::paper() for the
-/// paper's, EstimationParameters{} for the dither method) and adds --method, --alpha, --beta,
-/// --k0, --n-s, --eps-s, --n-g, --eps-g, --max-iterations, --dither-mn and --dither-hz to
-/// `command`, in the paper's units (N/mm, mm/s, grams-force, mN, Hz) and writing SI values into
-/// `parameters`.
-void addEstimationOptions(CLI::App& command, EstimationParameters& parameters,
-                          EstimationMethod default_method = EstimationMethod::kDither);
 
 /// The calibration grid as given on the command line.
 struct GridOptions {
@@ -46,12 +37,6 @@ Eigen::Vector3i gridResolution(const GridOptions& options);
 inline bool gridFromWorkspace(const GridOptions& options) {
   return options.box_mm.empty() && !(options.side_mm > 0.0);
 }
-
-/// Fills in what depends on the device or the method and was not given on the command line: k0
-/// (see defaultInitializationStiffness) and n_G (5 for the paper's method, 3 for the dither
-/// method). Call after parsing, once the device is open.
-void applyDeviceDefaults(const CLI::App& command, EstimationParameters& parameters,
-                         const DeviceSpecifications& specifications);
 
 /// Every field of `parameters` with its SI unit in the key.
 nlohmann::json parametersJson(const EstimationParameters& parameters);

@@ -11,7 +11,8 @@ namespace autograv::cli {
 
 /// Adds --friction none|low|typical|high to `command`: the friction of the simulated device the
 /// command runs on, written into `level` (which keeps its value, typical by default, when the
-/// option is not given). The one definition shared by every command and by autograv-demo.
+/// option is not given). The one definition shared by the program's research and simulation
+/// options (AdvancedOptions) and by autograv-demo.
 inline CLI::Option* addFrictionOption(CLI::App& command, sim::FrictionLevel& level) {
   return addChoiceOption(
       command, "--friction", level, sim::parseFrictionLevel, sim::frictionLevelNames(),

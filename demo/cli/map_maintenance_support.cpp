@@ -6,33 +6,30 @@
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
-#include "estimation_options.h"
-#include "friction_option.h"
 
 namespace autograv::cli {
 
-void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options) {
+void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options,
+                           AdvancedOptions& advanced) {
   addDeviceOption(command, options.device);
   addMapsOption(command, options.maps_dir);
-  command.add_option("--seed", options.seed, "Noise seed of simulated devices")
-      ->capture_default_str();
   addReportOption(command, options.report_path);
-  addFrictionOption(command, options.friction);
-  addSimulatedUnitOptions(command, options.unit);
-  addSimulatedLoadOptions(command, options.load);
-  addEstimationOptions(command, options.parameters);
+  advanced.accept(command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kEstimation});
 }
 
-MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command) {
-  DeviceHandle device = openDevice(options.device, options.seed, options.friction, options.unit);
-  applySimulatedLoad(device, options.load);
+MaintenanceSetup openForMaintenance(const MaintenanceOptions& options,
+                                    const AdvancedOptions& advanced) {
+  const SimulationKnobs& simulation = advanced.simulation();
+  DeviceHandle device =
+      openDevice(options.device, simulation.seed, simulation.friction, simulation.unit);
+  applySimulatedLoad(device, simulation.load);
   const DeviceSpecifications& specifications = device.device->specifications();
   std::string path = options.map_path;
   if (path.empty()) path = MapLibrary(options.maps_dir).find(specifications);
   GravityMap map = path.empty() ? loadMapForDevice(specifications, options.maps_dir)  // throws
                                 : loadMap(path, MapLoadOptions{specifications.model_name, false});
-  EstimationParameters parameters = options.parameters;
-  applyDeviceDefaults(command, parameters, specifications);
+  const EstimationParameters parameters =
+      estimationParameters(advanced.estimation(), EstimationMethod::kDither, specifications);
   std::optional<RealTimePriority> servo_priority = enterServoPriority(device);
   return {std::move(device), std::move(map), path, parameters, servo_priority};
 }

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "advanced_options.h"
 #include "autograv/device/real_time_priority.h"
 #include "autograv/devices/device_registry.h"
 #include "autograv/estimation/estimation_parameters.h"
@@ -17,20 +18,16 @@
 namespace autograv::cli {
 
 struct MaintenanceOptions {
-  std::string device = "sim:omni";
+  std::string device;
   std::string map_path;  ///< Empty: the device's map in the library.
   std::string maps_dir;
   std::string report_path;
-  std::uint64_t seed = 1;
-  SimulatedLoad load;
-  sim::FrictionLevel friction = sim::FrictionLevel::kTypical;
-  sim::SimulatedUnit unit;
-  EstimationParameters parameters;
 };
 
-/// --device, --maps, --seed, --friction, --report, --payload-g, --tilt-deg and the estimation
-/// options.
-void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options);
+/// --device, --maps and --report; and takes the simulated device's options (--seed, --friction,
+/// --unit, --actuators, --payload-g, --tilt-deg) and the estimation options of `advanced`.
+void addMaintenanceOptions(CLI::App& command, MaintenanceOptions& options,
+                           AdvancedOptions& advanced);
 
 struct MaintenanceSetup {
   DeviceHandle device;              ///< Open and homed, with the simulated load applied.
@@ -41,10 +38,12 @@ struct MaintenanceSetup {
   std::optional<RealTimePriority> servo_priority;
 };
 
-/// Opens the device and finds its map (the file given, else the library's), and on hardware
-/// raises the calling thread, which runs the servo loop, to real-time priority where permitted.
-/// Throws autograv::Error when the device or the map fails, saying what to do.
-MaintenanceSetup openForMaintenance(const MaintenanceOptions& options, const CLI::App& command);
+/// Opens the device (simulated ones as `advanced` describes them) and finds its map (the file
+/// given, else the library's), and on hardware raises the calling thread, which runs the servo
+/// loop, to real-time priority where permitted. Throws autograv::Error when the device or the map
+/// fails, saying what to do.
+MaintenanceSetup openForMaintenance(const MaintenanceOptions& options,
+                                    const AdvancedOptions& advanced);
 
 /// Largest |a - b| / |b| over the vertices of two maps on the same grid; throws autograv::Error
 /// when the grids differ.

@@ -13,8 +13,8 @@
 namespace autograv::cli {
 
 /// Adds --servo-timing exact|desktop|realtime|free to `command`: how the simulated servo loop's
-/// ticks arrive, written into `timing` (exact, today's figures, when the option is not given). The
-/// one definition shared by calibrate, verify, wizard and bench.
+/// ticks arrive, written into `timing` (exact, today's figures, when the option is not given).
+/// AdvancedOptions declares it once for the commands that take it.
 inline CLI::Option* addServoTimingOption(CLI::App& command, sim::ServoTiming& timing) {
   return addChoiceOption(
       command, "--servo-timing", timing, sim::parseServoTiming, sim::servoTimingNames(),

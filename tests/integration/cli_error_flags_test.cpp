@@ -52,11 +52,12 @@ void expectRefusalInFlags(const testing::CommandResult& run, const std::string& 
 
 TEST(CliErrorFlagsTest, ABetaThatCannotConvergeIsRefusedWithTheFlagThatChangesIt) {
   SKIP_WITHOUT_PROGRAM();
-  const auto run = runCommand(kBinary +
-                              " calibrate --device sim:omega --grid 2 --side-mm 50 --beta 50 "
-                              "--alpha 10 --out " +
-                              scratch("slow.json"));
-  expectRefusalInFlags(run, "--beta");
+  const auto run =
+      runCommand(kBinary +
+                 " calibrate --device sim:omega --grid 2 --side-mm 50 --beta-per-s2 50 "
+                 "--alpha-per-s 10 --out " +
+                 scratch("slow.json"));
+  expectRefusalInFlags(run, "--beta-per-s2");
 }
 
 TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsMeasuredInsideTheExploredWorkspace) {

@@ -18,7 +18,7 @@ for device in sim:omni sim:omega sim:falcon; do
   "$bin" calibrate --device "$device" --grid 5 --out "$out/${name}_map.json" \
     --report "$out/${name}_calibration.json" > "$out/${name}_calibrate.stdout" 2>&1
   xvfb-run -a -s "-screen 0 1600x1200x24" "$bin" render "$out/${name}_map.json" \
-    -o "$out/${name}_scene.png" --size 1280x960 --truth "$device" > "$out/${name}_render.stdout" 2>&1
+    -o "$out/${name}_scene.png" --size-px 1280x960 --truth "$device" > "$out/${name}_render.stdout" 2>&1
   # A FAIL verdict exits 1: the exit code is part of the output, not the end of the run.
   "$bin" verify "$out/${name}_map.json" --device "$device" --report "$out/${name}_verify.json" \
     > "$out/${name}_verify.stdout" 2>&1 || echo "exit $?" >> "$out/${name}_verify.stdout"

@@ -1,5 +1,6 @@
 #include "autograv/map/workspace_fit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -73,13 +74,30 @@ TEST(WorkspaceFitTest, TheOmniReachesNeitherBeyondItsSphereNorPastItsElbowStop) 
   EXPECT_TRUE(device->isReachable(Eigen::Vector3d::Zero()));
   EXPECT_TRUE(device->isReachable(Eigen::Vector3d(0.0, 0.0, 0.99 * radius_m)));
   EXPECT_FALSE(device->isReachable(Eigen::Vector3d(0.0, 0.0, 1.01 * radius_m)));
-  // A pose whose elbow offset exceeds the stop, built from the joint angles.
+  // The elbow stop lies beyond the sphere (SerialArmDevice refuses an arm whose stop cuts into
+  // it): every point of the sphere is on the arm's branch within the stop, and a pose folded past
+  // the stop is unreachable, beyond the sphere too.
   const auto& arm = dynamic_cast<const sim::SerialArmDevice&>(*device);
-  const Eigen::Vector3d folded = arm.forwardKinematics(Eigen::Vector3d(0.0, 0.4802, 0.4802 - 1.45));
+  const double max_offset_rad = arm.parameters().max_elbow_offset_rad;
   Eigen::Vector3d q;
-  if (folded.norm() <= radius_m && arm.inverseKinematics(folded, q)) {
-    EXPECT_FALSE(device->isReachable(folded));
+  for (int i = -3; i <= 3; ++i) {
+    for (int j = -3; j <= 3; ++j) {
+      for (int k = -3; k <= 3; ++k) {
+        // A point of the 7x7x7 lattice pulled into the sphere: the corners onto its surface.
+        const Eigen::Vector3d lattice(i, j, k);
+        const Eigen::Vector3d point_m =
+            radius_m * lattice / std::max(3.0, lattice.norm()) * (1.0 - 1e-9);
+        ASSERT_TRUE(arm.inverseKinematics(point_m, q)) << point_m.transpose();
+        EXPECT_LT(std::abs(q[2] - q[1]), max_offset_rad) << point_m.transpose();
+        EXPECT_TRUE(device->isReachable(point_m)) << point_m.transpose();
+      }
+    }
   }
+  const Eigen::Vector3d folded = arm.forwardKinematics(Eigen::Vector3d(0.0, 0.4802, 0.4802 - 1.45));
+  ASSERT_TRUE(arm.inverseKinematics(folded, q)) << folded.transpose();
+  EXPECT_NEAR(q[2] - q[1], -1.45, 1e-9);
+  EXPECT_FALSE(device->isReachable(folded));
+  EXPECT_GT(folded.norm(), radius_m);
 }
 
 }  // namespace

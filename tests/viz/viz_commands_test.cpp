@@ -74,7 +74,7 @@ class VizCommandsTest : public ::testing::Test {
 
 TEST_F(VizCommandsTest, RenderWritesThePictureAndCompareCatchesAnotherCamera) {
   const CommandRun render =
-      autograv("render " + kMap + " -o " + file("iso.png") + " --view iso --size 640x480");
+      autograv("render " + kMap + " -o " + file("iso.png") + " --view iso --size-px 640x480");
   ASSERT_EQ(render.exit_code, 0) << render.output;
   const RgbImage picture = readPng(file("iso.png"));
   EXPECT_EQ(picture.width_px, 640);
@@ -82,10 +82,10 @@ TEST_F(VizCommandsTest, RenderWritesThePictureAndCompareCatchesAnotherCamera) {
 
   // The same render against itself passes; the top view against it fails with a diff picture.
   const CommandRun same = autograv("render " + kMap + " -o " + file("again.png") +
-                                   " --view iso --size 640x480 --compare " + file("iso.png"));
+                                   " --view iso --size-px 640x480 --compare " + file("iso.png"));
   EXPECT_EQ(same.exit_code, 0) << same.output;
   const CommandRun moved = autograv("render " + kMap + " -o " + file("top.png") +
-                                    " --view top --size 640x480 --compare " + file("iso.png") +
+                                    " --view top --size-px 640x480 --compare " + file("iso.png") +
                                     " --diff " + file("diff.png"));
   EXPECT_NE(moved.exit_code, 0) << moved.output;
   EXPECT_TRUE(std::filesystem::exists(file("diff.png")));

@@ -52,7 +52,7 @@ class UnwritablePicturesTest : public ::testing::Test {
 };
 
 TEST_F(UnwritablePicturesTest, RenderPlotAndExportIntoAReadOnlyFolder) {
-  expectRefused("render " + kMap + " -o " + file("scene.png") + " --size 320x240",
+  expectRefused("render " + kMap + " -o " + file("scene.png") + " --size-px 320x240",
                 file("scene.png"));
   expectRefused("plot " + kMap + " --summary -o " + file("plot.png"), file("plot.png"));
   expectRefused("export " + kMap + " -o " + file("map.vti"), file("map.vti"));
@@ -63,17 +63,17 @@ TEST_F(UnwritablePicturesTest, TheDifferencePictureOfACompareIntoAReadOnlyFolder
   const testing::TestFolder open_folder;
   fs::permissions(open_folder.path(), fs::perms::all);
   const testing::ProgramRun golden = testing::runAutograv(
-      "render " + kMap + " -o " + open_folder.file("iso.png") + " --view iso --size 320x240");
+      "render " + kMap + " -o " + open_folder.file("iso.png") + " --view iso --size-px 320x240");
   ASSERT_EQ(golden.exit_code, 0) << golden.output;
   expectRefused("render " + kMap + " -o " + open_folder.file("top.png") +
-                    " --view top --size 320x240 --compare " + open_folder.file("iso.png") +
+                    " --view top --size-px 320x240 --compare " + open_folder.file("iso.png") +
                     " --diff " + file("diff.png"),
                 file("diff.png"));
 }
 
 TEST_F(UnwritablePicturesTest, PicturesToDevFullSayTheDiskIsFull) {
   // (An export needs a .vti or .vtu name, which /dev/full is not.)
-  for (const std::string& arguments : {"render " + kMap + " -o /dev/full --size 320x240",
+  for (const std::string& arguments : {"render " + kMap + " -o /dev/full --size-px 320x240",
                                        "plot " + kMap + " --summary -o /dev/full"}) {
     SCOPED_TRACE(arguments);
     const testing::ProgramRun run = testing::runAutograv(arguments);
