@@ -24,8 +24,8 @@ const AdvancedOptions::Section kEstimationSection{
     "Estimation (paper Secs. II-III; the defaults are the dither method's, paper-experiment's the "
     "paper's)",
     "the estimation"};
-const AdvancedOptions::Section kCalibrationRunSection{"How a calibration visits its points and reads its map",
-                                                      "the calibration run"};
+const AdvancedOptions::Section kCalibrationRunSection{
+    "How a calibration visits its points and reads its map", "the calibration run"};
 const AdvancedOptions::Section kSimulatedWizardSection{"The wizard on a simulated device",
                                                        "the simulated hand"};
 
