@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "advanced_options.h"
-#include "sim/experiments.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
 #include "servo_timing_option.h"
+#include "sim/experiments.h"
 #include "sweep_report.h"
 
 namespace autograv::cli {

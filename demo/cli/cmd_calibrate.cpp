@@ -117,7 +117,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
   ProgressBar progress("vertex");
   run.on_explored = [&](const ExploredWorkspace& workspace, const WorkspaceGrid& grid) {
     metadata.workspace = workspace;
-    metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
+    metadata.lookup_refinement =
+        lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
     std::printf("Explored: reach %.1f to %.1f mm from the centre; grid %s\n",
                 workspace.minRadius_m() * 1e3, workspace.maxRadius_m() * 1e3,
                 grid.describe().c_str());
@@ -157,7 +158,8 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
 
   const WorkspaceGrid& grid = result.grid;
   workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
-  metadata.lookup_refinement = lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
+  metadata.lookup_refinement =
+      lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);

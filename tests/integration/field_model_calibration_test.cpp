@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "autograv/map/gravity_map.h"
-#include "sim/experiments.h"
 #include "autograv/sim/procedures.h"
+#include "sim/experiments.h"
 
 namespace autograv {
 namespace {

@@ -126,7 +126,7 @@ struct FieldModelScore {
 /// The model chooseFieldModel keeps, and every candidate's score.
 struct FieldModelChoice {
   FieldModel model = FieldModel::kConservative;  ///< The model kept.
-  double curl_weight = 0.0;  ///< Of the kept model.
+  double curl_weight = 0.0;                      ///< Of the kept model.
   /// The conservative, componentwise and corrected candidates, in that order.
   std::vector<FieldModelScore> scores;
 };

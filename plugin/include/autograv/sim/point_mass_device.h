@@ -100,8 +100,9 @@ PointMassParameters omegaParameters(FrictionLevel friction = FrictionLevel::kTyp
 
 /// The "sim:swirl-cube" test device: the Omega-like mechanism in a box of +/-40 mm (stops on six
 /// flat faces, so corners and edges), whose holding force has a swirl of 60 mN per component
-/// over a 0.1 m wavelength (about 3 % of |G|) that no potential explains. Built to break what only our model devices satisfy: a
-/// conservative field and a round workspace. Not a model of any real device.
+/// over a 0.1 m wavelength (about 3 % of |G|) that no potential explains. Built to break what only
+/// our model devices satisfy: a conservative field and a round workspace. Not a model of any real
+/// device.
 PointMassParameters swirlCubeParameters(FrictionLevel friction = FrictionLevel::kTypical);
 /// The "sim:swirl-ellipsoid" test device: the same mechanism in an ellipsoid of 80 x 60 x 35 mm
 /// semi-axes (an Omni's 160 x 120 x 70 mm workspace), with the same kind of swirl.
