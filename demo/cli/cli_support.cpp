@@ -189,6 +189,12 @@ void printFieldError(const sim::FieldErrorReport& field) {
               "  within 5 mm of the stops", 100.0 * field.shell_p50_rel,
               100.0 * field.shell_p90_rel, 100.0 * field.shell_p99_rel, 100.0 * field.shell_max_rel,
               field.shell_samples);
+  if (field.breakaway_n > 0.0) {
+    // Below the breakaway force a released stylus stays where it is put, whatever the error.
+    std::printf("%-34s %.1f mN at most (breakaway %.1f mN); beats it in %.3f %% of the workspace\n",
+                "where a released stylus drifts", field.max_n * 1e3, field.breakaway_n * 1e3,
+                100.0 * field.above_breakaway_fraction);
+  }
 }
 
 void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& field) {
@@ -202,6 +208,10 @@ void addFieldErrorJson(nlohmann::json& report, const sim::FieldErrorReport& fiel
   report["shell_field_error_p90_rel"] = field.shell_p90_rel;
   report["shell_field_error_p99_rel"] = field.shell_p99_rel;
   report["shell_field_error_max_rel"] = field.shell_max_rel;
+  report["field_error_max_n"] = field.max_n;
+  if (field.breakaway_n > 0.0) {
+    report["field_error_above_breakaway_fraction"] = field.above_breakaway_fraction;
+  }
 }
 
 MapAgreement judgeAgreement(const GravityMap& map) {

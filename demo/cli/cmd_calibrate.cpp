@@ -186,14 +186,16 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
   outcome.wall_s = wall_s;
   outcome.workspace_coverage = workspace_coverage;
   outcome.accuracy = sim::measureAccuracy(map, *device, 1000, simulation.seed);
-  // The field where the hand can be, judged against the simulation's truth (scoring only).
-  outcome.field = sim::measureFieldError(map, *device, sim::kFieldErrorSamples, simulation.seed);
-  outcome.agreement = judgeAgreement(map);
   // The device's friction, measured on a fresh copy (same seed and level) so that the
   // calibration run above is what it was.
   auto bench =
       openSimulatedDevice(options.device, simulation.seed, simulation.friction, simulation.unit);
   outcome.device_friction = sim::measureFriction(*bench);
+  // The field where the hand can be, judged against the simulation's truth (scoring only), and
+  // where its error beats the breakaway force: where a released stylus would drift.
+  outcome.field = sim::measureFieldError(map, *device, sim::kFieldErrorSamples, simulation.seed,
+                                         5e-3, outcome.device_friction.breakaway_force_n);
+  outcome.agreement = judgeAgreement(map);
   printCalibrationOutcome(outcome, result, map);
   writeJsonReport(options.report_path, calibrationReportJson(outcome, result, map));
 }

@@ -27,8 +27,10 @@ void runCheckCommand(const MaintenanceOptions& options, const AdvancedOptions& a
       makeTickSource(setup.device, setup.parameters.servo_period_s, /*real_time=*/false);
   const MapCheckResult result = checkMap(*setup.device.device, *ticks, setup.map, check);
   std::printf("%s: %s\n", setup.device.name.c_str(), inCommandLineTerms(result.reason).c_str());
+  std::printf("field model: %s\n", describeFieldModel(setup.map).c_str());
   nlohmann::json report = {{"device", setup.device.name},
                            {"map", setup.map_path},
+                           {"field_model", toString(setup.map.fieldModel())},
                            {"fit", toString(result.fit)},
                            {"fits", result.fit == MapFit::kFits},
                            {"reason", inCommandLineTerms(result.reason)},

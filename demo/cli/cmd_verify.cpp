@@ -135,6 +135,8 @@ void runVerifyCommand(VerifyOptions options, const SimulationKnobs& simulated) {
               options.points,
               from_workspace ? "the map's explored workspace" : "the map's grid box (no workspace)",
               static_cast<unsigned long long>(options.seed));
+  // What is judged is the map as it reads the field: its own model between the measurements.
+  std::printf("field model: %s\n", describeFieldModel(*map).c_str());
   std::printf(
       "each point: the device carries itself there (no hand) and holds it until compensation is\n"
       "fully in; residual force probed by a %.0f N/m hold approached %d times from each side\n"
@@ -279,6 +281,7 @@ void runVerifyCommand(VerifyOptions options, const SimulationKnobs& simulated) {
   }
   nlohmann::json json = {
       {"map", options.map_path},
+      {"field_model", toString(map->fieldModel())},
       {"device", specs.model_name},
       {"device_name", options.device},
       {"simulated", simulation != nullptr},

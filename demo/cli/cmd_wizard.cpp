@@ -27,6 +27,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_library.h"
 #include "autograv/sim/end_stop_watch.h"
+#include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
@@ -583,8 +584,11 @@ void runWizardCommand(const WizardOptions& options) {
   std::optional<sim::FieldErrorReport> field;
   std::optional<sim::AccuracyReport> accuracy;
   if (simulation != nullptr && status.map_saved && wizard.savedMap()) {
-    field = sim::measureFieldError(*wizard.savedMap(), *simulation, sim::kFieldErrorSamples,
-                                   options.seed);
+    // Where the error beats the breakaway force (measured on a fresh copy of the device).
+    auto bench = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
+    field =
+        sim::measureFieldError(*wizard.savedMap(), *simulation, sim::kFieldErrorSamples,
+                               options.seed, 5e-3, sim::measureFriction(*bench).breakaway_force_n);
     accuracy = sim::measureAccuracy(*wizard.savedMap(), *simulation, 1000, options.seed);
     report["max_error_rel"] = accuracy->max_error_rel;
     report["worst_vertex"] = accuracy->worst_vertex;

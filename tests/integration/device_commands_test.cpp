@@ -129,6 +129,39 @@ TEST_F(DeviceCommandsTest, CalibrateDrawsTheLoopsLatenessFromItsOwnSeed) {
   EXPECT_TRUE(same_report["least_sure_vertices"].is_array());
 }
 
+// The report says which unit was calibrated, which field model the map chose and how each
+// candidate scored, and where a released stylus would drift; --field-model forces a model.
+TEST_F(DeviceCommandsTest, CalibrateReportsTheUnitTheFieldModelAndWhereAStylusDrifts) {
+  const std::string command = kBinary +
+                              " calibrate --device sim:falcon --grid 3 --side-mm 60 --unit 2 "
+                              "--out " +
+                              dir_ + "/unit2.json --report " + dir_ + "/unit2.report.json";
+  const auto chosen = runCommand(command);
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+  const nlohmann::json report = readJson(dir_ + "/unit2.report.json");
+  EXPECT_EQ(report["unit"], 2);
+  EXPECT_EQ(report["actuators"], "typical");
+  ASSERT_EQ(report["actuator_gains"].size(), 3u);
+  EXPECT_NE(report["actuator_gains"][0].get<double>(), 1.0);
+  ASSERT_EQ(report["field_model_scores"].size(), 3u) << report.dump(2);
+  EXPECT_EQ(report["field_model_scores"][0]["model"], "conservative");
+  EXPECT_NE(report["field_model"], "thin_plate");
+  EXPECT_GT(report["breakaway_force_n"].get<double>(), 0.0);
+  EXPECT_GE(report["field_error_above_breakaway_fraction"].get<double>(), 0.0);
+  EXPECT_LE(report["field_error_above_breakaway_fraction"].get<double>(), 1.0);
+  EXPECT_GT(report["field_error_max_n"].get<double>(), 0.0);
+  EXPECT_NE(chosen.output.find("field model"), std::string::npos) << chosen.output;
+  EXPECT_NE(chosen.output.find("where a released stylus drifts"), std::string::npos)
+      << chosen.output;
+  // Forced: the same measurements, read through the model asked for, scored by nothing else.
+  const auto forced = runCommand(command + " --field-model componentwise");
+  ASSERT_EQ(forced.exit_code, 0) << forced.output;
+  const nlohmann::json forced_report = readJson(dir_ + "/unit2.report.json");
+  EXPECT_EQ(forced_report["field_model"], "componentwise");
+  EXPECT_TRUE(forced_report["field_model_scores"].empty());
+  EXPECT_NE(forced.output.find("given, not chosen"), std::string::npos) << forced.output;
+}
+
 // --dither-hz reaches the estimator and the map records it; a frequency the 1 kHz loop cannot
 // carry is refused before the device moves.
 TEST_F(DeviceCommandsTest, CalibrateDithersAtTheFrequencyItIsGiven) {
