@@ -241,13 +241,13 @@ void addVertexArrows(SceneBuild& scene) {
       kinds ? "measured at\nthe vertex: " + std::to_string(summary.measured_at_vertex) : "estimate";
   scene.legend.push_back({symbol->GetOutput(), text, {mid[0], mid[1], mid[2]}});
   if (!extrapolated_mm.empty()) {
-    // The faint arrows' entry in the faint arrows' own colour: the colour map's middle, washed
-    // out toward the background as they are.
+    // The faint arrows' entry: the colour map's middle washed out toward the background, half
+    // as far as the arrows are, so that its words stay legible on either background.
+    constexpr double kLegendWash = 0.5 * (1.0 - kExtrapolatedArrowOpacity);
     const detail::Rgb& background = scene.palette.background;
     detail::Rgb faint{};
     for (std::size_t c = 0; c < faint.size(); ++c) {
-      faint[c] =
-          kExtrapolatedArrowOpacity * mid[c] + (1.0 - kExtrapolatedArrowOpacity) * background[c];
+      faint[c] = (1.0 - kLegendWash) * mid[c] + kLegendWash * background[c];
     }
     scene.legend.push_back(
         {symbol->GetOutput(),
