@@ -8,14 +8,7 @@
 #            [-DCONSUMER_LINK_FLAGS=<flags the consumer links with, e.g. the sanitizers>]
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT result EQUAL 0)
-    message(FATAL_ERROR "failed: ${ARGN}\n${out}\n${err}")
-  endif()
-  set(run_output "${out}${err}" PARENT_SCOPE)
-  set(run_stdout "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
 
 # The package, from the build as it is: cpack installs the build (no compilation when it is up to
 # date) into its own staging folder and writes the .deb to WORK_DIR.
