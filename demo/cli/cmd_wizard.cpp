@@ -231,8 +231,9 @@ class FrontEnd {
   bool redo_done_ = false;
 };
 
-/// What a real device would feel, on a simulation: servo time above the continuous force rating
-/// and ticks the driver clamped at its force limit.
+/// Servo time above the continuous force rating and ticks at the force limit. On a simulation,
+/// what its actuators delivered and its driver clamped (what a real device would feel); on
+/// hardware, what the wizard sent (WizardStatus::force), the same figures from the commands.
 struct ForceWatch {
   ForceWatch(const DeviceSpecifications& specifications, const sim::SimulatedDevice* simulation)
       : continuous_n(continuousForceRating_n(specifications)),
@@ -240,6 +241,11 @@ struct ForceWatch {
   void record(const sim::SimulatedDevice& simulation, double interval_s) {
     if (simulation.appliedForce_n().norm() > continuous_n) seconds_above_continuous += interval_s;
     limit_ticks = simulation.saturationCount() - saturations_before;
+  }
+  /// On hardware: the forces the wizard sent, as it measured them.
+  void takeSent(const WizardForces& sent) {
+    seconds_above_continuous = sent.above_continuous_s;
+    limit_ticks = sent.at_limit_ticks;
   }
   double continuous_n;
   std::uint64_t saturations_before;
@@ -273,12 +279,11 @@ void printResults(const WizardStatus& status, const ForceWatch& force,
   }
   // Where the measurements disagree with one another: no ground truth needed, so on hardware too.
   if (agreement != nullptr) printAgreement("leave-one-out", *agreement);
-  if (field) {
-    printFieldError(*field);
-    std::printf("%-34s %.1f s above %.2f N, %llu ticks at the force limit\n", "force on the device",
-                force.seconds_above_continuous, continuousForceRating_n(specifications),
-                static_cast<unsigned long long>(force.limit_ticks));
-  }
+  if (field) printFieldError(*field);
+  std::printf("%-34s %.1f s above %.2f N, %llu ticks at the force limit, %.2f N at most\n",
+              "force on the device", force.seconds_above_continuous,
+              continuousForceRating_n(specifications),
+              static_cast<unsigned long long>(force.limit_ticks), status.force.peak_n);
 }
 
 nlohmann::json reportJson(const WizardOptions& options, const std::string& out_path,
@@ -573,9 +578,11 @@ void runWizardCommand(const WizardOptions& options) {
   servo.stop();
   terminal.reset();  // back to the normal screen before the last words
 
+  if (simulation == nullptr) force_watch.takeSent(status.force);
   nlohmann::json report =
       reportJson(options, out_path, wizard, status, initialization_end_stop_hit);
   report["continuous_force_n"] = continuousForceRating_n(specifications);
+  report["peak_force_n"] = status.force.peak_n;
   report["seconds_above_continuous_force"] = force_watch.seconds_above_continuous;
   report["force_limit_ticks"] = force_watch.limit_ticks;
   addServoPriorityJson(report, servo.priority());

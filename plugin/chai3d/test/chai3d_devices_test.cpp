@@ -432,6 +432,11 @@ TEST_F(HardwareStandInTest, TheTerminalWizardCalibratesHardwareWithAPersonAtIt) 
   EXPECT_TRUE(report.contains("servo_real_time_priority")) << report.dump(2);
   EXPECT_FALSE(report.contains("field_error_p99_rel")) << report.dump(2);  // no truth on hardware
   EXPECT_EQ(report.at("verify").size(), 1u) << report.dump(2);
+  // The forces on the device, from what the wizard sent: known on hardware too.
+  EXPECT_GT(report.at("peak_force_n").get<double>(), 0.3) << report.dump(2);
+  EXPECT_LT(report.at("peak_force_n").get<double>(), 3.3) << report.dump(2);
+  EXPECT_EQ(report.at("force_limit_ticks").get<int>(), 0) << report.dump(2);
+  EXPECT_GE(report.at("seconds_above_continuous_force").get<double>(), 0.0) << report.dump(2);
 }
 
 }  // namespace
