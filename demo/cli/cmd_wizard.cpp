@@ -591,11 +591,16 @@ void runWizardCommand(const WizardOptions& options) {
   std::optional<sim::FieldErrorReport> field;
   std::optional<sim::AccuracyReport> accuracy;
   if (simulation != nullptr && status.map_saved && wizard.savedMap()) {
-    // Where the error beats the breakaway force (measured on a fresh copy of the device).
-    auto bench = openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
-    field =
-        sim::measureFieldError(*wizard.savedMap(), *simulation, sim::kFieldErrorSamples,
-                               options.seed, 5e-3, sim::measureFriction(*bench).breakaway_force_n);
+    // Where the error beats the breakaway force, measured on a fresh copy of a sim: device (a
+    // simulation behind another driver, as CHAI3D's stand-in, has no copy to measure).
+    double breakaway_n = 0.0;
+    if (options.device.rfind("sim:", 0) == 0) {
+      auto bench =
+          openSimulatedDevice(options.device, options.seed, options.friction, options.unit);
+      breakaway_n = sim::measureFriction(*bench).breakaway_force_n;
+    }
+    field = sim::measureFieldError(*wizard.savedMap(), *simulation, sim::kFieldErrorSamples,
+                                   options.seed, 5e-3, breakaway_n);
     accuracy = sim::measureAccuracy(*wizard.savedMap(), *simulation, 1000, options.seed);
     report["max_error_rel"] = accuracy->max_error_rel;
     report["worst_vertex"] = accuracy->worst_vertex;

@@ -138,6 +138,22 @@ TEST(RetareAgainstFullCalibrationTest, ReTaredMapIsWithinHalfAPercentOfACalibrat
   EXPECT_LT(worst_rel, 0.012);
 }
 
+// The same handle: the change measured is the vertices' own scatter, which has no direction to
+// judge, and the re-tare keeps the map's weight instead of refusing a healthy device.
+TEST_F(MapMaintenanceTest, RetareWithTheSameHandleChangesNothingAndRefusesNothing) {
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    auto device = sim::makeSimulatedDevice("sim:omni", seed);
+    ASSERT_TRUE(device->open());
+    sim::SimulatedTickSource ticks(*device, 1e-3,
+                                   sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+    RetareOptions options;
+    options.vertex_count = 1;
+    options.measurement.parameters = toolParameters(*device);
+    const RetareResult result = retareMap(*device, ticks, *map_, options);
+    EXPECT_NEAR(result.payload_kg, 0.0, 0.002) << "seed " << seed;
+  }
+}
+
 TEST_F(MapMaintenanceTest, RetareRefusesATiltedDevice) {
   auto device = freshOmni();
   device->setTilt_rad(kTilt_rad);

@@ -40,8 +40,10 @@ struct RetareResult {
 };
 
 /// Measures and shifts (see RetareOptions). `map` must fit the device otherwise (same unit, same
-/// place). Throws autograv::Error when a vertex does not converge or the vertices disagree, with
-/// what to do instead. Not real-time safe (runs the servo loop itself).
+/// place). Throws autograv::Error when a vertex does not converge, the vertices disagree, or the
+/// change is not vertical (a tilted or moved device), with what to do instead; a change within a
+/// converged vertex's own scatter (2 eps_G, or 2 % of |G|) is taken as it is, whatever its
+/// direction. Not real-time safe (runs the servo loop itself).
 RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap& map,
                        const RetareOptions& options);
 

@@ -52,7 +52,11 @@ RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap
   RetareResult result{shiftedMap(map, shift_n), shift_n,
                       shift_n.dot(up.normalized()) / kStandardGravity,
                       disagreement_n / gravity_norm_n, std::move(measurement)};
-  if (!isChangeOfWeight(shift_n, up)) {
+  // A change within what one converged vertex scatters by (twice eps_G, or 2 % of |G|: a gram
+  // or so) has no direction to judge: the handle did not change, and the map keeps its weight.
+  const double noise_n =
+      std::max(2.0 * options.measurement.parameters.eps_g_n, 0.02 * gravity_norm_n);
+  if (shift_n.norm() > noise_n && !isChangeOfWeight(shift_n, up)) {
     throw Error(
         "retare: the change is not vertical, so it is not a new handle (a point load "
         "only adds weight): the device was probably moved or tilted; calibrate it again");
