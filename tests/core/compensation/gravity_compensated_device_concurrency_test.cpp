@@ -75,9 +75,7 @@ TEST(GravityCompensatedDeviceConcurrencyTest, MapsSwapUnderALiveServoLoop) {
       reads += device.tickCount() > 0 ? 1 : 0;
       if (reads > 0) reader_saw_ticks.store(true, std::memory_order_release);
       const auto map = device.publishedMap();
-      if (map) {
-        EXPECT_EQ(map->vertices().size(), 8u);
-      }
+      EXPECT_TRUE(!map || map->vertices().size() == 8u);  // none yet, or the whole one
       std::this_thread::yield();
     }
     EXPECT_GT(reads, 0u);

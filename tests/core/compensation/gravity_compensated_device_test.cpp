@@ -432,14 +432,14 @@ TEST(GravityCompensatedDeviceTest, APushSwingingBothWaysOnFrozenReadingsIsAFroze
   Fixture f(frozenOptions());
   learnTenMicrometres(f);
   int first_fault_tick = -1;
+  int released_after_fault = 0;     // ticks after the first fault that sent a force anyway
   for (int k = 1; k <= 400; ++k) {  // +-1 N at 5 Hz
     const bool ok = f.device.setForce(Eigen::Vector3d(std::sin(kTwoPi * 5.0 * k * kPeriod), 0, 0));
     if (!ok && first_fault_tick < 0) first_fault_tick = k;
-    if (first_fault_tick >= 0) {
-      EXPECT_FALSE(ok) << k;  // stays caught while frozen
-      EXPECT_EQ(f.fake->last_force, Eigen::Vector3d::Zero());
-    }
+    const bool sent = ok || f.fake->last_force != Eigen::Vector3d::Zero();
+    released_after_fault += first_fault_tick >= 0 && sent ? 1 : 0;
   }
+  EXPECT_EQ(released_after_fault, 0);  // stays caught while frozen
   // Up past 0.2 N within the first quarter period, down past -0.2 N in the second half: caught
   // in the third quarter (filter lag included), well within 0.3 s.
   EXPECT_GE(first_fault_tick, 100);
@@ -581,9 +581,8 @@ TEST(GravityCompensatedDeviceTest, TheServoPathAllocatesNothingOutsideTheMapOrFr
     }
     EXPECT_EQ(counter.count(), 0u) << wall_clock;
     EXPECT_GT(device.outsideMapTickCount(), 0u) << wall_clock;
-    if (!wall_clock) {
-      EXPECT_GT(device.faultCount(ServoFault::kStalePosition), 0u);
-    }
+    // On the fixed-period clock the frozen stretches are long enough to be caught.
+    EXPECT_TRUE(wall_clock || device.faultCount(ServoFault::kStalePosition) > 0u) << wall_clock;
   }
 }
 
