@@ -125,6 +125,12 @@ void runInspectCommand(const InspectOptions& options) {
            metadata.device_model +
                (metadata.device_serial.empty() ? "" : ", serial " + metadata.device_serial));
   printRow("created", metadata.created_utc);
+  if (metadata.prior) {
+    // A map corrected from another unit's map: which one, and by how much.
+    const PriorText prior = describePrior(*metadata.prior);
+    printRow("made from", prior.made_from);
+    printRow("correction", prior.correction);
+  }
   const Eigen::Vector3d c = grid.center_m() * 1e3;
   printRow("grid", std::string(grid.isCube() ? "cube " : "box ") + grid.describe() +
                        format(", centre [%.1f, %.1f, %.1f] mm", c.x(), c.y(), c.z()));

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -206,7 +208,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
        "field /vertices/4/provenance:", "one of measured, filled"},
       {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
-       "field /vertices/4/provenance:", "missing (required by schema version 5)"},
+       "field /vertices/4/provenance:", "missing (required by schema version 6)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -232,7 +234,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
       {"newer schema", [](json& d) { d["schema_version"] = kMapSchemaVersion + 1; },
-       "field /schema_version:", "reads schema versions 1 to 5 only"},
+       "field /schema_version:", "reads schema versions 1 to 6 only"},
       {"unknown field model", [](json& d) { d["field_model"]["name"] = "spline"; },
        "field /field_model/name:", "\"conservative\", \"componentwise\", \"corrected\""},
       {"a request, not a model", [](json& d) { d["field_model"]["name"] = "choose"; },
@@ -249,9 +251,15 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
                                                         {"loo_p90_rel", 0.02}}});
        },
        "field /field_model/scores/0/loo_mean_rel:", "missing"},
-      {"no field model in schema 5", [](json& d) { d.erase("field_model"); },
+      {"no field model in schema 6", [](json& d) { d.erase("field_model"); },
        "field /field_model:", "missing"},
-      {"interpolant in schema 5", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
+      {"interpolant in schema 6", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
+       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 6"},
+      {"interpolant in schema 5",
+       [](json& d) {
+         d["schema_version"] = 5;
+         d["grid"]["lookup_interpolant"] = "conservative";
+       },
        "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 5"},
       {"unknown interpolant in schema 4",
        [](json& d) {
@@ -563,6 +571,172 @@ TEST(MapIoTest, Schema1FieldsAreCheckedAsSchema1) {
   EXPECT_NE(message.find("map file 'old.json': field /grid/resolution: expected an integer"),
             std::string::npos)
       << message;
+}
+
+// --- Schema 6: the prior of a map corrected from another unit's map -------------------------
+
+// A correction with awkward values everywhere, so that a round trip checks every field bit for
+// bit.
+MapPrior makePrior() {
+  MapPrior prior;
+  prior.source = "maps/omni A \"first\" ünït.json";
+  prior.device_serial = "SN-0017";
+  prior.created_utc = "2026-10-01T08:00:00.25Z";
+  prior.correction_model = "conservative";
+  prior.gain << 1.0 + 1.0 / 3.0, -1e-17, 0.002, 0.1 + 0.2, 0.987, -0.0, 1e-300, 3e-3, 1.003;
+  prior.offset_n = Eigen::Vector3d(0.0041, -1.0 / 7.0, -0.0);
+  for (int i = 0; i < 6; ++i) {
+    prior.points_m.emplace_back(0.01 * i, -0.02 + 1e-3 / (i + 1), 0.03 * std::sqrt(i + 0.5));
+    prior.residuals_n.emplace_back(1e-3 * i, -2e-4 / (i + 3), 1.0 / 3.0 - i);
+  }
+  prior.check_points = 4;
+  prior.check_mean_rel = 0.0041;
+  prior.check_max_rel = 0.1 * 0.093;
+  prior.workspace_difference_m = 0.0032;
+  return prior;
+}
+
+GravityMap withPrior(const GravityMap& map, const std::optional<MapPrior>& prior) {
+  MapMetadata metadata = map.metadata();
+  metadata.prior = prior;
+  return GravityMap(map.grid(), map.vertices(), std::move(metadata));
+}
+
+void expectSamePrior(const MapPrior& a, const MapPrior& b) {
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.device_serial, b.device_serial);
+  EXPECT_EQ(a.created_utc, b.created_utc);
+  EXPECT_EQ(a.correction_model, b.correction_model);
+  EXPECT_EQ(a.gain, b.gain);  // bit-exact, not approximate
+  EXPECT_EQ(std::signbit(a.gain(1, 2)), std::signbit(b.gain(1, 2)));
+  EXPECT_EQ(a.offset_n, b.offset_n);
+  EXPECT_EQ(std::signbit(a.offset_n.z()), std::signbit(b.offset_n.z()));
+  EXPECT_EQ(a.points_m, b.points_m);
+  EXPECT_EQ(a.residuals_n, b.residuals_n);
+  EXPECT_EQ(a.check_points, b.check_points);
+  EXPECT_EQ(a.check_mean_rel, b.check_mean_rel);
+  EXPECT_EQ(a.check_max_rel, b.check_max_rel);
+  EXPECT_EQ(a.workspace_difference_m, b.workspace_difference_m);
+}
+
+TEST(MapIoTest, PriorRoundTripsBitForBit) {
+  TemporaryFolder folder;
+  const GravityMap original = withPrior(makeMap(), makePrior());
+  saveMap(original, folder.file("corrected.json"));
+  const json document = json::parse(readText(folder.file("corrected.json")));
+  EXPECT_EQ(document.at("schema_version"), 6);
+  const json& prior = document.at("prior");
+  EXPECT_EQ(prior.at("gain").size(), 3u);
+  EXPECT_EQ(prior.at("gain").at(1), json::array({0.1 + 0.2, 0.987, -0.0}));  // row-major
+  EXPECT_EQ(prior.at("points_m").size(), 6u);
+  EXPECT_EQ(prior.at("residuals_n").at(2).size(), 3u);
+
+  const GravityMap loaded = loadMap(folder.file("corrected.json"));
+  expectSameMap(original, loaded);
+  ASSERT_TRUE(loaded.metadata().prior.has_value());
+  expectSamePrior(*original.metadata().prior, *loaded.metadata().prior);
+  // Canonical: saving what was loaded writes the very same bytes.
+  saveMap(loaded, folder.file("again.json"));
+  EXPECT_EQ(readText(folder.file("corrected.json")), readText(folder.file("again.json")));
+
+  // A shift or affine correction has no field part: no residuals, and no serial or time known.
+  MapPrior shift = makePrior();
+  shift.correction_model = "shift";
+  shift.residuals_n.clear();
+  shift.device_serial.clear();
+  shift.created_utc.clear();
+  shift.source.clear();
+  shift.check_points = 0;
+  const GravityMap shifted = mapFromJson(mapToJson(withPrior(makeMap(), shift)), "memory");
+  ASSERT_TRUE(shifted.metadata().prior.has_value());
+  expectSamePrior(shift, *shifted.metadata().prior);
+}
+
+TEST(MapIoTest, AMapWithoutPriorWritesNoPriorKey) {
+  const GravityMap original = makeMap();
+  ASSERT_FALSE(original.metadata().prior.has_value());
+  const json document = json::parse(mapToJson(original));
+  EXPECT_FALSE(document.contains("prior"));
+  EXPECT_FALSE(mapFromJson(document.dump(), "memory").metadata().prior.has_value());
+}
+
+TEST(MapIoTest, OlderSchemasLoadWithoutPrior) {
+  // Schema 5 as it was written: the same document, no prior.
+  json schema5 = json::parse(mapToJson(makeMap()));
+  schema5["schema_version"] = 5;
+  detail::stampChecksum(schema5);
+  const GravityMap loaded = mapFromJson(schema5.dump(), "schema5.json");
+  expectSameMap(makeMap(), loaded);
+  EXPECT_FALSE(loaded.metadata().prior.has_value());
+  EXPECT_FALSE(
+      mapFromJson(schema1Document(makeMap()).dump(), "old.json").metadata().prior.has_value());
+}
+
+TEST(MapIoTest, EveryCorruptedPriorFieldIsNamed) {
+  const std::vector<Corruption> cases = {
+      {"residuals of another count", [](json& d) { d["prior"]["residuals_n"].erase(5); },
+       "field /prior/residuals_n:", "an empty array or one of 6 residuals (one per point"},
+      {"gain as text", [](json& d) { d["prior"]["gain"][1][2] = "1.0"; },
+       "field /prior/gain/1/2:", "a finite number (unit: 1)"},
+      {"gain not finite", [](json& d) { d["prior"]["gain"][0][0] = nullptr; },
+       "field /prior/gain/0/0:", "a finite number (unit: 1)"},
+      {"gain of 2 rows", [](json& d) { d["prior"]["gain"].erase(2); },
+       "field /prior/gain:", "an array of 3 rows of 3 finite numbers"},
+      {"gain row too short", [](json& d) { d["prior"]["gain"][2].erase(0); },
+       "field /prior/gain/2:", "an array of 3 finite numbers (unit: 1)"},
+      {"offset in text", [](json& d) { d["prior"]["offset_n"][1] = "-0.1"; },
+       "field /prior/offset_n/1:", "a finite number (unit: N)"},
+      {"point 2-D", [](json& d) { d["prior"]["points_m"][3].erase(2); },
+       "field /prior/points_m/3:", "an array of 3 finite numbers (unit: m)"},
+      {"points not an array", [](json& d) { d["prior"]["points_m"] = 6; },
+       "field /prior/points_m:", "an array of at most 512 arrays of 3"},
+      {"unknown correction", [](json& d) { d["prior"]["correction_model"] = "spline"; },
+       "field /prior/correction_model:", "\"shift\", \"affine\", \"conservative\""},
+      {"bad prior time", [](json& d) { d["prior"]["created_utc"] = "last week"; },
+       "field /prior/created_utc:", "ISO 8601"},
+      {"negative check count", [](json& d) { d["prior"]["check_points"] = -1; },
+       "field /prior/check_points:", "an integer in [0, 1000000]"},
+      {"negative check error", [](json& d) { d["prior"]["check_max_rel"] = -0.01; },
+       "field /prior/check_max_rel:", ">= 0 (unit: 1)"},
+      {"workspace difference as text",
+       [](json& d) { d["prior"]["workspace_difference_m"] = "3 mm"; },
+       "field /prior/workspace_difference_m:", ">= 0 (unit: m)"},
+      {"missing serial", [](json& d) { d["prior"].erase("device_serial"); },
+       "field /prior/device_serial:", "missing (required by schema version 6)"},
+      {"misspelt member", [](json& d) { d["prior"]["gains"] = 1; },
+       "field /prior/gains:", "unexpected field"},
+      {"not an object", [](json& d) { d["prior"] = "maps/a.json"; },
+       "field /prior:", "expected an object"},
+      {"prior in schema 5", [](json& d) { d["schema_version"] = 5; },
+       "field /prior:", "unexpected field (not part of schema version 5"},
+  };
+  const json valid = json::parse(mapToJson(withPrior(makeMap(), makePrior())));
+  for (const Corruption& corruption : cases) {
+    json document = valid;
+    corruption.edit(document);
+    detail::stampChecksum(document);
+    const std::string message = errorOf([&] { mapFromJson(document.dump(1), "maps/b.json"); });
+    EXPECT_NE(message.find("map file 'maps/b.json'"), std::string::npos)
+        << corruption.name << ": " << message;
+    EXPECT_NE(message.find(corruption.pointer), std::string::npos)
+        << corruption.name << ": " << message;
+    EXPECT_NE(message.find(corruption.expected), std::string::npos)
+        << corruption.name << ": " << message;
+  }
+}
+
+TEST(MapIoTest, APriorThatWouldNotLoadIsNotSaved) {
+  MapPrior prior = makePrior();
+  prior.gain(2, 1) = std::numeric_limits<double>::quiet_NaN();
+  const std::string nan_gain = errorOf([&] { mapToJson(withPrior(makeMap(), prior)); });
+  EXPECT_NE(nan_gain.find("cannot save gravity map"), std::string::npos) << nan_gain;
+  EXPECT_NE(nan_gain.find("field /prior/gain/2/1:"), std::string::npos) << nan_gain;
+
+  prior = makePrior();
+  prior.residuals_n.pop_back();
+  const std::string short_residuals = errorOf([&] { mapToJson(withPrior(makeMap(), prior)); });
+  EXPECT_NE(short_residuals.find("field /prior/residuals_n:"), std::string::npos)
+      << short_residuals;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "autograv/map/map_summary.h"
 
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -87,6 +88,40 @@ TEST(MapSummaryTest, AnEmptySetHasZeroSpreads) {
   EXPECT_EQ(summary.vertices, 0);
   EXPECT_EQ(summary.iterations.max, 0);
   EXPECT_EQ(summary.converged_only.iterations.median, 0.0);
+}
+
+TEST(MapSummaryTest, APriorSaysWhichUnitWhenAndHowMuchWasCorrected) {
+  MapPrior prior;
+  prior.source = "maps/omni-0017.json";
+  prior.device_serial = "SN-0017";
+  prior.created_utc = "2026-10-01T08:00:00Z";
+  prior.correction_model = "affine";
+  prior.gain.diagonal() = Eigen::Vector3d(1.012, 0.987, 1.003);
+  prior.gain(0, 1) = 0.5;  // off the diagonal: not shown
+  prior.offset_n = Eigen::Vector3d(0.0012, -0.0304, 0.0);
+  prior.points_m.assign(24, Eigen::Vector3d::Zero());
+  prior.check_points = 4;
+  prior.check_mean_rel = 0.0041;
+  prior.check_max_rel = 0.0093;
+  prior.workspace_difference_m = 0.0032;
+  const PriorText text = describePrior(prior);
+  EXPECT_EQ(text.made_from, "map of unit SN-0017 made 2026-10-01T08:00:00Z (maps/omni-0017.json)");
+  EXPECT_EQ(text.correction,
+            "affine from 24 points; gain diag 1.012 / 0.987 / 1.003, offset [1.2, -30.4, 0.0] mN; "
+            "checked on 4 points: mean 0.41 %, largest 0.93 %; workspace within 3.2 mm");
+
+  // Nothing known of the prior unit, nothing left out to check with.
+  prior.device_serial.clear();
+  prior.created_utc.clear();
+  prior.source.clear();
+  prior.points_m.resize(1);
+  prior.check_points = 0;
+  const PriorText bare = describePrior(prior);
+  EXPECT_EQ(bare.made_from, "map of unit (no serial) made at an unknown time");
+  EXPECT_EQ(bare.correction.substr(0, 20), "affine from 1 point;");
+  EXPECT_NE(bare.correction.find("; not checked (no point left out of the fit); workspace"),
+            std::string::npos)
+      << bare.correction;
 }
 
 }  // namespace

@@ -15,6 +15,31 @@
 
 namespace autograv {
 
+/// How a map was made from the map of another unit of the same model (transferMap, `calibrate
+/// --like`): the prior it started from and the correction the spot measurements fitted. A map
+/// made by a whole calibration has none.
+struct MapPrior {
+  std::string source;         ///< The prior map as the user named it (a path). May be empty.
+  std::string device_serial;  ///< The prior unit's serial number (empty when unknown).
+  std::string created_utc;    ///< When the prior map was made (its MapMetadata::created_utc).
+  /// The correction's model: "shift", "affine", "conservative" or "componentwise"
+  /// (toString(CorrectionModel)).
+  std::string correction_model;
+  /// The correction added to the prior's value G_p at x: (gain - I) G_p(x) + offset_n, plus, for
+  /// the two field models, the FieldFit (of that model) of `residuals_n` at `points_m`.
+  Eigen::Matrix3d gain = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d offset_n = Eigen::Vector3d::Zero();  ///< Unit: [N]
+  std::vector<Eigen::Vector3d> points_m;               ///< Where the fit measured. Unit: [m]
+  /// What the field part fits at points_m (empty for "shift" and "affine"). Unit: [N]
+  std::vector<Eigen::Vector3d> residuals_n;
+  int check_points = 0;         ///< Measurements the correction did not use, to check it.
+  double check_mean_rel = 0.0;  ///< Their mean |corrected map - measurement| / |G|.
+  double check_max_rel = 0.0;   ///< Their largest.
+  /// Largest difference between the prior's explored reach and this unit's, over the probed
+  /// directions. Unit: [m]
+  double workspace_difference_m = 0.0;
+};
+
 /// Where a map came from.
 struct MapMetadata {
   std::string device_model;   ///< DeviceSpecifications::model_name at calibration time.
@@ -45,6 +70,8 @@ struct MapMetadata {
   /// Every candidate's cross-validation score where the model was chosen (empty where it was
   /// given).
   std::vector<FieldModelScore> field_model_scores;
+  /// The map of another unit this one was corrected from; empty for a whole calibration.
+  std::optional<MapPrior> prior;
 };
 
 /// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): six

@@ -1,8 +1,10 @@
 #pragma once
 
 // Per-vertex statistics of a calibration: what "failed" means, the median, and the counts and
-// spreads every tool reports (calibrate, bench, the wizard's review, the scene), said once.
+// spreads every tool reports (calibrate, bench, the wizard's review, the scene), said once; and
+// how a map corrected from another unit's map says where it came from.
 
+#include <string>
 #include <vector>
 
 #include "autograv/map/gravity_map.h"
@@ -71,5 +73,18 @@ struct MapSummary {
 
 /// The statistics of `vertices`. Not real-time safe.
 MapSummary summarizeVertices(const std::vector<VertexEstimate>& vertices);
+
+/// Where a map corrected from another unit's map came from (MapMetadata::prior), in the two rows
+/// `inspect` prints.
+struct PriorText {
+  /// "map of unit <serial, or (no serial)> made <created_utc> (<source>)".
+  std::string made_from;
+  /// "<model> from <n> points; gain diag g_xx / g_yy / g_zz, offset [x, y, z] mN; checked on <k>
+  /// points: mean m %, largest l %; workspace within d mm".
+  std::string correction;
+};
+
+/// The text of `prior`. Not real-time safe.
+PriorText describePrior(const MapPrior& prior);
 
 }  // namespace autograv

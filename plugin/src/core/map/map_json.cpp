@@ -79,6 +79,32 @@ json workspaceToJson(const ExploredWorkspace& workspace) {
               {"radii_m", workspace.radii_m()}};
 }
 
+json vectorsToJson(const std::vector<Eigen::Vector3d>& vectors) {
+  json array = json::array();
+  for (const Eigen::Vector3d& v : vectors) array.push_back(vectorToJson(v));
+  return array;
+}
+
+json priorToJson(const MapPrior& prior) {
+  // Row-major: gain[i][j] multiplies component j of the prior's value into component i.
+  json gain = json::array();
+  for (int row = 0; row < 3; ++row) {
+    gain.push_back(vectorToJson(Eigen::Vector3d(prior.gain.row(row).transpose())));
+  }
+  return json{{"source", prior.source},
+              {"device_serial", prior.device_serial},
+              {"created_utc", prior.created_utc},
+              {"correction_model", prior.correction_model},
+              {"gain", std::move(gain)},
+              {"offset_n", vectorToJson(prior.offset_n)},
+              {"points_m", vectorsToJson(prior.points_m)},
+              {"residuals_n", vectorsToJson(prior.residuals_n)},
+              {"check_points", prior.check_points},
+              {"check_mean_rel", prior.check_mean_rel},
+              {"check_max_rel", prior.check_max_rel},
+              {"workspace_difference_m", prior.workspace_difference_m}};
+}
+
 }  // namespace
 
 std::string currentUtcTimestamp() {
@@ -144,6 +170,8 @@ json mapToDocument(const GravityMap& map) {
     field_model["scores"] = std::move(scores);
   }
   document["field_model"] = std::move(field_model);
+  // Only maps corrected from another unit's map have one: a calibrated map's file is unchanged.
+  if (metadata.prior) document["prior"] = priorToJson(*metadata.prior);
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.

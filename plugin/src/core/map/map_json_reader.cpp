@@ -4,6 +4,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <initializer_list>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -148,8 +149,12 @@ class DocumentReader {
 
   Eigen::Vector3d vector3(const json& parent, const std::string& parent_pointer, const char* key,
                           const char* unit) const {
-    const std::string pointer = parent_pointer + "/" + key;
-    const json& value = parent.at(key);
+    return vector3Value(parent.at(key), parent_pointer + "/" + key, unit);
+  }
+
+  /// Three finite numbers at `pointer` (an element of an array, or a member).
+  Eigen::Vector3d vector3Value(const json& value, const std::string& pointer,
+                               const char* unit) const {
     const std::string what = std::string("an array of 3 finite numbers (unit: ") + unit + ")";
     if (!value.is_array() || value.size() != 3) expected(pointer, what, value);
     Eigen::Vector3d v;
@@ -378,6 +383,81 @@ ExploredWorkspace readWorkspace(const DocumentReader& reader, const json& value)
   return ExploredWorkspace(center, std::move(units), std::move(distances));
 }
 
+/// The names toString(CorrectionModel) gives (maintenance/unit_transfer.h), spelt out here: the
+/// map library does not depend on maintenance.
+constexpr const char* kCorrectionModels[] = {"shift", "affine", "conservative", "componentwise"};
+
+/// An array of at most `max_size` vectors of 3 finite numbers.
+std::vector<Eigen::Vector3d> readVectors(const DocumentReader& reader, const json& parent,
+                                         const std::string& parent_pointer, const char* key,
+                                         std::size_t max_size, const char* unit) {
+  const std::string pointer = parent_pointer + "/" + key;
+  const json& value = parent.at(key);
+  if (!value.is_array() || value.size() > max_size) {
+    reader.expected(pointer,
+                    "an array of at most " + std::to_string(max_size) +
+                        " arrays of 3 finite numbers (unit: " + unit + ")",
+                    value);
+  }
+  std::vector<Eigen::Vector3d> vectors;
+  vectors.reserve(value.size());
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    vectors.push_back(reader.vector3Value(value[i], pointer + "/" + std::to_string(i), unit));
+  }
+  return vectors;
+}
+
+MapPrior readPrior(const DocumentReader& reader, const json& value) {
+  const std::string p = "/prior";
+  reader.requireObject(
+      value, p,
+      {"source", "device_serial", "created_utc", "correction_model", "gain", "offset_n", "points_m",
+       "residuals_n", "check_points", "check_mean_rel", "check_max_rel", "workspace_difference_m"});
+  MapPrior prior;
+  prior.source = reader.string(value, p, "source", false);
+  prior.device_serial = reader.string(value, p, "device_serial", false);
+  // Empty when the prior map's own time was unknown.
+  prior.created_utc = reader.string(value, p, "created_utc", false);
+  if (!prior.created_utc.empty() && !isIso8601Utc(prior.created_utc)) {
+    reader.expected(p + "/created_utc",
+                    "an ISO 8601 UTC time like \"2026-11-23T13:25:00Z\", or \"\" when unknown",
+                    value.at("created_utc"));
+  }
+  prior.correction_model = reader.string(value, p, "correction_model", true);
+  if (std::none_of(std::begin(kCorrectionModels), std::end(kCorrectionModels),
+                   [&](const char* name) { return prior.correction_model == name; })) {
+    reader.expected(p + "/correction_model",
+                    "\"shift\", \"affine\", \"conservative\" or \"componentwise\"",
+                    value.at("correction_model"));
+  }
+  const json& gain = value.at("gain");
+  if (!gain.is_array() || gain.size() != 3) {
+    reader.expected(p + "/gain", "an array of 3 rows of 3 finite numbers (unit: 1)", gain);
+  }
+  for (int row = 0; row < 3; ++row) {
+    const json& values = gain[static_cast<std::size_t>(row)];
+    prior.gain.row(row) =
+        reader.vector3Value(values, p + "/gain/" + std::to_string(row), "1").transpose();
+  }
+  prior.offset_n = reader.vector3(value, p, "offset_n", "N");
+  // A correction fits a few spot measurements; a field part takes at most FieldFit's count.
+  const auto max_points = static_cast<std::size_t>(FieldFit::kMaxMeasurements);
+  prior.points_m = readVectors(reader, value, p, "points_m", max_points, "m");
+  prior.residuals_n = readVectors(reader, value, p, "residuals_n", max_points, "N");
+  if (!prior.residuals_n.empty() && prior.residuals_n.size() != prior.points_m.size()) {
+    reader.expected(p + "/residuals_n",
+                    "an empty array or one of " + std::to_string(prior.points_m.size()) +
+                        " residuals (one per point of /prior/points_m, unit: N)",
+                    value.at("residuals_n"));
+  }
+  prior.check_points = reader.integer(value, p, "check_points", 0, 1000000);
+  prior.check_mean_rel = reader.number(value, p, "check_mean_rel", Range::kNonNegative, "1");
+  prior.check_max_rel = reader.number(value, p, "check_max_rel", Range::kNonNegative, "1");
+  prior.workspace_difference_m =
+      reader.number(value, p, "workspace_difference_m", Range::kNonNegative, "m");
+  return prior;
+}
+
 VertexEstimate readVertex(const DocumentReader& reader, const json& value,
                           const WorkspaceGrid& grid, int index) {
   const std::string p = "/vertices/" + std::to_string(index);
@@ -487,7 +567,12 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     }
     reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
-  if (reader.schemaVersion() >= 5) {
+  if (reader.schemaVersion() >= 6) {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "field_model", "parameters", "vertices", "checksum"},
+                         {"workspace", "prior"});
+  } else if (reader.schemaVersion() >= 5) {
     reader.requireObject(document, "",
                          {"format", "schema_version", "units", "device", "created_utc", "grid",
                           "field_model", "parameters", "vertices", "checksum"},
@@ -550,6 +635,7 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   if (document.contains("workspace")) {
     metadata.workspace = readWorkspace(reader, document.at("workspace"));
   }
+  if (document.contains("prior")) metadata.prior = readPrior(reader, document.at("prior"));
 
   const json& vertices_json = document.at("vertices");
   const auto vertex_count = static_cast<std::size_t>(grid.vertexCount());

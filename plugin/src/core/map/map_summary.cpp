@@ -1,12 +1,17 @@
 #include "autograv/map/map_summary.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "autograv/map/value_kind.h"
 
 namespace autograv {
 
 namespace {
+
+std::string count(std::size_t n, const char* noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
 
 IterationSpread spreadOf(const std::vector<int>& iterations) {
   IterationSpread spread;
@@ -71,6 +76,41 @@ MapSummary summarizeVertices(const std::vector<VertexEstimate>& vertices) {
   summary.iterations = spreadOf(iterations);
   summary.converged_only.iterations = spreadOf(converged_iterations);
   return summary;
+}
+
+PriorText describePrior(const MapPrior& prior) {
+  PriorText text;
+  text.made_from = "map of unit " +
+                   (prior.device_serial.empty() ? "(no serial)" : prior.device_serial) + " made " +
+                   (prior.created_utc.empty() ? "at an unknown time" : prior.created_utc) +
+                   (prior.source.empty() ? "" : " (" + prior.source + ")");
+  char line[256];
+  const Eigen::Vector3d offset_mn = prior.offset_n * 1e3;
+  if (!prior.residuals_n.empty()) {
+    // A field fitted through the differences: no gain or offset to show.
+    std::snprintf(line, sizeof line, ", a field through the differences there");
+  } else if (prior.correction_model == "shift") {
+    std::snprintf(line, sizeof line, "; shift [%.1f, %.1f, %.1f] mN", offset_mn.x(), offset_mn.y(),
+                  offset_mn.z());
+  } else {
+    std::snprintf(line, sizeof line, "; gain diag %.3f / %.3f / %.3f, offset [%.1f, %.1f, %.1f] mN",
+                  prior.gain(0, 0), prior.gain(1, 1), prior.gain(2, 2), offset_mn.x(),
+                  offset_mn.y(), offset_mn.z());
+  }
+  text.correction =
+      prior.correction_model + " from " + count(prior.points_m.size(), "point") + line;
+  if (prior.check_points > 0) {
+    std::snprintf(line, sizeof line, ": mean %.2f %%, largest %.2f %%",
+                  100.0 * prior.check_mean_rel, 100.0 * prior.check_max_rel);
+    text.correction +=
+        "; checked on " + count(static_cast<std::size_t>(prior.check_points), "point") + line;
+  } else {
+    text.correction += "; not checked (no point left out of the fit)";
+  }
+  std::snprintf(line, sizeof line, "; workspace within %.1f mm",
+                prior.workspace_difference_m * 1e3);
+  text.correction += line;
+  return text;
 }
 
 }  // namespace autograv
