@@ -1,3 +1,4 @@
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,10 +18,18 @@ std::vector<std::string> testDeviceNames() { return {"sim:swirl-cube", "sim:swir
 
 namespace {
 
-/// `parameters` with the actuators of `unit` of the model `name`.
+/// `parameters` with the actuators of `unit` of the model `name`, and its serial number: the
+/// model's "...-0001" ends in the unit's number, so that each unit files its own map.
 template <typename Parameters>
 Parameters ofUnit(Parameters parameters, const std::string& name, const SimulatedUnit& unit) {
   parameters.driver.actuator_gain = actuatorGains(name, unit);
+  std::string& serial = parameters.specifications.serial_number;
+  const std::size_t dash = serial.rfind('-');
+  if (dash != std::string::npos) {
+    char number[16];
+    std::snprintf(number, sizeof number, "%04d", unit.number);
+    serial = serial.substr(0, dash + 1) + number;
+  }
   return parameters;
 }
 

@@ -61,6 +61,10 @@ class AutoCalibrator {
     /// automatic dither keeps G_hat plus its peaks; 0 takes kDefaultContinuousForceFraction of
     /// the maximum force. Unit: [N]
     double continuous_force_n = 0.0;
+    /// Per vertex, the estimate to start its inner loop from (a prior map's value, when a unit is
+    /// corrected from another's map); empty, or a non-finite entry, means the rule above.
+    /// Unit: [N]
+    std::vector<Eigen::Vector3d> initial_estimates_n;
   };
 
   /// The largest gap between hold target and end-effector that the moves leave for the PD to
@@ -126,6 +130,9 @@ class AutoCalibrator {
   /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order.
   /// Throws autograv::Error on an index out of range. Not real-time safe.
   void visitOnly(const std::vector<int>& indices);
+  /// Visits only `indices`, in the order given (a tour planned by the caller). Throws
+  /// autograv::Error on an index out of range. Not real-time safe.
+  void visitInOrder(const std::vector<int>& indices);
   /// Measures each vertex where `plan` says (planMeasurements: at the vertex, or at a point just
   /// inside the explored workspace), and marks the vertices it skips kUnreachable without
   /// visiting them, so that no move or hold targets a point outside the explored workspace.

@@ -80,6 +80,10 @@ class WorkspaceExplorer {
     /// well inside (start_fraction of the next reach): 0.15 N of inertia on sim:omega's 0.1 kg,
     /// a fifth of its headroom to the continuous rating. Unit: [m/s^2]
     double max_move_acceleration_m_per_s2 = 1.5;
+    /// The probe directions themselves, in the order probed, used instead of `directions`' even
+    /// spread when not empty (at least 6; normalized): a check of a known workspace probes along
+    /// the directions it was explored in, where its boundary is exact.
+    std::vector<Eigen::Vector3d> radial_directions;
   };
 
   /// A boundary direction closer than this to one of the first directions is not probed: it would

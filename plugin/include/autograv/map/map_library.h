@@ -45,6 +45,11 @@ class MapLibrary {
   }
   /// The same for a model and a serial number (empty when unknown).
   std::string find(const std::string& model, const std::string& serial) const;
+  /// The newest map (by file time) of another unit of `model`: a prior for a unit that has none
+  /// yet (transferMap, `--like library`). The map of the unit `serial` itself is skipped, and so
+  /// are maps that were themselves corrected from another's (a prior is a whole calibration).
+  /// Empty when none fits.
+  std::string findOtherUnit(const std::string& model, const std::string& serial) const;
   /// Every map file in the folder (sorted), empty when the folder does not exist.
   std::vector<std::string> list() const;
 

@@ -38,6 +38,7 @@ struct AutoCalibrator::Impl {
 
   void restore(const std::vector<VertexEstimate>& vertices);
   void visitOnly(const std::vector<int>& indices);
+  void visitInOrder(const std::vector<int>& indices);
   void setPlan(const MeasurementPlan& plan);
   void start(const Eigen::Vector3d& position_m, const Eigen::Vector3d& initial_gravity_n) noexcept;
   Status step(const ServoSample& sample, Eigen::Vector3d& force_n) noexcept;
@@ -104,6 +105,12 @@ AutoCalibrator::Impl::Impl(const WorkspaceGrid& grid, const EstimationParameters
         "auto-calibrator: AutoCalibrator::Options::max_move_acceleration_m_per_s2, "
         "deep_move_acceleration_m_per_s2 and min_move_duration_s must be positive");
   }
+  if (!options.initial_estimates_n.empty() &&
+      options.initial_estimates_n.size() != vertices_.size()) {
+    throw Error("auto-calibrator: AutoCalibrator::Options::initial_estimates_n has " +
+                std::to_string(options.initial_estimates_n.size()) + " entries for a grid of " +
+                std::to_string(vertices_.size()) + " vertices");
+  }
   met_stop_.assign(vertices_.size(), false);
   targets_.reserve(vertices_.size());
   for (int i = 0; i < grid.vertexCount(); ++i) targets_.push_back(grid.vertexPosition(i));
@@ -132,8 +139,7 @@ void AutoCalibrator::Impl::restore(const std::vector<VertexEstimate>& vertices) 
   next_in_order_ = 0;
 }
 
-void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices) {
-  std::vector<bool> wanted(vertices_.size(), false);
+void AutoCalibrator::Impl::visitInOrder(const std::vector<int>& indices) {
   for (int index : indices) {
     if (index < 0 || index >= grid_.vertexCount()) {
       std::ostringstream message;
@@ -141,8 +147,15 @@ void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices) {
               << grid_.vertexCount() - 1 << ")";
       throw Error(message.str());
     }
-    wanted[static_cast<std::size_t>(index)] = true;
   }
+  order_ = indices;
+  next_in_order_ = 0;
+}
+
+void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices) {
+  visitInOrder(indices);  // checks every index
+  std::vector<bool> wanted(vertices_.size(), false);
+  for (int index : indices) wanted[static_cast<std::size_t>(index)] = true;
   std::vector<int> order;
   for (int index : grid_.visitOrder(grid_.center_m())) {
     if (wanted[static_cast<std::size_t>(index)]) order.push_back(index);
@@ -290,6 +303,11 @@ bool AutoCalibrator::Impl::fittedEstimate(int vertex, Eigen::Vector3d& gravity_n
 }
 
 Eigen::Vector3d AutoCalibrator::Impl::initialEstimateFor(int vertex) const noexcept {
+  const auto slot = static_cast<std::size_t>(vertex);
+  if (slot < options_.initial_estimates_n.size() &&
+      options_.initial_estimates_n[slot].allFinite()) {
+    return options_.initial_estimates_n[slot];
+  }
   // eq. (9): start from the estimate carried from the previous vertex.
   if (!options_.extrapolate_initial_estimate || previous_vertex_ < 0) return gravity_n_;
   Eigen::Vector3d fitted_n;
@@ -490,6 +508,8 @@ void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
 }
 
 void AutoCalibrator::visitOnly(const std::vector<int>& indices) { impl_->visitOnly(indices); }
+
+void AutoCalibrator::visitInOrder(const std::vector<int>& indices) { impl_->visitInOrder(indices); }
 
 void AutoCalibrator::setPlan(const MeasurementPlan& plan) { impl_->setPlan(plan); }
 

@@ -111,8 +111,14 @@ WorkspaceExplorer::Impl::Impl(const EstimationParameters& parameters,
     refuse("the continuous force rating must be positive and at most the maximum force");
   }
   if (!(period_s_ > 0.0)) refuse("EstimationParameters::servo_period_s must be positive");
-  if (options.directions < 6) {
+  if (options.directions < 6 ||
+      (!options.radial_directions.empty() && options.radial_directions.size() < 6)) {
     refuse("WorkspaceExplorer::Options::directions must be at least 6");
+  }
+  for (const Eigen::Vector3d& u : options.radial_directions) {
+    if (!u.allFinite() || !(u.norm() > 0.0)) {
+      refuse("WorkspaceExplorer::Options::radial_directions must be finite and non-zero");
+    }
   }
   if (!(options.probe_speed_m_per_s > 0.0) || !(options_.max_reach_m > 0.0) ||
       !(options.back_off_m > 0.0) || !(options.contact_lag_m > 0.0) ||
@@ -137,7 +143,12 @@ WorkspaceExplorer::Impl::Impl(const EstimationParameters& parameters,
     refuse("WorkspaceExplorer::Options::directions plus boundary_directions must be at most " +
            std::to_string(ExploredWorkspace::kMaxDirections));
   }
-  directions_ = ExploredWorkspace::probeDirections(options.directions);
+  if (options.radial_directions.empty()) {
+    directions_ = ExploredWorkspace::probeDirections(options.directions);
+  } else {
+    for (const Eigen::Vector3d& u : options.radial_directions)
+      directions_.push_back(u.normalized());
+  }
   radial_count_ = static_cast<int>(directions_.size());
   addBoundaryDirections(options.boundary_directions);
   reach_m_.assign(directions_.size(), 0.0);

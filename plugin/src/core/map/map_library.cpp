@@ -74,6 +74,31 @@ std::string MapLibrary::find(const std::string& model, const std::string& serial
   return {};
 }
 
+std::string MapLibrary::findOtherUnit(const std::string& model, const std::string& serial) const {
+  const std::string own = pathFor(model, serial);
+  const std::string prefix = fileSafe(model);
+  std::string newest;
+  fs::file_time_type newest_time{};
+  for (const std::string& path : list()) {
+    const std::string name = fs::path(path).filename().string();
+    const bool of_model = name == prefix + ".json" || name.rfind(prefix + "@", 0) == 0;
+    if (!of_model || path == own) continue;
+    try {
+      const GravityMap map = loadMap(path);
+      if (map.metadata().device_model != model || map.metadata().prior) continue;
+    } catch (const Error&) {
+      continue;  // not a map this version reads: not a prior
+    }
+    std::error_code error;
+    const fs::file_time_type time = fs::last_write_time(path, error);
+    if (!error && (newest.empty() || time > newest_time)) {
+      newest = path;
+      newest_time = time;
+    }
+  }
+  return newest;
+}
+
 std::vector<std::string> MapLibrary::list() const {
   std::vector<std::string> paths;
   std::error_code error;
