@@ -20,6 +20,7 @@
 #include "autograv/sim/friction_measurement.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "calibrate_like.h"
 #include "calibration_report.h"
 #include "cli_support.h"
 #include "commands.h"
@@ -38,9 +39,14 @@ struct CalibrateOptions {
   std::string out_path;
   std::string report_path;
   bool resume = false;
+  std::string like;  // a prior map: corrected, not calibrated whole
 };
 
 void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions& advanced) {
+  if (!options.like.empty()) {
+    runCalibrateLike(options.device, options.like, options.out_path, options.report_path, advanced);
+    return;
+  }
   const SimulationKnobs& simulation = advanced.simulation();
   const CalibrationRunKnobs& knobs = advanced.run();
   auto device =
@@ -210,8 +216,17 @@ void addCalibrateCommand(CLI::App& app, const Advanced& advanced) {
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   addGridOptions(*command, options->grid);
   addReportOption(*command, options->report_path);
-  command->add_flag("--resume", options->resume,
-                    "Continue an interrupted run from <out>.partial, keeping its vertices");
+  CLI::Option* resume =
+      command->add_flag("--resume", options->resume,
+                        "Continue an interrupted run from <out>.partial, keeping its vertices");
+  command
+      ->add_option("--like", options->like,
+                   "Correct the map of another unit of this model (a path, or 'library' for the "
+                   "map library's) with a few measurements, instead of a whole calibration")
+      ->excludes(resume)
+      ->excludes("--grid")
+      ->excludes("--box-mm")
+      ->excludes("--side-mm");
   advanced->accept(*command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kServoTiming,
                               knob::kServoTimingSeed, knob::kEstimation, knob::kCalibrationRun,
                               knob::kFieldModel});

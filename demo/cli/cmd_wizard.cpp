@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,6 +33,7 @@
 #include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/wizard/calibration_wizard.h"
+#include "calibrate_like.h"
 #include "cli_support.h"
 #include "commands.h"
 #include "error_translation.h"
@@ -53,6 +55,7 @@ struct WizardOptions {
   std::string report_path;
   bool resume = false;
   bool yes = false;
+  std::string like;  // a prior map to correct instead of a whole calibration
   GridOptions grid;  // the options and defaults of `autograv calibrate`
   double tolerance_mm = 10.0;
   int verify_points = 3;
@@ -377,8 +380,97 @@ class ServoThread {
   std::optional<RealTimePriority> priority_;
 };
 
+/// `wizard --like MAP`: this unit's map corrected from another unit's in under a minute and a
+/// half. True when it was saved; false when the correction was refused and the user asked for
+/// the whole calibration instead (the caller goes on with it). Throws autograv::Error when it
+/// was refused and nobody can answer, saying what to run instead.
+bool runWizardLike(const WizardOptions& options, bool interactive) {
+  const DeviceHandle handle =
+      openDevice(options.device, options.seed, options.friction, options.unit);
+  HapticDevice& device = *handle.device;
+  const DeviceSpecifications specifications = device.specifications();
+  TransferOptions transfer;
+  transfer.parameters =
+      estimationParameters(options.estimation, EstimationMethod::kDither, specifications);
+  const GravityMap prior = loadPrior(options.like, options.maps_dir, specifications.model_name,
+                                     specifications.serial_number, transfer, transfer.prior_source);
+  const std::string out_path = options.out_path.empty()
+                                   ? MapLibrary(options.maps_dir).pathFor(specifications)
+                                   : options.out_path;
+  checkWritable(out_path, "map");
+  if (!options.report_path.empty()) checkWritable(options.report_path, "report");
+  std::printf(
+      "Correcting %s to this %s: a few probes of the stops, then the field at 12 to 32 "
+      "points.\n",
+      transfer.prior_source.c_str(), specifications.model_name.c_str());
+  const Eigen::Vector3d center_m = prior.metadata().workspace.center_m();
+  if (handle.simulation != nullptr && (options.auto_hand || !interactive)) {
+    // The simulated hand puts the stylus in the middle and lets go; the prior holds it.
+    handle.simulation->setForce(prior.gravityAt(center_m));
+    handle.simulation->advance(transfer.parameters.servo_period_s);
+    handle.simulation->resetState(center_m);
+  } else {
+    std::printf(
+        "Hold the stylus near the middle of the workspace (about [%.0f, %.0f, %.0f] mm), "
+        "press Enter, and let go once it holds itself.\n",
+        center_m.x() * 1e3, center_m.y() * 1e3, center_m.z() * 1e3);
+    std::fflush(stdout);
+    std::string ignored;
+    std::getline(std::cin, ignored);
+  }
+  const std::optional<RealTimePriority> priority = enterServoPriority(handle);
+  const auto ticks = makeTickSource(handle, transfer.parameters.servo_period_s,
+                                    /*real_time=*/handle.simulation == nullptr);
+  ProgressBar progress("point");
+  transfer.on_progress = [&](const TransferProgress& now) {
+    progress.update(now.done, now.total,
+                    now.phase == TransferProgress::Phase::kProbing ? "probing the stops"
+                                                                   : "measuring the field");
+  };
+  const TransferResult result = transferMap(device, *ticks, prior, transfer);
+  progress.finish();
+  device.close();
+  printTransfer(result);
+  nlohmann::json report = {
+      {"device", options.device},
+      {"prior", result.prior.source},
+      {"accepted", result.accepted},
+      {"seconds", result.seconds},
+      {"correction_model", result.prior.correction_model},
+      {"check_mean_rel", result.prior.check_mean_rel},
+      {"check_max_rel", result.prior.check_max_rel},
+      {"seconds_above_continuous_force", result.seconds_above_continuous_force},
+      {"peak_force_n", result.peak_force_n}};
+  addServoPriorityJson(report, priority);
+  if (result.accepted) {
+    saveMap(*result.map, out_path);
+    report["map"] = out_path;
+    if (handle.simulation != nullptr) {
+      addFieldErrorJson(report, sim::measureFieldError(*result.map, *handle.simulation));
+    }
+    writeJsonReport(options.report_path, report);
+    std::printf("Map saved to %s (%.1f s of device time).\n", out_path.c_str(), result.seconds);
+    return true;
+  }
+  report["refusal"] = result.refusal;
+  writeJsonReport(options.report_path, report);
+  std::printf("No map was saved: %s.\n", result.refusal.c_str());
+  if (interactive && !options.yes) {
+    std::printf("Run the whole calibration now? [y/N] ");
+    std::fflush(stdout);
+    std::string answer;
+    std::getline(std::cin, answer);
+    if (!answer.empty() && (answer[0] == 'y' || answer[0] == 'Y')) return false;
+  }
+  throw Error(
+      "the correction was refused and no map was saved; calibrate this unit whole with "
+      "`autograv wizard --device " +
+      options.device + "` (without --like)");
+}
+
 void runWizardCommand(const WizardOptions& options) {
   const bool interactive = interactiveTerminal();
+  if (!options.like.empty() && runWizardLike(options, interactive || options.auto_hand)) return;
   if (!interactive && !options.auto_hand) {
     throw Error(
         "standard input or output is not a terminal, so nobody can press keys or move the "
@@ -644,7 +736,13 @@ void addWizardCommand(CLI::App& app, const Advanced& advanced) {
                     "Continue an interrupted run (of wizard or calibrate) from <out>.partial");
   command->add_flag("--yes", options->yes,
                     "Answer the prompts automatically (redo failed vertices once, then save)");
+  command
+      ->add_option("--like", options->like,
+                   "Correct the map of another unit of this model (a path, or 'library' for the "
+                   "map library's) with a few measurements, instead of a whole calibration")
+      ->excludes("--resume");
   addGridOptions(*command, options->grid);
+  command->get_option("--like")->excludes("--grid")->excludes("--box-mm")->excludes("--side-mm");
   command
       ->add_option("--tolerance-mm", options->tolerance_mm,
                    "How close to the centre the Centre step accepts [mm]")

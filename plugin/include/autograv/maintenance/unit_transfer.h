@@ -1,0 +1,143 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/device/haptic_device.h"
+#include "autograv/device/tick_source.h"
+#include "autograv/estimation/estimation_parameters.h"
+#include "autograv/map/gravity_map.h"
+
+namespace autograv {
+
+/// How the map of another unit of the same model is corrected to this unit. Units of one model
+/// share their geometry and masses; what differs (each motor's gain, the handle, a small tilt of
+/// the base) changes the field smoothly, so a few measurements fit the difference. Which model
+/// fits it is chosen from the measurements, by leave-one-out, as the map's field model is.
+enum class CorrectionModel : std::uint8_t {
+  kShift,          ///< One constant force everywhere (a changed handle).
+  kAffine,         ///< (A - I) G_prior(x) + b: motors' gains seen through a nearly constant
+                   ///< Jacobian, a tilt, a load.
+  kConservative,   ///< A conservative FieldFit of the differences.
+  kComponentwise,  ///< Each component of the differences on its own (FieldFit, curl weight 1).
+};
+
+/// Stable lower-case name: "shift", "affine", "conservative", "componentwise".
+const char* toString(CorrectionModel model) noexcept;
+
+/// One candidate correction's leave-one-out error over the fit points.
+struct CorrectionScore {
+  CorrectionModel model = CorrectionModel::kShift;  ///< The candidate.
+  double mean_rel = 0.0;  ///< Mean |leave-one-out residual| / |G|: what the choice compares.
+  double max_rel = 0.0;   ///< Largest.
+};
+
+/// What transferMap is doing, for a progress display.
+struct TransferProgress {
+  enum class Phase : std::uint8_t { kProbing, kMeasuring };
+  Phase phase = Phase::kProbing;
+  int done = 0;          ///< Probes, or points, finished.
+  int total = 0;         ///< Probes, or points, planned.
+  double seconds = 0.0;  ///< Servo time so far. Unit: [s]
+};
+
+/// How transferMap measures and judges.
+struct TransferOptions {
+  /// The estimation at each point (the prior's own parameters are a good choice).
+  EstimationParameters parameters;
+  /// Points measured before the first fit, spread over the prior's measurement points (farthest
+  /// point first, from the centre), so that the stops' neighbourhood is measured too.
+  int first_points = 12;
+  /// Points measured in each further batch, while the correction is not yet good enough.
+  int batch_points = 4;
+  /// Most points measured in all.
+  int max_points = 32;
+  /// Every this-many-th point of the spread is kept out of the fit, to check it.
+  int check_every = 5;
+  /// Enough points once the chosen correction predicts each fit point from the others within
+  /// this fraction of |G| on average (leave-one-out): about the measurements' own scatter.
+  double enough_rel = 0.004;
+  /// No further batch that would end past this much device time, the workspace check included.
+  /// Unit: [s]
+  double time_budget_s = 90.0;
+  /// Directions probed (an even spread from where the end-effector starts) to check that this
+  /// unit reaches what the prior's unit reached.
+  int probe_directions = 6;
+  /// A probe that meets its stop further than this from the prior's boundary refuses the prior:
+  /// the units' workspaces differ (another model, a bent link, a tool in the way). Unit: [m]
+  double max_workspace_difference_m = 0.006;
+  /// The corrected map must meet every check point within this fraction of |G|, or within
+  /// kCheckFactor times the fit's own leave-one-out error where that is larger.
+  double max_check_error_rel = 0.03;
+  /// ... and the chosen correction must predict its own fit points from the others within this
+  /// (mean leave-one-out): a correction that does not explain the measurements is no correction.
+  double max_fit_error_rel = 0.03;
+  /// How the prior was named (a path): kept in the map's MapPrior::source.
+  std::string prior_source;
+  /// Gives up when the run takes longer than this (servo time). Unit: [s]
+  double timeout_s = 180.0;
+  /// Called every progress_period_s of servo time and when a probe or point finishes.
+  std::function<void(const TransferProgress&)> on_progress;
+  double progress_period_s = 0.5;  ///< Unit: [s]
+};
+
+/// What transferMap measured, the correction it chose and, when that passed its check, the map.
+struct TransferResult {
+  /// True when the correction passed its check: `map` is this unit's map. False: `refusal`
+  /// says why, with the figures, and no map may be saved.
+  bool accepted = false;
+  std::string refusal;            ///< Empty when accepted.
+  std::optional<GravityMap> map;  ///< The corrected map; empty when refused.
+  MapPrior prior;  ///< The provenance and the correction, as the map's metadata keeps it.
+  std::vector<CorrectionScore> scores;  ///< Every candidate's, in CorrectionModel's order.
+  int converged_points = 0;             ///< Points whose estimate converged.
+  int failed_points = 0;                ///< Points left out (no convergence, a stop on the way).
+  double seconds = 0.0;                 ///< Servo time of the whole run. Unit: [s]
+  double probe_seconds = 0.0;           ///< Of that, the workspace check. Unit: [s]
+  double peak_force_n = 0.0;            ///< Largest force sent. Unit: [N]
+  /// Servo time with a force above the device's continuous rating. Unit: [s]
+  double seconds_above_continuous_force = 0.0;
+  /// Prior's value and this unit's measurement at each fit and check point. Units: [m], [N]
+  std::vector<Eigen::Vector3d> points_m, prior_n, measured_n;
+  std::vector<bool> is_check;  ///< Per point: a check point.
+  /// Per point: the inner loop's record there (iterations, seconds held, history).
+  std::vector<VertexEstimate> estimates;
+};
+
+/// A check point's error may reach this many times the fit's mean leave-one-out error before
+/// the correction is refused (TransferOptions::max_check_error_rel is the floor).
+inline constexpr double kCheckFactor = 4.0;
+
+/// Throws autograv::Error, before the device moves, when `prior` cannot be this device's prior:
+/// another model (DeviceSpecifications::model_name), no explored workspace, or too few measured
+/// points for `options`. Not real-time safe.
+void checkTransferPrior(const GravityMap& prior, const std::string& device_model,
+                        const TransferOptions& options);
+
+/// The prior's measured points, farthest point first from the one nearest its workspace's centre:
+/// the grid indices of the vertices measured there. Not real-time safe.
+std::vector<int> spreadMeasuredVertices(const GravityMap& prior, int count);
+
+/// Makes this unit's map from `prior`, the map of another unit of the same model: probes the
+/// workspace in a few directions (refused when it differs), measures the field at
+/// TransferOptions::fit_points + check_points of the prior's own measurement points (each started
+/// from the prior's value), fits each CorrectionModel to the differences, keeps the one with the
+/// smallest leave-one-out error (a simpler one unless beaten by 5 %), corrects every value of the
+/// prior, and judges the corrected map on the check points. The device must be open and homed,
+/// its end-effector at rest inside the workspace (the prior's compensation holds it); `ticks`
+/// paces the loop. Throws autograv::Error as checkTransferPrior does, and when the device stops
+/// answering; returns a refused result when the workspace or the check disagree. Not real-time
+/// safe (runs the servo loop itself).
+TransferResult transferMap(HapticDevice& device, TickSource& ticks, const GravityMap& prior,
+                           const TransferOptions& options);
+
+/// `prior` with `correction` added to every value (as MapPrior describes it) and `metadata` as
+/// the new map's. Not real-time safe.
+GravityMap correctedMap(const GravityMap& prior, const MapPrior& correction, MapMetadata metadata);
+
+}  // namespace autograv

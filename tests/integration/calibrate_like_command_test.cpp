@@ -1,0 +1,113 @@
+// `autograv calibrate --like` and `wizard --like`, the real binary on sim:omega: unit 2 corrected
+// from unit 1's whole calibration, the map library finding that prior by model, a refused prior
+// saving nothing, and options that cannot go with --like refused before anything runs.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "autograv/map/map_io.h"
+#include "run_command.h"
+
+namespace autograv {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::runCommand;
+
+const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+class CalibrateLikeCommandTest : public ::testing::Test {
+ protected:
+  // One whole calibration of unit 1 into a map library of the suite's own.
+  static void SetUpTestSuite() {
+    if (!fs::exists(kBinary)) return;
+    dir_ = fs::temp_directory_path() / ("autograv_like_" + std::to_string(::getpid()));
+    fs::create_directories(dir_ / "maps");
+    prior_ = (dir_ / "maps" / "sim_omega@SIM-OMEGA-0001.json").string();
+    const auto run = runCommand(kBinary + " calibrate --device sim:omega --out " + prior_);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+  }
+  static void TearDownTestSuite() {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+  void SetUp() override {
+    if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
+  }
+
+  static fs::path dir_;
+  static std::string prior_;
+};
+
+fs::path CalibrateLikeCommandTest::dir_;
+std::string CalibrateLikeCommandTest::prior_;
+
+TEST_F(CalibrateLikeCommandTest, CorrectsAnotherUnitsMapAndReportsTheFieldAgainstTheTruth) {
+  const fs::path out = dir_ / "unit2.json";
+  const fs::path report = dir_ / "unit2.report.json";
+  const auto run = runCommand(kBinary + " calibrate --device sim:omega --unit 2 --like " + prior_ +
+                              " --out " + out.string() + " --report " + report.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("check (points not fitted)"), std::string::npos) << run.output;
+  const nlohmann::json json = readJson(report);
+  EXPECT_TRUE(json["accepted"].get<bool>());
+  EXPECT_LE(json["simulated_seconds"].get<double>(), 45.0);
+  EXPECT_LT(json["field_error_p90_rel"].get<double>(), 0.004);
+  EXPECT_EQ(json["force_limit_ticks"].get<int>(), 0);
+  const GravityMap map = loadMap(out.string());
+  ASSERT_TRUE(map.metadata().prior.has_value());
+  EXPECT_EQ(map.metadata().prior->source, prior_);
+  EXPECT_EQ(map.metadata().device_serial, "SIM-OMEGA-0002");
+  const auto inspect = runCommand(kBinary + " inspect " + out.string());
+  EXPECT_NE(inspect.output.find("made from"), std::string::npos) << inspect.output;
+}
+
+TEST_F(CalibrateLikeCommandTest, TheWizardFindsTheModelsMapInTheLibrary) {
+  const fs::path report = dir_ / "wizard.report.json";
+  const auto run =
+      runCommand(kBinary + " wizard --device sim:omega --unit 3 --auto-hand --like " +
+                 "library --maps " + (dir_ / "maps").string() + " --report " + report.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // Saved under unit 3's own name in the library, made from unit 1's map.
+  const fs::path saved = dir_ / "maps" / "sim_omega@SIM-OMEGA-0003.json";
+  ASSERT_TRUE(fs::exists(saved)) << run.output;
+  const GravityMap map = loadMap(saved.string());
+  ASSERT_TRUE(map.metadata().prior.has_value());
+  EXPECT_EQ(map.metadata().prior->device_serial, "SIM-OMEGA-0001");
+  EXPECT_LT(readJson(report)["field_error_p90_rel"].get<double>(), 0.004);
+}
+
+TEST_F(CalibrateLikeCommandTest, AMapOfAnotherModelIsRefusedAndNothingIsSaved) {
+  const fs::path out = dir_ / "falcon.json";
+  const auto run = runCommand(kBinary + " calibrate --device sim:falcon --like " + prior_ +
+                              " --out " + out.string());
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.output.find("another model"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CalibrateLikeCommandTest, OptionsThatCannotGoWithLikeAreRefused) {
+  for (const std::string& extra : {std::string("--grid 4"), std::string("--resume")}) {
+    const auto run = runCommand(kBinary + " calibrate --device sim:omega --like " + prior_ +
+                                " --out " + (dir_ / "x.json").string() + " " + extra);
+    EXPECT_NE(run.exit_code, 0) << extra;
+    EXPECT_NE(run.output.find("excludes"), std::string::npos) << run.output;
+  }
+  const auto missing =
+      runCommand(kBinary + " calibrate --device sim:omega --like " + (dir_ / "none.json").string() +
+                 " --out " + (dir_ / "x.json").string());
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.output.find("no map file"), std::string::npos) << missing.output;
+}
+
+}  // namespace
+}  // namespace autograv
