@@ -18,6 +18,41 @@
 
 namespace autograv::cli {
 
+CLI::Option* addLikeOption(CLI::App& command, std::string& like) {
+  return command
+      .add_option("--like", like,
+                  "Correct the map of another unit of this model (a path, or 'library' for the "
+                  "map library's) with a few measurements, instead of a whole calibration")
+      ->excludes("--resume")
+      ->excludes("--grid")
+      ->excludes("--box-mm")
+      ->excludes("--side-mm");
+}
+
+nlohmann::json transferReportJson(const TransferResult& result) {
+  nlohmann::json report;
+  report["prior"] = result.prior.source;
+  report["accepted"] = result.accepted;
+  report["simulated_seconds"] = result.seconds;
+  report["probe_seconds"] = result.probe_seconds;
+  report["points_converged"] = result.converged_points;
+  report["points_left_out"] = result.failed_points;
+  report["workspace_difference_m"] = result.prior.workspace_difference_m;
+  report["correction_model"] = result.prior.correction_model;
+  nlohmann::json scores = nlohmann::json::object();
+  for (const CorrectionScore& score : result.scores) {
+    scores[toString(score.model)] = {{"mean_rel", score.mean_rel}, {"max_rel", score.max_rel}};
+  }
+  report["correction_scores"] = scores;
+  report["check_points"] = result.prior.check_points;
+  report["check_mean_rel"] = result.prior.check_mean_rel;
+  report["check_max_rel"] = result.prior.check_max_rel;
+  report["seconds_above_continuous_force"] = result.seconds_above_continuous_force;
+  report["peak_force_n"] = result.peak_force_n;
+  if (!result.accepted) report["refusal"] = result.refusal;
+  return report;
+}
+
 GravityMap loadPrior(const std::string& like, const std::string& maps_dir, const std::string& model,
                      const std::string& serial, const TransferOptions& options,
                      std::string& source) {
@@ -124,32 +159,13 @@ void runCalibrateLike(const std::string& device_name, const std::string& like,
 
   std::printf("\n");
   printTransfer(result);
-  nlohmann::json report;
-  report["prior"] = result.prior.source;
-  report["accepted"] = result.accepted;
-  report["simulated_seconds"] = result.seconds;
-  report["probe_seconds"] = result.probe_seconds;
+  nlohmann::json report = transferReportJson(result);
   report["wall_seconds"] = wall_s;
-  report["points_converged"] = result.converged_points;
-  report["points_left_out"] = result.failed_points;
-  report["workspace_difference_m"] = result.prior.workspace_difference_m;
-  report["correction_model"] = result.prior.correction_model;
-  nlohmann::json scores = nlohmann::json::object();
-  for (const CorrectionScore& score : result.scores) {
-    scores[toString(score.model)] = {{"mean_rel", score.mean_rel}, {"max_rel", score.max_rel}};
-  }
-  report["correction_scores"] = scores;
-  report["check_points"] = result.prior.check_points;
-  report["check_mean_rel"] = result.prior.check_mean_rel;
-  report["check_max_rel"] = result.prior.check_max_rel;
-  report["seconds_above_continuous_force"] = result.seconds_above_continuous_force;
-  report["peak_force_n"] = result.peak_force_n;
   report["force_limit_ticks"] = limit_ticks;
   report["device"] = device_name;
   report["seed"] = simulation.seed;
   report["unit"] = simulation.unit.number;
   if (!result.accepted) {
-    report["refusal"] = result.refusal;
     writeJsonReport(report_path, report);
     throw Error("the correction was refused, and no map was saved: " + result.refusal +
                 ": autograv calibrate --device " + device_name + " --out " + out_path);

@@ -3,6 +3,9 @@
 
 #include <string>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include "advanced_options.h"
 #include "autograv/maintenance/unit_transfer.h"
 #include "autograv/map/gravity_map.h"
@@ -12,6 +15,14 @@ namespace autograv::cli {
 /// The word `--like` takes instead of a path: the map library's newest map of another unit of
 /// the device's model (MapLibrary::findOtherUnit).
 inline constexpr const char* kLikeLibrary = "library";
+
+/// Adds `--like MAP` to `command`, which must already have --resume and the grid options: none of
+/// them means anything for a corrected map, so each is refused beside it.
+CLI::Option* addLikeOption(CLI::App& command, std::string& like);
+
+/// The report keys a correction has on either command: accepted, the device time, the points,
+/// the correction and its scores, the check, the workspace check and the forces sent.
+nlohmann::json transferReportJson(const TransferResult& result);
 
 /// Loads the prior `like` names (a path, or kLikeLibrary with `maps_dir`, empty for the default
 /// folder) for a device of `model` and serial `serial`, and checks it against that model

@@ -216,17 +216,9 @@ void addCalibrateCommand(CLI::App& app, const Advanced& advanced) {
   command->add_option("--out", options->out_path, "Map file to write (JSON)")->required();
   addGridOptions(*command, options->grid);
   addReportOption(*command, options->report_path);
-  CLI::Option* resume =
-      command->add_flag("--resume", options->resume,
-                        "Continue an interrupted run from <out>.partial, keeping its vertices");
-  command
-      ->add_option("--like", options->like,
-                   "Correct the map of another unit of this model (a path, or 'library' for the "
-                   "map library's) with a few measurements, instead of a whole calibration")
-      ->excludes(resume)
-      ->excludes("--grid")
-      ->excludes("--box-mm")
-      ->excludes("--side-mm");
+  command->add_flag("--resume", options->resume,
+                    "Continue an interrupted run from <out>.partial, keeping its vertices");
+  addLikeOption(*command, options->like);
   advanced->accept(*command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kServoTiming,
                               knob::kServoTimingSeed, knob::kEstimation, knob::kCalibrationRun,
                               knob::kFieldModel});

@@ -404,7 +404,7 @@ bool runWizardLike(const WizardOptions& options, bool interactive) {
       "points.\n",
       transfer.prior_source.c_str(), specifications.model_name.c_str());
   const Eigen::Vector3d center_m = prior.metadata().workspace.center_m();
-  if (handle.simulation != nullptr && (options.auto_hand || !interactive)) {
+  if (handle.simulation != nullptr) {
     // The simulated hand puts the stylus in the middle and lets go; the prior holds it.
     handle.simulation->setForce(prior.gravityAt(center_m));
     handle.simulation->advance(transfer.parameters.servo_period_s);
@@ -431,16 +431,8 @@ bool runWizardLike(const WizardOptions& options, bool interactive) {
   progress.finish();
   device.close();
   printTransfer(result);
-  nlohmann::json report = {
-      {"device", options.device},
-      {"prior", result.prior.source},
-      {"accepted", result.accepted},
-      {"seconds", result.seconds},
-      {"correction_model", result.prior.correction_model},
-      {"check_mean_rel", result.prior.check_mean_rel},
-      {"check_max_rel", result.prior.check_max_rel},
-      {"seconds_above_continuous_force", result.seconds_above_continuous_force},
-      {"peak_force_n", result.peak_force_n}};
+  nlohmann::json report = transferReportJson(result);
+  report["device"] = options.device;
   addServoPriorityJson(report, priority);
   if (result.accepted) {
     saveMap(*result.map, out_path);
@@ -452,7 +444,6 @@ bool runWizardLike(const WizardOptions& options, bool interactive) {
     std::printf("Map saved to %s (%.1f s of device time).\n", out_path.c_str(), result.seconds);
     return true;
   }
-  report["refusal"] = result.refusal;
   writeJsonReport(options.report_path, report);
   std::printf("No map was saved: %s.\n", result.refusal.c_str());
   if (interactive && !options.yes) {
@@ -736,13 +727,8 @@ void addWizardCommand(CLI::App& app, const Advanced& advanced) {
                     "Continue an interrupted run (of wizard or calibrate) from <out>.partial");
   command->add_flag("--yes", options->yes,
                     "Answer the prompts automatically (redo failed vertices once, then save)");
-  command
-      ->add_option("--like", options->like,
-                   "Correct the map of another unit of this model (a path, or 'library' for the "
-                   "map library's) with a few measurements, instead of a whole calibration")
-      ->excludes("--resume");
   addGridOptions(*command, options->grid);
-  command->get_option("--like")->excludes("--grid")->excludes("--box-mm")->excludes("--side-mm");
+  addLikeOption(*command, options->like);
   command
       ->add_option("--tolerance-mm", options->tolerance_mm,
                    "How close to the centre the Centre step accepts [mm]")

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "map_prior_fixture.h"
+
 namespace autograv {
 namespace {
 
@@ -91,19 +93,8 @@ TEST(MapSummaryTest, AnEmptySetHasZeroSpreads) {
 }
 
 TEST(MapSummaryTest, APriorSaysWhichUnitWhenAndHowMuchWasCorrected) {
-  MapPrior prior;
-  prior.source = "maps/omni-0017.json";
-  prior.device_serial = "SN-0017";
-  prior.created_utc = "2026-10-01T08:00:00Z";
-  prior.correction_model = "affine";
-  prior.gain.diagonal() = Eigen::Vector3d(1.012, 0.987, 1.003);
+  MapPrior prior = testing::affinePriorFixture();
   prior.gain(0, 1) = 0.5;  // off the diagonal: not shown
-  prior.offset_n = Eigen::Vector3d(0.0012, -0.0304, 0.0);
-  prior.points_m.assign(24, Eigen::Vector3d::Zero());
-  prior.check_points = 4;
-  prior.check_mean_rel = 0.0041;
-  prior.check_max_rel = 0.0093;
-  prior.workspace_difference_m = 0.0032;
   const PriorText text = describePrior(prior);
   EXPECT_EQ(text.made_from, "map of unit SN-0017 made 2026-10-01T08:00:00Z (maps/omni-0017.json)");
   EXPECT_EQ(text.correction,
