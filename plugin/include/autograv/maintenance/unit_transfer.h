@@ -39,11 +39,15 @@ struct CorrectionScore {
 
 /// What transferMap is doing, for a progress display.
 struct TransferProgress {
-  enum class Phase : std::uint8_t { kProbing, kMeasuring };
-  Phase phase = Phase::kProbing;
-  int done = 0;          ///< Probes, or points, finished.
-  int total = 0;         ///< Probes, or points, planned.
-  double seconds = 0.0;  ///< Servo time so far. Unit: [s]
+  /// The two parts of a run.
+  enum class Phase : std::uint8_t {
+    kProbing,    ///< Probing the stops along the prior's directions.
+    kMeasuring,  ///< Measuring the field at the prior's points.
+  };
+  Phase phase = Phase::kProbing;  ///< What the run is doing now.
+  int done = 0;                   ///< Probes, or points, finished.
+  int total = 0;                  ///< Probes, or points, planned.
+  double seconds = 0.0;           ///< Servo time so far. Unit: [s]
 };
 
 /// How transferMap measures and judges.
@@ -102,8 +106,12 @@ struct TransferResult {
   double peak_force_n = 0.0;            ///< Largest force sent. Unit: [N]
   /// Servo time with a force above the device's continuous rating. Unit: [s]
   double seconds_above_continuous_force = 0.0;
-  /// Prior's value and this unit's measurement at each fit and check point. Units: [m], [N]
-  std::vector<Eigen::Vector3d> points_m, prior_n, measured_n;
+  /// Every point measured (fit and check points alike). Unit: [m]
+  std::vector<Eigen::Vector3d> points_m;
+  /// The prior's value at each of points_m. Unit: [N]
+  std::vector<Eigen::Vector3d> prior_n;
+  /// This unit's measurement at each of points_m. Unit: [N]
+  std::vector<Eigen::Vector3d> measured_n;
   std::vector<bool> is_check;  ///< Per point: a check point.
   /// Per point: the inner loop's record there (iterations, seconds held, history).
   std::vector<VertexEstimate> estimates;
@@ -124,15 +132,18 @@ void checkTransferPrior(const GravityMap& prior, const std::string& device_model
 std::vector<int> spreadMeasuredVertices(const GravityMap& prior, int count);
 
 /// Makes this unit's map from `prior`, the map of another unit of the same model: probes the
-/// workspace in a few directions (refused when it differs), measures the field at
-/// TransferOptions::fit_points + check_points of the prior's own measurement points (each started
-/// from the prior's value), fits each CorrectionModel to the differences, keeps the one with the
-/// smallest leave-one-out error (a simpler one unless beaten by 5 %), corrects every value of the
-/// prior, and judges the corrected map on the check points. The device must be open and homed,
-/// its end-effector at rest inside the workspace (the prior's compensation holds it); `ticks`
-/// paces the loop. Throws autograv::Error as checkTransferPrior does, and when the device stops
-/// answering; returns a refused result when the workspace or the check disagree. Not real-time
-/// safe (runs the servo loop itself).
+/// stops along a few of the prior's own directions (refused when they lie elsewhere), measures
+/// the field at the prior's own measurement points, spread farthest first, in batches
+/// (TransferOptions::first_points, then batch_points at a time, each point started from the
+/// prior's value plus the correction so far), fits each CorrectionModel to the differences after
+/// each batch and keeps the one with the smallest leave-one-out error (a simpler one unless
+/// beaten by 5 %), stops once that error is within enough_rel or another batch would pass
+/// time_budget_s, corrects every value of the prior, and judges the corrected map on the check
+/// points (every check_every-th point, never fitted). The device must be open and homed, its
+/// end-effector at rest inside the workspace (the prior's compensation holds it); `ticks` paces
+/// the loop. Throws autograv::Error as checkTransferPrior does, and when the device stops
+/// answering; returns a refused result, with no map, when the workspace, the fit or the check
+/// disagree. Not real-time safe (runs the servo loop itself).
 TransferResult transferMap(HapticDevice& device, TickSource& ticks, const GravityMap& prior,
                            const TransferOptions& options);
 
