@@ -1,5 +1,7 @@
 // A unit's map corrected from another unit's (transferMap, `calibrate --like`), against the
-// simulation's truth: sim:omega units 2 and 3 from unit 1's default calibration.
+// simulation's truth: sim:omega units 2 and 3 from unit 1's default calibration. Each
+// UnitTransferTest calibrates that prior first (14 s under the sanitizers): all but the first
+// are release-only (tests/CMakeLists.txt); UnitTransferPriorTest needs no calibration.
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -13,6 +15,7 @@
 #include "autograv/map/map_library.h"
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
+#include "field_map.h"
 #include "sim/experiments.h"
 
 namespace autograv {
@@ -99,7 +102,7 @@ TEST_F(UnitTransferTest, AnotherUnitsMapIsCorrectedToThisUnitInUnderFortyFiveSec
   EXPECT_EQ(metadata.prior->device_serial, "SIM-OMEGA-0001");
   EXPECT_EQ(metadata.device_serial, "SIM-OMEGA-0002");
   EXPECT_EQ(metadata.prior->correction_model, "affine");
-  const fs::path path = fs::path(testing::TempDir()) / "unit_transfer_test_map.json";
+  const fs::path path = fs::path(::testing::TempDir()) / "unit_transfer_test_map.json";
   saveMap(*result.map, path.string());
   const GravityMap loaded = loadMap(path.string());
   ASSERT_TRUE(loaded.metadata().prior.has_value());
@@ -125,25 +128,6 @@ TEST_F(UnitTransferTest, TheChosenCorrectionIsTheOneThatPredictsLeftOutPointsBes
   // A plain shift cannot follow motors of different gains: it scores worse than the choice.
   EXPECT_EQ(result.scores.front().model, CorrectionModel::kShift);
   EXPECT_GT(result.scores.front().mean_rel, 2.0 * chosen->mean_rel);
-}
-
-TEST_F(UnitTransferTest, AMapOfAnotherModelIsRefusedBeforeTheDeviceMoves) {
-  auto falcon = sim::makeSimulatedDevice("sim:falcon", 1);
-  ASSERT_TRUE(falcon->open());
-  const Eigen::Vector3d before_m = falcon->truePosition_m();
-  sim::SimulatedTickSource ticks(*falcon, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
-  TransferOptions options;
-  options.parameters = sim::toolParameters(*falcon);
-  try {
-    transferMap(*falcon, ticks, *prior_, options);
-    FAIL() << "an Omega's map was taken as a Falcon's prior";
-  } catch (const Error& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("another model"), std::string::npos) << message;
-    EXPECT_NE(message.find("whole calibration"), std::string::npos) << message;
-  }
-  EXPECT_EQ(falcon->time_s(), 0.0);
-  EXPECT_EQ(falcon->truePosition_m(), before_m);
 }
 
 TEST_F(UnitTransferTest, APriorTheCorrectionCannotExplainIsRefusedAndNoMapIsMade) {
@@ -185,23 +169,51 @@ TEST_F(UnitTransferTest, AUnitWhoseStopsLieElsewhereIsRefused) {
   EXPECT_EQ(result.converged_points, 0);  // refused before any point was measured
 }
 
-TEST_F(UnitTransferTest, AShiftCorrectionMovesEveryValueByTheShift) {
+// An Omega's map (any field: the model is refused first) on a Falcon.
+TEST(UnitTransferPriorTest, AMapOfAnotherModelIsRefusedBeforeTheDeviceMoves) {
+  const auto omega_map = testing::uniformFieldMap(WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 3),
+                                                  Eigen::Vector3d(0.0, 0.0, 1.0), "sim:omega");
+  auto falcon = sim::makeSimulatedDevice("sim:falcon", 1);
+  ASSERT_TRUE(falcon->open());
+  const Eigen::Vector3d before_m = falcon->truePosition_m();
+  sim::SimulatedTickSource ticks(*falcon, 1e-3, sim::SimulatedTickSource::Mode::kAsFastAsPossible);
+  TransferOptions options;
+  options.parameters = sim::toolParameters(*falcon);
+  try {
+    transferMap(*falcon, ticks, *omega_map, options);
+    FAIL() << "an Omega's map was taken as a Falcon's prior";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("another model"), std::string::npos) << message;
+    EXPECT_NE(message.find("whole calibration"), std::string::npos) << message;
+  }
+  EXPECT_EQ(falcon->time_s(), 0.0);
+  EXPECT_EQ(falcon->truePosition_m(), before_m);
+}
+
+TEST(UnitTransferPriorTest, AShiftCorrectionMovesEveryValueByTheShift) {
+  const auto prior = testing::fieldMap(
+      WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 4),
+      [](const Eigen::Vector3d& x) {
+        return Eigen::Vector3d(0.1 * x.y(), 0.1 * x.x(), 1.0 + x.z());
+      },
+      MapMetadata{});
   MapPrior correction;
   correction.correction_model = "shift";
   correction.offset_n = Eigen::Vector3d(0.001, -0.002, 0.05);
-  const GravityMap corrected = correctedMap(*prior_, correction, prior_->metadata());
-  for (std::size_t i = 0; i < prior_->vertices().size(); ++i) {
+  const GravityMap corrected = correctedMap(*prior, correction, prior->metadata());
+  for (std::size_t i = 0; i < prior->vertices().size(); ++i) {
     EXPECT_TRUE(corrected.vertices()[i].gravity_n.isApprox(
-        prior_->vertices()[i].gravity_n + correction.offset_n, 1e-12));
+        prior->vertices()[i].gravity_n + correction.offset_n, 1e-12));
   }
-  const Eigen::Vector3d centre_m = prior_->grid().center_m();
+  const Eigen::Vector3d centre_m = prior->grid().center_m();
   EXPECT_TRUE(corrected.gravityAt(centre_m).isApprox(
-      prior_->gravityAt(centre_m) + correction.offset_n, 1e-6));
+      prior->gravityAt(centre_m) + correction.offset_n, 1e-6));
   ASSERT_TRUE(corrected.metadata().prior.has_value());
 }
 
 TEST(MapLibraryOtherUnitTest, FindsAnotherUnitsWholeCalibrationAndSkipsItsOwnAndCorrectedMaps) {
-  const fs::path dir = fs::path(testing::TempDir()) / "map_library_other_unit";
+  const fs::path dir = fs::path(::testing::TempDir()) / "map_library_other_unit";
   fs::remove_all(dir);
   const MapLibrary library(dir.string());
   EXPECT_EQ(library.findOtherUnit("sim:omega", "SIM-OMEGA-0002"), "");
