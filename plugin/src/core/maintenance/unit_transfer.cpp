@@ -373,6 +373,7 @@ TransferResult transferMap(HapticDevice& device, TickSource& ticks, const Gravit
   }
   const long max_ticks = static_cast<long>(std::ceil(options.timeout_s / period_s));
   long tick = 0;
+  double servo_s = 0.0;  // the ticks' own intervals: a late tick is time the device spent
   double next_progress_s = 0.0;
   // One servo tick of `law` (the explorer's or the calibrator's step), its force accounted
   // against the device's ratings. False when the loop must end (no tick, or the time is up).
@@ -380,17 +381,16 @@ TransferResult transferMap(HapticDevice& device, TickSource& ticks, const Gravit
     if (tick >= max_ticks || !ticks.waitForNextTick()) return false;
     ++tick;
     const ServoSample sample = readServoSample(device, ticks.lastInterval_s());
+    const double interval_s = sample.interval_s > 0.0 ? sample.interval_s : period_s;
+    servo_s += interval_s;
     Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
     law(sample, force_n);
     device.setForce(force_n);
     result.peak_force_n = std::max(result.peak_force_n, force_n.norm());
-    if (force_n.norm() > continuous_n) {
-      result.seconds_above_continuous_force +=
-          sample.interval_s > 0.0 ? sample.interval_s : period_s;
-    }
+    if (force_n.norm() > continuous_n) result.seconds_above_continuous_force += interval_s;
     return true;
   };
-  const auto elapsed_s = [&] { return static_cast<double>(tick) * period_s; };
+  const auto elapsed_s = [&] { return servo_s; };
   const auto report = [&](TransferProgress::Phase phase, int done, int total, bool now) {
     if (!options.on_progress || (!now && elapsed_s() < next_progress_s)) return;
     next_progress_s = elapsed_s() + options.progress_period_s;
