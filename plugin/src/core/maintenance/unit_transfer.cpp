@@ -576,8 +576,7 @@ TransferResult transferMap(HapticDevice& device, TickSource& ticks, const Gravit
     correction.check_max_rel = std::max(correction.check_max_rel, error_rel);
   }
   correction.check_mean_rel /= static_cast<double>(correction.check_points);
-  const double tolerance_rel =
-      std::max(options.max_check_error_rel, kCheckFactor * fit.chosen.mean_rel);
+  const double tolerance_rel = options.max_check_error_rel;
   if (fit.chosen.mean_rel > options.max_fit_error_rel) {
     return refuse("the best correction (" + correction.correction_model + ") predicts each of " +
                   std::to_string(fit.correction.points_m.size()) +
