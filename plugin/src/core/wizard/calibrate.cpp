@@ -181,10 +181,13 @@ CalibrateResult calibrate(std::shared_ptr<HapticDevice> device, WizardConfig con
         wizard.post(WizardEvent::kAbort);  // again each frame: ignored once it has stopped
       }
       wizard.service();
+      // Finished first, then the status: the servo thread may end the run between the two reads,
+      // and the last status a program sees must then be the end (Done, Aborted or Fault).
+      const bool finished = wizard.finished();
       const WizardStatus status = wizard.status();
       if (options.on_status) options.on_status(status, wizard);
       progress.update(status);
-      if (wizard.finished()) break;
+      if (finished) break;
       if (options.answer_prompts && !answers.answer(status, wizard)) break;
       std::this_thread::sleep_until(frame_start + wallDuration(options.frame_s));
     }
