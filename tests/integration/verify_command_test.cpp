@@ -12,6 +12,7 @@
 
 #include "autograv/map/map_io.h"
 #include "run_command.h"
+#include "scaled_map.h"
 
 namespace autograv {
 namespace {
@@ -38,17 +39,6 @@ class VerifyCommandTest : public ::testing::Test {
       fs::temp_directory_path() / ("autograv_verify_command_" + std::to_string(::getpid()));
 };
 
-/// `map` with every value it holds (at the vertices and where measured off them) times `factor`:
-/// a map whose gravity is off by the same fraction everywhere.
-GravityMap scaled(const GravityMap& map, double factor) {
-  std::vector<VertexEstimate> vertices = map.vertices();
-  for (VertexEstimate& vertex : vertices) {
-    vertex.gravity_n *= factor;
-    vertex.measured_gravity_n *= factor;
-  }
-  return GravityMap(map.grid(), vertices, map.metadata());
-}
-
 TEST_F(VerifyCommandTest, PassesAGoodMapAndFailsItScaledByFivePercent) {
   // No --device anywhere: calibrate and verify have the same default device.
   const std::string good = file("good.json");
@@ -62,7 +52,7 @@ TEST_F(VerifyCommandTest, PassesAGoodMapAndFailsItScaledByFivePercent) {
   EXPECT_TRUE(readJson(file("good.report.json")).at("pass").get<bool>());
 
   const std::string off = file("off.json");
-  saveMap(scaled(loadMap(good), 1.05), off);
+  saveMap(testing::scaledMap(loadMap(good), 1.05), off);
   const auto failed = runCommand(verify + off + " --report " + file("off.report.json"));
   EXPECT_EQ(failed.exit_code, 1) << failed.output;
   EXPECT_NE(failed.output.find("\nFAIL\n"), std::string::npos) << failed.output;

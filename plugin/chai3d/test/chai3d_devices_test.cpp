@@ -22,22 +22,13 @@
 #include "autograv/map/measurement_plan.h"
 #include "chai3d.h"
 #include "run_command.h"
+#include "scaled_map.h"
 #include "simulated_haptic_device.h"
 
 namespace autograv {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// `map` with every value it holds times `factor`: off by the same fraction everywhere.
-GravityMap scaled(const GravityMap& map, double factor) {
-  std::vector<VertexEstimate> vertices = map.vertices();
-  for (VertexEstimate& vertex : vertices) {
-    vertex.gravity_n *= factor;
-    vertex.measured_gravity_n *= factor;
-  }
-  return GravityMap(map.grid(), vertices, map.metadata());
-}
 
 nlohmann::json readJson(const fs::path& path) {
   std::ifstream in(path);
@@ -173,7 +164,7 @@ TEST_F(Chai3dDevicesTest, VerifyRunsOnAChai3dDeviceWithNoHand) {
   EXPECT_NE(verify.output.find("0 ticks at the limit"), std::string::npos) << verify.output;
   // The same map 5 % too strong: FAIL, with a non-zero exit.
   const std::string off_path = (dir / "off.json").string();
-  saveMap(scaled(loadMap(map_path), 1.05), off_path);
+  saveMap(testing::scaledMap(loadMap(map_path), 1.05), off_path);
   const auto off = testing::runCommand(verify_command + off_path);
   EXPECT_EQ(off.exit_code, 1) << off.output;
   EXPECT_NE(off.output.find("\nFAIL\n"), std::string::npos) << off.output;
@@ -333,7 +324,7 @@ TEST_F(HardwareStandInTest, TheRegistryFindsNoSimulationBehindIt) {
 // time; PASS on the map itself is VerifyRunsOnAChai3dDeviceWithNoHand's, through the same API.
 TEST_F(HardwareStandInTest, VerifyFailsAMapFivePercentOffOnHardware) {
   const std::string off_path = file("off.json");
-  saveMap(scaled(loadMap(omniMap()), 1.05), off_path);
+  saveMap(testing::scaledMap(loadMap(omniMap()), 1.05), off_path);
   const auto failed =
       onHardware("verify --device chai3d:0 --points 1 --no-uncompensated --duration-s 0.5 " +
                  off_path + " --report " + file("off.report.json"));

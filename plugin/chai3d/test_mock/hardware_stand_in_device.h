@@ -21,6 +21,7 @@
 
 #include "autograv/sim/simulated_device.h"
 #include "chai3d.h"
+#include "simulated_switches.h"
 
 namespace autograv::chai3d {
 
@@ -77,13 +78,7 @@ class cHardwareStandInDevice final : public ::chai3d::cGenericHapticDevice {
   bool getUserSwitches(unsigned int& a_userSwitches) override {
     const std::lock_guard<std::mutex> lock(mutex_);
     catchUp();
-    a_userSwitches = 0;
-    for (int index = 0; index < 4; ++index) {
-      bool pressed = false;
-      if (!simulation_->getUserSwitch(index, pressed)) return ::chai3d::C_ERROR;
-      if (pressed) a_userSwitches |= 1u << index;
-    }
-    return ::chai3d::C_SUCCESS;
+    return chai3d_mock::readSwitchBits(*simulation_, a_userSwitches);
   }
   bool setForceAndTorqueAndGripperForce(const ::chai3d::cVector3d& a_force,
                                         const ::chai3d::cVector3d& a_torque,

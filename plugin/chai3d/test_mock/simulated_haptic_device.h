@@ -12,6 +12,7 @@
 #include "autograv/chai3d/simulated_chai3d_device.h"
 #include "autograv/sim/simulated_device.h"
 #include "chai3d.h"
+#include "simulated_switches.h"
 
 namespace autograv::chai3d {
 
@@ -59,13 +60,7 @@ class cSimulatedHapticDevice final : public ::chai3d::cGenericHapticDevice,
     return ok;
   }
   bool getUserSwitches(unsigned int& a_userSwitches) override {
-    a_userSwitches = 0;
-    for (int index = 0; index < 4; ++index) {
-      bool pressed = false;
-      if (!simulation_->getUserSwitch(index, pressed)) return ::chai3d::C_ERROR;
-      if (pressed) a_userSwitches |= 1u << index;
-    }
-    return ::chai3d::C_SUCCESS;
+    return chai3d_mock::readSwitchBits(*simulation_, a_userSwitches);
   }
   bool setForceAndTorqueAndGripperForce(const ::chai3d::cVector3d& a_force,
                                         const ::chai3d::cVector3d& a_torque,
