@@ -6,16 +6,17 @@
 
 namespace autograv::cli {
 
-/// Adds --boundary-probes N to `command`: how many directions the exploration probes after its
-/// radial ones, each from just inside the boundary those found
-/// (WorkspaceExplorer::Options::boundary_directions, whose default `count` keeps when the option
-/// is not given). AdvancedOptions declares it once for calibrate and wizard.
+/// Adds --boundary-probes N to `command`: how many boundary probes the exploration makes after
+/// its radial ones, each from just inside the boundary those found, where that boundary bulges
+/// most beyond the triangles between the radial stops (WorkspaceExplorer::Options::
+/// boundary_directions, whose default `count` keeps when the option is not given). AdvancedOptions
+/// declares it once for calibrate and wizard.
 inline CLI::Option* addBoundaryProbesOption(CLI::App& command, int& count) {
   return command
       .add_option("--boundary-probes", count,
-                  "After the radial probes, refine the workspace's boundary along a spread of up "
-                  "to N more directions, each probed from just inside it (about 1 s each; 0: "
-                  "none)")
+                  "After the radial probes, refine the workspace's boundary with N more probes "
+                  "where it bulges most beyond the triangles between the radial stops, each from "
+                  "just inside it (about 1 s each; 0: none)")
       ->check(CLI::Range(0, 2000))
       ->capture_default_str();
 }

@@ -55,10 +55,13 @@ class WorkspaceExplorationTest
     : public ::testing::TestWithParam<std::tuple<std::string, sim::FrictionLevel>> {};
 
 TEST_P(WorkspaceExplorationTest, FindsTheStopsGentlyAndQuickly) {
+  // The radial probes (the boundary probes after them: BoundaryProbeTest).
+  WorkspaceExplorer::Options radial_only;
+  radial_only.boundary_directions = 0;
   std::unique_ptr<sim::SimulatedDevice> device;
   sim::ExplorationResult result;
   ASSERT_NO_FATAL_FAILURE(exploreFromTheCentre(std::get<0>(GetParam()), std::get<1>(GetParam()),
-                                               WorkspaceExplorer::Options(), device, result));
+                                               radial_only, device, result));
   const ExploredWorkspace& workspace = result.workspace;
   std::vector<double> errors;
   for (std::size_t i = 0; i < workspace.directions().size(); ++i) {
@@ -146,6 +149,8 @@ TEST(BoundaryProbeTest, BoundaryProbesFollowTheCornersBetweenTheRadialStops) {
                           std::unique_ptr<sim::SimulatedDevice>& device) {
     WorkspaceExplorer::Options options;
     options.boundary_directions = boundary_directions;
+    options.boundary_candidates = 50;  // every candidate of a 50-direction spread
+    options.boundary_bulge_m = 0.0;
     exploreFromTheCentre("sim:omni", sim::FrictionLevel::kTypical, options, device, result);
   };
   std::unique_ptr<sim::SimulatedDevice> radial_device, refined_device;
@@ -190,6 +195,71 @@ TEST(BoundaryProbeTest, BoundaryProbesFollowTheCornersBetweenTheRadialStops) {
   EXPECT_LT(refined_beyond, 0.5 * radial_beyond);
 }
 
+TEST(BoundaryProbeTest, BoundaryProbesGoWhereTheRadialTrianglesCutMostOff) {
+  // sim:omni explored with 40 boundary probes, chosen among about 86 candidates
+  // from the radial stops alone. Where it probed, the true boundary lay further beyond the
+  // radial stops' triangles than where it did not (ground truth, for scoring only). At high
+  // friction too, where a probe that static friction holds at its start is left out rather than
+  // taken for a stop.
+  for (const sim::FrictionLevel friction :
+       {sim::FrictionLevel::kTypical, sim::FrictionLevel::kHigh}) {
+    SCOPED_TRACE(toString(friction));
+    std::unique_ptr<sim::SimulatedDevice> device;
+    sim::ExplorationResult result;
+    WorkspaceExplorer::Options options;
+    options.boundary_directions = 40;
+    ASSERT_NO_FATAL_FAILURE(exploreFromTheCentre("sim:omni", friction, options, device, result));
+    const ExploredWorkspace& workspace = result.workspace;
+    ASSERT_LE(workspace.directions().size(),
+              static_cast<std::size_t>(26 + options.boundary_directions));
+    ASSERT_GE(workspace.directions().size(),
+              static_cast<std::size_t>(26 + options.boundary_directions - 3));
+    const ExploredWorkspace radial(
+        workspace.center_m(),
+        std::vector<Eigen::Vector3d>(workspace.directions().begin(),
+                                     workspace.directions().begin() + 26),
+        std::vector<double>(workspace.radii_m().begin(), workspace.radii_m().begin() + 26));
+    EstimationParameters parameters;
+    const WorkspaceExplorer planned(parameters, device->specifications(), options);
+    double probed_gap_m = 0.0, skipped_gap_m = 0.0;
+    int probed = 0, skipped = 0;
+    for (int i = 26; i < planned.directionCount(); ++i) {
+      const Eigen::Vector3d& u = planned.directions()[static_cast<std::size_t>(i)];
+      const double true_reach_m = trueReach_m(*device, workspace.center_m(), u);
+      const double gap_m = true_reach_m - radial.boundaryDistance_m(u);
+      const auto found =
+          std::find_if(workspace.directions().begin() + 26, workspace.directions().end(),
+                       [&](const Eigen::Vector3d& d) { return d.dot(u) > 1.0 - 1e-12; });
+      if (found == workspace.directions().end()) {
+        skipped_gap_m += gap_m;
+        ++skipped;
+        continue;
+      }
+      probed_gap_m += gap_m;
+      ++probed;
+      // Each probed direction ends at the stop, as the radial ones do. At high friction a probe
+      // may stick short of it, but never behind where it started (boundary_clearance_m inside
+      // the radial triangle): that would be a stop inside the triangle.
+      const double reach_m =
+          workspace.radii_m()[static_cast<std::size_t>(found - workspace.directions().begin())];
+      const double shortfall_m =
+          friction == sim::FrictionLevel::kHigh ? options.boundary_clearance_m + 1e-3 : 3e-3;
+      EXPECT_GT(reach_m - true_reach_m, -shortfall_m) << i;
+      EXPECT_LT(reach_m - true_reach_m, 8e-3) << i;
+    }
+    ASSERT_GT(skipped, 30);
+    probed_gap_m /= probed;
+    skipped_gap_m /= skipped;
+    RecordProperty(std::string("probed_gap_mm_") + toString(friction),
+                   std::to_string(1e3 * probed_gap_m));
+    RecordProperty(std::string("skipped_gap_mm_") + toString(friction),
+                   std::to_string(1e3 * skipped_gap_m));
+    EXPECT_GT(probed_gap_m, 1.2 * skipped_gap_m);
+    EXPECT_EQ(result.saturation_count, 0u);
+    EXPECT_LT(result.seconds_above_continuous_force, 0.05 * result.seconds);
+  }
+}
+
 TEST(BoundaryProbeTest, BadBoundaryOptionsAreRefused) {
   EstimationParameters parameters;
   const DeviceSpecifications specifications =
@@ -203,14 +273,21 @@ TEST(BoundaryProbeTest, BadBoundaryOptionsAreRefused) {
   options.boundary_clearance_m = 0.01;
   options.boundary_directions = 20000;
   EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
-  // A spread of fewer than six adds nothing; the default adds nothing either.
-  options.boundary_directions = 5;
-  EXPECT_EQ(WorkspaceExplorer(parameters, specifications, options).directionCount(), 26);
-  EXPECT_EQ(WorkspaceExplorer(parameters, specifications).directionCount(), 26);
   options.boundary_directions = 50;
+  options.boundary_candidates = -1;
+  EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
+  options.boundary_candidates = 100;
+  options.boundary_bulge_m = -1e-3;
+  EXPECT_THROW(WorkspaceExplorer(parameters, specifications, options), Error);
+  options.boundary_bulge_m = 1.5e-3;
+  // The default probes the radial directions alone.
+  EXPECT_EQ(WorkspaceExplorer(parameters, specifications).directionCount(), 26);
+  // Any number of boundary probes are chosen among a 100-direction spread at least (less the
+  // few that repeat a radial direction).
+  options.boundary_directions = 40;
   const WorkspaceExplorer explorer(parameters, specifications, options);
   EXPECT_EQ(explorer.radialDirectionCount(), 26);
-  EXPECT_GT(explorer.directionCount(), 60);
+  EXPECT_GT(explorer.directionCount(), 100);
   EXPECT_EQ(explorer.directions().size(), static_cast<std::size_t>(explorer.directionCount()));
 }
 

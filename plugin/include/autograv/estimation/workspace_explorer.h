@@ -43,14 +43,29 @@ class WorkspaceExplorer {
   struct Options {
     /// Probe directions, spread evenly over the sphere, each probed outward from near the centre.
     int directions = 26;
-    /// Further directions (a second even spread, less those within kSameDirection_rad of the
-    /// first), each probed from boundary_clearance_m inside the boundary the first directions'
-    /// stops make along it. They let the boundary follow the workspace's corners between the
-    /// first stops, where the map otherwise extrapolates (on sim:omni 90 % of the field's worst
-    /// 1 % lies more than 2 mm beyond the 26 radial stops' boundary). Each costs about 1 s of
-    /// device time, and with the grid's measurements as they are the field gains too little for
-    /// that (README, "Boundary probes"): 0, the default, probes the first directions only.
+    /// Boundary probes after the radial ones: up to this many directions of a second even spread
+    /// (boundary_candidates of them, or this many if more, less those within kSameDirection_rad
+    /// of a radial direction), each probed from boundary_clearance_m inside the boundary the
+    /// radial stops make along it. They let the boundary follow the caps and edges between the
+    /// radial stops, which the flat triangles between those stops cut off (on sim:omni 90 % of
+    /// the field's worst 1 % lay more than 2 mm beyond the 26 radial stops' boundary). When the
+    /// spread holds more candidates than this, the ones where the boundary bulges most beyond
+    /// the radial triangles are probed (boundary_bulge_m). Each costs about 1 s of device time.
+    /// 40 take sim:omni's field p99 from 3.5-3.7 % to 2.7-2.8 % for 50 s and sim:falcon's from
+    /// 7.5 % to 5.6-5.7 % for 70 s (design notes, "Boundary probes"), but put one of
+    /// sim:falcon's points against its soft arm stops; 0, the default until that is solved,
+    /// probes the radial directions only.
     int boundary_directions = 0;
+    /// Size of the even spread the boundary probes are chosen from (at least
+    /// boundary_directions are always taken).
+    int boundary_candidates = 100;
+    /// Where the boundary probes go: a smooth surface through the three radial stops around a
+    /// candidate, each stop's normal taken from the triangles around it (Phong tessellation),
+    /// says how far the real boundary may bulge beyond their flat triangle there. A face whose
+    /// stops all lie on it bulges not at all and a curved cap (an arm's reach) does, so the
+    /// device's own stops decide where the time goes: the boundary_directions candidates that bulge
+    /// most are probed, and none that bulges less than this. Unit: [m]
+    double boundary_bulge_m = 0.0015;
     /// How far inside the first directions' boundary a boundary probe starts (at least
     /// start_fraction of that boundary's distance from the centre): it is reached by a transfer,
     /// whose force is capped as the probe's is. Unit: [m]
@@ -124,7 +139,8 @@ class WorkspaceExplorer {
 
   /// What the explorer is doing now. Real-time safe.
   Status state() const noexcept;
-  /// Directions to probe in all: the radial ones first, then the boundary ones. Real-time safe.
+  /// Directions in all: the radial ones first, then the boundary candidates, of which only
+  /// Options::boundary_directions are probed (skippedCount). Real-time safe.
   int directionCount() const noexcept;
   /// Every direction in the order probed (unit vectors), reach_m() in the same order.
   /// Real-time safe.
@@ -132,8 +148,12 @@ class WorkspaceExplorer {
   /// How many of directions() are probed from near the centre (Options::directions); the rest
   /// start near the boundary those found. Real-time safe.
   int radialDirectionCount() const noexcept;
-  /// Directions finished so far. Real-time safe.
+  /// Directions finished so far, probed or skipped. Real-time safe.
   int probedCount() const noexcept;
+  /// Boundary directions left out so far: not among those where the boundary bulges most
+  /// (Options::boundary_directions, boundary_bulge_m), or a probe that static friction held at
+  /// its start. Their reach_m() stays 0. Real-time safe.
+  int skippedCount() const noexcept;
   /// Servo time since start(). Real-time safe. Unit: [s]
   double elapsed_s() const noexcept;
   /// The gravity estimate carried by the probe now (it follows the end-effector). Real-time
@@ -146,7 +166,8 @@ class WorkspaceExplorer {
   /// The probe effort that, with the end-effector not following, means a stop. Real-time safe.
   /// Unit: [N]
   double contactForce_n() const noexcept;
-  /// Reach found so far along each direction (0 for those not probed yet). Real-time safe.
+  /// Reach found so far along each direction (0 for those not probed, yet or at all).
+  /// Real-time safe.
   /// Unit: [m]
   const std::vector<double>& reach_m() const noexcept;
   /// Longest time from the end-effector's last forward progress to a recognised stop.
@@ -165,6 +186,14 @@ class WorkspaceExplorer {
 };
 
 const char* toString(WorkspaceExplorer::Status status) noexcept;
+
+/// The workspace that probes along `directions` from `center_m` found, `reach_m[i]` along
+/// `directions[i]`, leaving out the directions with no reach (0: not probed, such as a boundary
+/// direction the explorer skipped). Throws autograv::Error for a count mismatch or fewer than 6
+/// probed directions. Not real-time safe. Unit: [m]
+ExploredWorkspace exploredWorkspaceOf(const Eigen::Vector3d& center_m,
+                                      const std::vector<Eigen::Vector3d>& directions,
+                                      const std::vector<double>& reach_m);
 
 /// Closest a stop may be to where the manual initialization settled: nearer, the end-effector
 /// may have rested on it, and eq. (7)'s G_hat_0 then carries the stop's reaction. Judged from the

@@ -6,6 +6,9 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
+
+#include <Eigen/Geometry>
 
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
@@ -45,10 +48,26 @@ struct WorkspaceExplorer::Impl {
 
   /// Appends the boundary directions of a `count`-direction spread and their enclosures.
   void addBoundaryDirections(int count);
+  /// Once the radial stops are known: marks the boundary directions whose radial triangle
+  /// bulges less than Options::boundary_bulge_m as skipped.
+  void chooseBoundaryProbes() noexcept;
+  /// How far a smooth surface through the three radial stops around boundary direction `index`
+  /// lies beyond their flat triangle along it (negative: inside). Unit: [m]
+  double boundaryBulge_m(int index) const noexcept;
+  /// The radial stop `index`, from the centre. Unit: [m]
+  Eigen::Vector3d stopPoint_m(int index) const noexcept {
+    return reach_m_[static_cast<std::size_t>(index)] * directions_[static_cast<std::size_t>(index)];
+  }
+  /// Moves current_ past the directions marked skipped, counting them as finished.
+  void skipUnneededDirections() noexcept;
   void beginTransfer(const Eigen::Vector3d& from_m) noexcept;
   /// Where the probe along direction `index` starts, from the centre. Unit: [m]
   double probeStart_m(int index) const noexcept;
   void finishDirection(double reach_m, const Eigen::Vector3d& from_m) noexcept;
+  /// Ends the current (boundary) direction without a reach: it is left out like a skipped one.
+  void discardDirection(const Eigen::Vector3d& from_m) noexcept;
+  /// Moves back from `from_m` to `back_m` before the next direction.
+  void backOff(const Eigen::Vector3d& back_m, const Eigen::Vector3d& from_m) noexcept;
   Eigen::Vector3d impedanceForce(const ServoSample& sample, const Eigen::Vector3d& target_m,
                                  const Eigen::Vector3d& target_velocity, bool adapt) noexcept;
 
@@ -70,6 +89,14 @@ struct WorkspaceExplorer::Impl {
     Eigen::Vector3d weight = Eigen::Vector3d::Zero();
   };
   std::vector<Enclosure> enclosures_;
+  /// The radial directions' triangles (corners counter-clockwise seen from outside), and per
+  /// radial stop its outward normal once the stops are known (chooseBoundaryProbes).
+  std::vector<std::array<int, 3>> radial_facets_;
+  std::vector<Eigen::Vector3d> stop_normals_;
+  std::vector<char> skipped_;     // per direction: a boundary direction left out
+  std::vector<double> bulge_m_;   // per direction: boundaryBulge_m, once the radial stops are known
+  std::vector<int> probe_order_;  // the boundary candidates, most bulging first (no allocation)
+  int skipped_count_ = 0;
   Status state_ = Status::kIdle;
   MinimumJerkMove move_;
   double elapsed_s_ = 0.0;  // servo time since start(), from the samples' intervals
@@ -132,16 +159,21 @@ WorkspaceExplorer::Impl::Impl(const EstimationParameters& parameters,
                          ? options.contact_force_n
                          : std::min(kContactForceFraction * max_force_n, 0.5 * continuous_force_n);
   force_cap_n_ = 1.5 * contact_force_n_;
-  if (options.boundary_directions < 0 || !(options.boundary_clearance_m > 0.0)) {
+  if (options.boundary_directions < 0 || options.boundary_candidates < 0 ||
+      !(options.boundary_clearance_m > 0.0) ||
+      !(options.boundary_bulge_m >= 0.0 && std::isfinite(options.boundary_bulge_m))) {
     refuse(
-        "WorkspaceExplorer::Options::boundary_directions must not be negative and "
-        "boundary_clearance_m must be positive");
+        "WorkspaceExplorer::Options::boundary_directions, boundary_candidates and "
+        "boundary_bulge_m must not be negative and boundary_clearance_m must be positive");
   }
   if (static_cast<std::size_t>(options.directions) +
-          static_cast<std::size_t>(options.boundary_directions) >
+          static_cast<std::size_t>(
+              std::max(options.boundary_directions, options.boundary_candidates)) >
       ExploredWorkspace::kMaxDirections) {
-    refuse("WorkspaceExplorer::Options::directions plus boundary_directions must be at most " +
-           std::to_string(ExploredWorkspace::kMaxDirections));
+    refuse(
+        "WorkspaceExplorer::Options::directions plus boundary_directions (or "
+        "boundary_candidates) must be at most " +
+        std::to_string(ExploredWorkspace::kMaxDirections));
   }
   if (options.radial_directions.empty()) {
     directions_ = ExploredWorkspace::probeDirections(options.directions);
@@ -150,8 +182,13 @@ WorkspaceExplorer::Impl::Impl(const EstimationParameters& parameters,
       directions_.push_back(u.normalized());
   }
   radial_count_ = static_cast<int>(directions_.size());
-  addBoundaryDirections(options.boundary_directions);
+  addBoundaryDirections(options.boundary_directions > 0
+                            ? std::max(options.boundary_directions, options.boundary_candidates)
+                            : 0);
   reach_m_.assign(directions_.size(), 0.0);
+  skipped_.assign(directions_.size(), 0);
+  bulge_m_.assign(directions_.size(), 0.0);
+  probe_order_.assign(directions_.size(), 0);
 }
 
 void WorkspaceExplorer::Impl::addBoundaryDirections(int count) {
@@ -161,6 +198,8 @@ void WorkspaceExplorer::Impl::addBoundaryDirections(int count) {
   const std::vector<Eigen::Vector3d> radial = directions_;
   const ExploredWorkspace unit(Eigen::Vector3d::Zero(), radial,
                                std::vector<double>(radial.size(), 1.0));
+  radial_facets_ = unit.facets();
+  stop_normals_.assign(radial.size(), Eigen::Vector3d::Zero());
   const double same_dot = std::cos(kSameDirection_rad);
   for (const Eigen::Vector3d& u : ExploredWorkspace::probeDirections(count)) {
     const bool known = std::any_of(radial.begin(), radial.end(),
@@ -187,6 +226,72 @@ double WorkspaceExplorer::Impl::probeStart_m(int index) const noexcept {
   return std::max(options_.start_fraction * boundary_m, boundary_m - options_.boundary_clearance_m);
 }
 
+void WorkspaceExplorer::Impl::chooseBoundaryProbes() noexcept {
+  // Each stop's normal: the area-weighted normals of the radial triangles around it.
+  std::fill(stop_normals_.begin(), stop_normals_.end(), Eigen::Vector3d::Zero());
+  for (const std::array<int, 3>& facet : radial_facets_) {
+    const Eigen::Vector3d a = stopPoint_m(facet[0]);
+    const Eigen::Vector3d normal = (stopPoint_m(facet[1]) - a).cross(stopPoint_m(facet[2]) - a);
+    for (const int corner : facet) stop_normals_[static_cast<std::size_t>(corner)] += normal;
+  }
+  for (Eigen::Vector3d& normal : stop_normals_) {
+    const double length = normal.norm();
+    if (length > 0.0) normal /= length;
+  }
+  // The candidates that bulge most, and more than boundary_bulge_m; ties to the lower index.
+  int eligible = 0;
+  for (int i = radial_count_; i < directionCount(); ++i) {
+    const double bulge_m = boundaryBulge_m(i);
+    bulge_m_[static_cast<std::size_t>(i)] = bulge_m;
+    if (bulge_m > options_.boundary_bulge_m) probe_order_[static_cast<std::size_t>(eligible++)] = i;
+    skipped_[static_cast<std::size_t>(i)] = 1;
+  }
+  const auto first = probe_order_.begin();
+  const auto last = first + eligible;
+  const auto chosen = first + std::min(eligible, options_.boundary_directions);
+  std::nth_element(first, chosen, last, [this](int a, int b) {
+    const double bulge_a = bulge_m_[static_cast<std::size_t>(a)];
+    const double bulge_b = bulge_m_[static_cast<std::size_t>(b)];
+    return bulge_a > bulge_b || (bulge_a == bulge_b && a < b);
+  });
+  for (auto it = first; it != chosen; ++it) skipped_[static_cast<std::size_t>(*it)] = 0;
+}
+
+double WorkspaceExplorer::Impl::boundaryBulge_m(int index) const noexcept {
+  const Enclosure& around = enclosures_[static_cast<std::size_t>(index)];
+  double inverse_reach_per_m = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    inverse_reach_per_m += around.weight[k] / reach_m_[static_cast<std::size_t>(around.corner[k])];
+  }
+  // Where the ray meets the flat triangle, and that point's barycentric weights on its corners.
+  const Eigen::Vector3d flat_m = directions_[static_cast<std::size_t>(index)] / inverse_reach_per_m;
+  const Eigen::Vector3d a = stopPoint_m(around.corner[0]);
+  Eigen::Vector3d facet_normal =
+      (stopPoint_m(around.corner[1]) - a).cross(stopPoint_m(around.corner[2]) - a);
+  if (!(facet_normal.norm() > 0.0)) return 0.0;
+  facet_normal.normalize();
+  // Phong tessellation: the flat point projected onto each corner's tangent plane, blended with
+  // the same weights. On a plane every projection is the point itself; on a sphere it bulges
+  // out by about the cap's height.
+  Eigen::Vector3d smooth_m = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int corner = around.corner[k];
+    const double barycentric =
+        around.weight[k] / (reach_m_[static_cast<std::size_t>(corner)] * inverse_reach_per_m);
+    const Eigen::Vector3d& normal = stop_normals_[static_cast<std::size_t>(corner)];
+    smooth_m += barycentric * (flat_m - (flat_m - stopPoint_m(corner)).dot(normal) * normal);
+  }
+  return (smooth_m - flat_m).dot(facet_normal);
+}
+
+void WorkspaceExplorer::Impl::skipUnneededDirections() noexcept {
+  while (current_ < directionCount() && skipped_[static_cast<std::size_t>(current_)] != 0) {
+    ++current_;
+    ++probed_;
+    ++skipped_count_;
+  }
+}
+
 void WorkspaceExplorer::Impl::start(const Eigen::Vector3d& center_m,
                                     const Eigen::Vector3d& gravity_n) noexcept {
   center_m_ = center_m;
@@ -198,8 +303,10 @@ void WorkspaceExplorer::Impl::start(const Eigen::Vector3d& center_m,
   open_directions_ = 0;
   invalid_s_ = 0.0;
   longest_recognition_s_ = 0.0;
+  skipped_count_ = 0;
   filtered_velocity_.setZero();
   std::fill(reach_m_.begin(), reach_m_.end(), 0.0);
+  std::fill(skipped_.begin(), skipped_.end(), 0);
   beginTransfer(center_m);
 }
 
@@ -222,7 +329,18 @@ void WorkspaceExplorer::Impl::finishDirection(double reach_m,
   reach_m = std::max(reach_m, kMinReach_m);
   reach_m_[static_cast<std::size_t>(current_)] = reach_m;
   ++probed_;
-  const Eigen::Vector3d back_m = center_m_ + std::max(0.0, reach_m - options_.back_off_m) * u;
+  backOff(center_m_ + std::max(0.0, reach_m - options_.back_off_m) * u, from_m);
+}
+
+void WorkspaceExplorer::Impl::discardDirection(const Eigen::Vector3d& from_m) noexcept {
+  skipped_[static_cast<std::size_t>(current_)] = 1;
+  ++skipped_count_;
+  ++probed_;
+  backOff(probe_start_m_, from_m);
+}
+
+void WorkspaceExplorer::Impl::backOff(const Eigen::Vector3d& back_m,
+                                      const Eigen::Vector3d& from_m) noexcept {
   move_.start(from_m, back_m,
               MinimumJerkMove::durationFor((back_m - from_m).norm(),
                                            options_.max_move_acceleration_m_per_s2, kMinMove_s));
@@ -295,6 +413,8 @@ WorkspaceExplorer::Status WorkspaceExplorer::Impl::step(const ServoSample& sampl
       }
       if (state_ == Status::kBackingOff) {
         ++current_;
+        if (current_ == radial_count_) chooseBoundaryProbes();
+        skipUnneededDirections();
         beginTransfer(desired_m);
       } else if (current_ >= directionCount()) {
         state_ = Status::kFinished;
@@ -340,7 +460,14 @@ WorkspaceExplorer::Status WorkspaceExplorer::Impl::step(const ServoSample& sampl
       const bool stalled = effort_n >= contact_force_n_ && !following && followed_since_start_;
       if (stalled || far_behind) {
         if (contact_since_s_ < 0.0) contact_since_s_ = now_s;
-        if (now_s - contact_since_s_ >= kContactConfirm_s) {
+        if (now_s - contact_since_s_ >= kContactConfirm_s && current_ >= radial_count_ &&
+            !followed_since_start_) {
+          // A boundary probe starts inside the radial stops' boundary: one that never got going
+          // was held by static friction, not by a stop (sim:omni at high friction). It tells
+          // nothing, and the radial triangle stays the boundary there.
+          discardDirection(sample.position_m);
+          force_n = impedanceForce(sample, sample.position_m, Eigen::Vector3d::Zero(), false);
+        } else if (now_s - contact_since_s_ >= kContactConfirm_s) {
           longest_recognition_s_ = std::max(longest_recognition_s_, now_s - last_progress_s_);
           // The stop begins where the end-effector last kept up, not where a soft stop has
           // let it sink in meanwhile.
@@ -375,7 +502,7 @@ ExploredWorkspace WorkspaceExplorer::Impl::workspace() const {
     throw Error(std::string("workspace explorer: the exploration is ") + toString(state_) +
                 ", not finished; its workspace is not known yet");
   }
-  return ExploredWorkspace(center_m_, directions_, reach_m_);
+  return exploredWorkspaceOf(center_m_, directions_, reach_m_);
 }
 
 // --- The public class: each call goes to the Impl ---------------------------------------------
@@ -412,6 +539,8 @@ const std::vector<Eigen::Vector3d>& WorkspaceExplorer::directions() const noexce
 int WorkspaceExplorer::radialDirectionCount() const noexcept { return impl_->radial_count_; }
 
 int WorkspaceExplorer::probedCount() const noexcept { return impl_->probed_; }
+
+int WorkspaceExplorer::skippedCount() const noexcept { return impl_->skipped_count_; }
 
 double WorkspaceExplorer::elapsed_s() const noexcept { return impl_->elapsed_s_; }
 
@@ -451,6 +580,23 @@ const char* toString(WorkspaceExplorer::Status status) noexcept {
       return "device_fault";
   }
   return "unknown";
+}
+
+ExploredWorkspace exploredWorkspaceOf(const Eigen::Vector3d& center_m,
+                                      const std::vector<Eigen::Vector3d>& directions,
+                                      const std::vector<double>& reach_m) {
+  if (directions.size() != reach_m.size()) {
+    throw Error("explored workspace: " + std::to_string(directions.size()) + " directions but " +
+                std::to_string(reach_m.size()) + " reaches");
+  }
+  std::vector<Eigen::Vector3d> probed_directions;
+  std::vector<double> probed_reach_m;
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    if (!(reach_m[i] > 0.0)) continue;
+    probed_directions.push_back(directions[i]);
+    probed_reach_m.push_back(reach_m[i]);
+  }
+  return ExploredWorkspace(center_m, std::move(probed_directions), std::move(probed_reach_m));
 }
 
 std::string initializationClearanceProblem(const ExploredWorkspace& workspace,

@@ -22,11 +22,14 @@ using wizard::eventBit;
 bool wizard::sameExplorerOptions(const WorkspaceExplorer::Options& a,
                                  const WorkspaceExplorer::Options& b) noexcept {
   // A field added to the options must be compared here too.
+  // Three ints, padded to a double's alignment, then the doubles and the vector.
   static_assert(sizeof(WorkspaceExplorer::Options) ==
-                    2 * sizeof(int) + 8 * sizeof(double) + sizeof(std::vector<Eigen::Vector3d>),
+                    2 * sizeof(double) + 9 * sizeof(double) + sizeof(std::vector<Eigen::Vector3d>),
                 "compare every field of WorkspaceExplorer::Options");
   return a.directions == b.directions && a.radial_directions == b.radial_directions &&
          a.boundary_directions == b.boundary_directions &&
+         a.boundary_candidates == b.boundary_candidates &&
+         a.boundary_bulge_m == b.boundary_bulge_m &&
          a.boundary_clearance_m == b.boundary_clearance_m &&
          a.probe_speed_m_per_s == b.probe_speed_m_per_s && a.start_fraction == b.start_fraction &&
          a.max_reach_m == b.max_reach_m && a.back_off_m == b.back_off_m &&

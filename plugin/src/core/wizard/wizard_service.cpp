@@ -283,7 +283,8 @@ void CalibrationWizard::Impl::summarize() {
 void CalibrationWizard::Impl::acceptWorkspace() {
   workspace_message_.clear();
   try {
-    ExploredWorkspace workspace(explored_center_m_, probe_directions_, explored_reach_m_);
+    ExploredWorkspace workspace =
+        exploredWorkspaceOf(explored_center_m_, probe_directions_, explored_reach_m_);
     // Its box, found as gridAroundWorkspace finds it.
     const Eigen::Vector3d extent_m =
         gridAroundWorkspace(workspace, Eigen::Vector3i::Constant(2)).size_m();

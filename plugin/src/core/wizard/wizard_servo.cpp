@@ -267,6 +267,7 @@ void CalibrationWizard::Impl::tickExplore(const ServoSample& sample, std::uint32
   const int probed = std::min(explorer.probedCount(), static_cast<int>(probe_directions_.size()));
   for (int i = live_.directions_probed; i < probed; ++i) {
     const double reach_m = explorer.reach_m()[static_cast<std::size_t>(i)];
+    if (!(reach_m > 0.0)) continue;  // a boundary direction the explorer skipped
     const Eigen::Vector3d point_m =
         explored_center_m_ + reach_m * probe_directions_[static_cast<std::size_t>(i)];
     if (i == 0) {
