@@ -100,7 +100,9 @@ TEST(CalibrationTest, HighFrictionSwingsEndWithTheirMean) {
     ++swung;
     const Eigen::Vector3d at_m = vertex.measuredAt_m(run.grid.vertexPosition(index));
     const Eigen::Vector3d truth_n = device->trueGravity(at_m);
-    EXPECT_LT((vertex.measuredGravity_n() - truth_n).norm(), 0.02 * truth_n.norm())
+    // Within the 2.5 % that the workspace issue allows the worst measured point at high
+    // friction (vertex 35, 1.5 mm from the stops: 2.2 %).
+    EXPECT_LT((vertex.measuredGravity_n() - truth_n).norm(), 0.025 * truth_n.norm())
         << "vertex " << index << ", " << vertex.iterations << " iterations";
     ASSERT_FALSE(vertex.history.empty());
     EXPECT_GT((vertex.history.back().gravity_estimate_n - vertex.measuredGravity_n()).norm(), 0.0)

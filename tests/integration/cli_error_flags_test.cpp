@@ -10,6 +10,7 @@
 
 #include "../../demo/cli/error_translation.h"
 #include "autograv/map/map_io.h"
+#include "autograv/map/measurement_plan.h"
 #include "run_command.h"
 
 namespace autograv {
@@ -79,7 +80,7 @@ TEST(CliErrorFlagsTest, AGridBeyondTheWorkspaceIsMeasuredInsideTheExploredWorksp
     if (vertex.outcome != VertexOutcome::kConverged) continue;
     ++measured;
     EXPECT_TRUE(vertex.measuredOffVertex());  // every corner lies beyond the stops
-    EXPECT_TRUE(workspace.contains(vertex.measured_at_m, 0.002));
+    EXPECT_TRUE(workspace.contains(vertex.measured_at_m, 0.5 * kBoundaryMargin_m));
   }
   EXPECT_GE(measured, 4);
 }

@@ -39,13 +39,15 @@ class AutoCalibrator {
   /// How the device travels between vertices and where each vertex starts.
   struct Options {
     /// Peak acceleration of a move into a point next to the stops: a 50 mm move takes 0.62 s,
-    /// and the gap it leaves for the PD, 3.2 mm, lies within the 4 mm (kBoundaryMargin_m) by
-    /// which the measurement plan keeps its points inside them. Unit: [m/s^2]
+    /// and the gap it may leave for the PD, 3.2 mm with a mass three times the estimate, ends at
+    /// the speed of a minimum-jerk path's last millimetres: a point kBoundaryMargin_m inside
+    /// the boundary may touch a stop's rubber then, never strike it, and a hold that meets it is
+    /// moved back (kStopRetreat_m). Unit: [m/s^2]
     double max_move_acceleration_m_per_s2 = 0.75;
     /// Peak acceleration of a move whose target lies far from the stops in the direction of
     /// travel. A move overshoots along its path: its acceleration grows with the room the
     /// explored workspace leaves beyond the target along the path (MeasurementPlan::workspace),
-    /// from max_move_acceleration_m_per_s2 at kBoundaryMargin_m, so that the gap it may leave
+    /// from max_move_acceleration_m_per_s2 at kMoveRoom_m, so that the gap it may leave
     /// stays the same share of that room, up to this (from 6.7 mm of room on). Quicker moves
     /// leave more to settle: at 1.5 a desktop loop's settling took back most of what they saved.
     /// Unit: [m/s^2]
@@ -79,17 +81,21 @@ class AutoCalibrator {
                     options.deep_move_acceleration_m_per_s2) /
            parameters.beta_per_s2;
   }
+  /// The room beyond a target up to which a move keeps max_move_acceleration_m_per_s2: the 4 mm
+  /// the measurement points used to keep from the boundary, whatever kBoundaryMargin_m is now, so
+  /// that points closer to the stops never get quicker moves. Unit: [m]
+  static constexpr double kMoveRoom_m = 0.004;
   /// The room beyond a target from which a move takes the deep acceleration: 6.7 mm with the
   /// default Options. Real-time safe. Unit: [m]
   static double deepMoveRoom_m(const Options& options) noexcept {
-    return kBoundaryMargin_m * std::max(1.0, options.deep_move_acceleration_m_per_s2 /
-                                                 options.max_move_acceleration_m_per_s2);
+    return kMoveRoom_m * std::max(1.0, options.deep_move_acceleration_m_per_s2 /
+                                           options.max_move_acceleration_m_per_s2);
   }
   /// Peak acceleration of a move that leaves `clearance_m` between its target and the stops
   /// along its path (0: unknown, or next to a stop). Real-time safe. Units: [m], [m/s^2]
   static double moveAcceleration_m_per_s2(const Options& options, double clearance_m) noexcept {
     return std::clamp(
-        options.max_move_acceleration_m_per_s2 * clearance_m / kBoundaryMargin_m,
+        options.max_move_acceleration_m_per_s2 * clearance_m / kMoveRoom_m,
         options.max_move_acceleration_m_per_s2,
         std::max(options.max_move_acceleration_m_per_s2, options.deep_move_acceleration_m_per_s2));
   }
@@ -103,9 +109,22 @@ class AutoCalibrator {
   /// How far the true apparent mass may be from |G_hat|/g (the simulated arms: up to 2.5 times).
   static constexpr double kMassUncertainty = 3.0;
   /// When a stop holds the end-effector short of a measurement point (the force grows, the
-  /// position does not follow), the point moves this far back from where the stop held it,
-  /// away from the stop, and the vertex is measured there; once per vertex. Unit: [m]
-  static constexpr double kStopRetreat_m = 0.004;
+  /// position does not follow: VertexEstimator's held-still and creep rules), the point moves
+  /// this far back from where the stop held it, away from the stop, and the vertex is measured
+  /// there; at most kMaxStopRetreats times per vertex. Unit: [m]
+  static constexpr double kStopRetreat_m = 0.001;
+  /// Most retreats from a stop (or from a hold that does not settle next to the boundary) per
+  /// vertex; a vertex still held after them ends unreachable and is solved from the others.
+  static constexpr int kMaxStopRetreats = 3;
+  /// Points closer than this to the explored boundary are watched for stops: the creep rule
+  /// (VertexEstimator::setOutward) and kBoundarySettle_s. Unit: [m]
+  static constexpr double kBoundaryWatchDepth_m = 0.005;
+  /// A hold next to the boundary (kBoundaryWatchDepth_m) whose iteration has not settled after
+  /// this much servo time moves back kStopRetreat_m along the boundary's outward normal: the
+  /// dither rattling on a stop's rubber never settles (sim:falcon: the whole 10 s of
+  /// max_step_duration_s, twice with the redo pass). Free holds settle within 1-2 s, the slow
+  /// ones near sim:falcon's singular pose within 4. Unit: [s]
+  static constexpr double kBoundarySettle_s = 4.0;
   /// Measurement points moved back from a stop so far in this run. Real-time safe.
   int stopRetreats() const noexcept;
 

@@ -30,10 +30,11 @@ struct MeasurementPlan {
   bool offVertex(const WorkspaceGrid& grid, int index) const noexcept;
 };
 
-/// How far inside the explored boundary measurement points stay: the probe recorded the boundary
-/// where a stop held it, the hold's transients and the dither move the end-effector by a
-/// millimetre or so. Unit: [m]
-inline constexpr double kBoundaryMargin_m = 0.004;
+/// How far inside the explored boundary measurement points stay. The probe recorded the boundary
+/// where a stop held it, pressed into its rubber (about 2 mm on sim:falcon's travel stops), so a
+/// point this close may still meet a stop during its hold: the calibrator sees that contact from
+/// the hold's own data and moves the point back (AutoCalibrator::kStopRetreat_m). Unit: [m]
+inline constexpr double kBoundaryMargin_m = 0.0015;
 
 /// Plans the measurements of `grid` in `workspace` (every vertex at itself when the workspace is
 /// empty). Points pulled inside that would fall within a third of a cell of a point already

@@ -86,7 +86,28 @@ struct AutoCalibrator::Impl {
   double invalid_periods_ = 0.0;  // servo time of consecutive bad samples
   double lipschitz_n_per_m_ = 0.0;
   double peak_force_n_ = 0.0;
+  int stop_retreats_here_ = 0;  // the current vertex's retreats (kMaxStopRetreats)
+  Eigen::Vector3d outward_ = Eigen::Vector3d::Zero();  // boundary's outward normal at the point
+  bool watched_ = false;            // the point lies within kBoundaryWatchDepth_m of the boundary
+  double iteration_periods_ = 0.0;  // servo time since the hold's last update (or its start)
+  int last_iterations_ = 0;
+  // Moves the current point back by kStopRetreat_m along -`direction` from `from_m` and starts
+  // the move there.
+  void retreat(const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
+               const Eigen::Vector3d& feedforward_n, const Eigen::Vector3d& position_m) noexcept;
 };
+
+void AutoCalibrator::Impl::retreat(const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
+                                   const Eigen::Vector3d& feedforward_n,
+                                   const Eigen::Vector3d& position_m) noexcept {
+  retreated_ = true;
+  met_stop_[static_cast<std::size_t>(current_vertex_)] = true;
+  ++stop_retreats_;
+  ++stop_retreats_here_;
+  targets_[static_cast<std::size_t>(current_vertex_)] = from_m - kStopRetreat_m * direction;
+  gravity_n_ = feedforward_n;
+  beginMove(position_m);
+}
 
 AutoCalibrator::Impl::Impl(const WorkspaceGrid& grid, const EstimationParameters& parameters,
                            double max_force_n, const Options& options)
@@ -213,6 +234,7 @@ void AutoCalibrator::Impl::beginNextVertex(const Eigen::Vector3d& from_m) noexce
   current_vertex_ = order_[next_in_order_++];
   active_ = true;
   retreated_ = false;
+  stop_retreats_here_ = 0;
   beginMove(from_m);
 }
 
@@ -220,7 +242,7 @@ void AutoCalibrator::Impl::beginMove(const Eigen::Vector3d& from_m) noexcept {
   const Eigen::Vector3d target_m = targets_[static_cast<std::size_t>(current_vertex_)];
   const double distance_m = (target_m - from_m).norm();
   // Without an explored workspace nothing says where the stops are, and a point moved back from
-  // a stop has one 4 mm away: those moves keep the gentle acceleration.
+  // a stop has one a millimetre away: those moves keep the gentle acceleration.
   double clearance_m = 0.0;
   if (!workspace_.empty() && !met_stop_[static_cast<std::size_t>(current_vertex_)] &&
       distance_m > 0.0) {
@@ -417,14 +439,49 @@ AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
       clampForce(force_n, max_force_n_);
       hold_m_ = desired_m;
       if (move_periods_ * parameters_.servo_period_s >= move_.duration_s()) {
-        estimator_.start(targets_[static_cast<std::size_t>(current_vertex_)],
-                         initialEstimateFor(current_vertex_));
+        const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(current_vertex_)];
+        estimator_.start(point_m, initialEstimateFor(current_vertex_));
         state_ = Status::kEstimating;
+        iteration_periods_ = 0.0;
+        last_iterations_ = 0;
+        watched_ = !workspace_.empty() && workspace_.depth_m(point_m) < kBoundaryWatchDepth_m;
+        outward_.setZero();
+        if (watched_) {
+          // The explored boundary's outward normal at the point: minus the gradient of its depth
+          // (the nearest triangle's normal). Positions and the explored workspace only.
+          constexpr double kStep_m = 2e-4;
+          for (int axis = 0; axis < 3; ++axis) {
+            Eigen::Vector3d step = Eigen::Vector3d::Zero();
+            step[axis] = kStep_m;
+            outward_[axis] =
+                (workspace_.depth_m(point_m - step) - workspace_.depth_m(point_m + step)) /
+                (2.0 * kStep_m);
+          }
+          if (outward_.norm() > 0.0) {
+            outward_.normalize();
+          } else {
+            outward_ = point_m - grid_.center_m();
+          }
+          estimator_.setOutward(outward_);
+        }
       }
       break;
     }
     case Status::kEstimating: {
       const VertexEstimator::Status inner = estimator_.step(sample, force_n);
+      iteration_periods_ += periods;
+      if (estimator_.iteration() != last_iterations_) {
+        last_iterations_ = estimator_.iteration();
+        iteration_periods_ = 0.0;
+      }
+      if (watched_ && !estimator_.finished() &&
+          iteration_periods_ * parameters_.servo_period_s > kBoundarySettle_s &&
+          stop_retreats_here_ < kMaxStopRetreats && outward_.squaredNorm() > 0.0) {
+        // Next to the boundary and not settling (kBoundarySettle_s): back along the normal.
+        retreat(targets_[static_cast<std::size_t>(current_vertex_)], outward_.normalized(),
+                initialEstimateFor(current_vertex_), sample.position_m);
+        break;
+      }
       if (inner == VertexEstimator::Status::kSettling ||
           inner == VertexEstimator::Status::kUpdated) {
         break;
@@ -436,15 +493,10 @@ AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
           estimator_.contactDirection().dot(targets_[static_cast<std::size_t>(current_vertex_)] -
                                             grid_.center_m()) > 0.0;
       if (inner == VertexEstimator::Status::kUnreachable && estimator_.stopContact() &&
-          outward_contact && !retreated_) {
+          outward_contact && stop_retreats_here_ < kMaxStopRetreats) {
         // A stop held the end-effector short of the point: measure it back from the stop.
-        retreated_ = true;
-        met_stop_[static_cast<std::size_t>(current_vertex_)] = true;
-        ++stop_retreats_;
-        targets_[static_cast<std::size_t>(current_vertex_)] =
-            estimator_.contactPosition_m() - kStopRetreat_m * estimator_.contactDirection();
-        gravity_n_ = estimator_.gravityBeforeContact_n();
-        beginMove(sample.position_m);
+        retreat(estimator_.contactPosition_m(), estimator_.contactDirection(),
+                estimator_.gravityBeforeContact_n(), sample.position_m);
         break;
       }
       recordFinished();

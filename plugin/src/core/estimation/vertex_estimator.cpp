@@ -127,6 +127,10 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   last_settled_m_.setZero();
   last_previous_n_ = initial_gravity_n;
   stop_contact_ = false;
+  outward_.setZero();
+  creep_count_ = 0;
+  creep_probe_ = false;
+  creep_probe_offset_m_.setZero();
   stop_second_look_ = false;
   swing_estimates_ = 0;
   contact_position_m_.setZero();
@@ -290,7 +294,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   invalid_periods_ = 0.0;
 
   // eq. (10), plus the zero-mean dither of the dither method
-  force_n = hold_.holdForce_n(vertex_m_, sample, mass_kg_, gravity_n_);
+  force_n = hold_.holdForce_n(vertex_m_ + creep_probe_offset_m_, sample, mass_kg_, gravity_n_);
   if (dither_amplitude_n_ > 0.0) force_n = ditheredHoldForce_n(force_n, periods);
   saturated_periods_ = clampForce(force_n, max_force_n_) ? saturated_periods_ + periods : 0.0;
   last_force_n_ = force_n;
@@ -323,6 +327,26 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   }
   // Steady state of iteration j: eq. (12), then gains for j+1 from G_hat_j (eq. 11).
   const Eigen::Vector3d settled_m = detector_.settledPosition_m();
+  if (creep_probe_) {
+    // The push test's steady state (kCreepProbe_m): a stop hardly lets the end-effector follow.
+    const Eigen::Vector3d direction = creep_probe_offset_m_.normalized();
+    const double moved_m = (settled_m - creep_probe_base_m_).dot(direction);
+    creep_probe_ = false;
+    creep_probe_offset_m_.setZero();
+    if (moved_m < kCreepFollow * kCreepProbe_m) {
+      stop_contact_ = true;
+      contact_position_m_ = creep_probe_base_m_;
+      contact_direction_ = direction;
+      gravity_before_contact_n_ = creep_start_gravity_n_;
+      gravity_n_ = creep_start_gravity_n_;  // the stop's reaction is no part of G
+      estimate_.gravity_n = gravity_n_;
+      finish(VertexOutcome::kUnreachable);
+      return Status::kUnreachable;
+    }
+    creep_count_ = 0;  // free space (friction): iterate on from here
+    restartObservation(requiredSteadyCount(false));
+    return Status::kSettling;
+  }
   const Eigen::Vector3d previous_n = gravity_n_;
   const Eigen::Vector3d raw_update_n = stiffness_n_per_m_ * (vertex_m_ - settled_m);
   const double update_n = raw_update_n.norm();
@@ -363,6 +387,38 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     return Status::kSettling;
   }
   stop_second_look_ = false;
+  // The creep rule (kCreepUpdates), along the outward direction only: the steps' sideways parts
+  // are the hold's noise.
+  if (parameters_.method == EstimationMethod::kDither && estimate_.iterations > 0 &&
+      outward_.squaredNorm() > 0.0) {
+    const Eigen::Vector3d outward = outward_.normalized();
+    const double along_n = raw_update_n.dot(outward);
+    const bool large = along_n >= kCreepFloor * parameters_.eps_g_n;
+    bool suspected = false;
+    if (creep_count_ > 0 && large) {
+      const double moved_m = (settled_m - creep_start_settled_m_).dot(outward);
+      ++creep_count_;
+      suspected = creep_count_ >= kCreepUpdates && creep_expected_m_ >= kCreepMinExpected_m &&
+                  moved_m < kCreepSuspectFollow * creep_expected_m_;
+    } else if (large) {
+      creep_count_ = 1;
+      creep_expected_m_ = 0.0;
+      creep_start_settled_m_ = settled_m;
+      creep_start_gravity_n_ = previous_n;
+    } else {
+      creep_count_ = 0;
+    }
+    if (creep_count_ > 0) creep_expected_m_ += relaxation * along_n / stiffness_n_per_m_;
+    if (suspected) {
+      // The push test, along the outward direction (a jittery loop's steps scatter sideways by
+      // more than they push outward); this step is not counted.
+      creep_probe_ = true;
+      creep_probe_offset_m_ = kCreepProbe_m * outward;
+      creep_probe_base_m_ = settled_m;
+      restartObservation(requiredSteadyCount(false));
+      return Status::kSettling;
+    }
+  }
   relaxation_ = relaxation;
   const Eigen::Vector3d updated_n = previous_n + relaxation_ * raw_update_n;
   last_error_m_ = (vertex_m_ - settled_m).norm();

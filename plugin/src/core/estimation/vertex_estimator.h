@@ -137,6 +137,33 @@ class VertexEstimator {
   /// not (its settled position moves by 0.01-0.08 mm between the looks). Unit: [s]
   static constexpr double kStopSecondLook_s = 0.5;
 
+  /// The creep rule. Next to a stop that holds the end-effector a little short of X_i (tenths
+  /// of a millimetre, sim:falcon at a 1.5-2 mm boundary margin), every step of eq. (12) lies
+  /// below the stall floor and shrinks only by K_P / (K_P + k_stop) per iteration: the estimate
+  /// absorbs the stop's reaction (up to 0.3 N) before the n_G rule ends the vertex. A run of
+  /// kCreepUpdates updates whose parts along the outward direction (setOutward) are each at
+  /// least kCreepFloor eps_G, while the steady state follows along it by less than kCreepFollow
+  /// of what the hold's spring should have moved it (at least kCreepMinExpected_m in all), is
+  /// suspected; the push test (kCreepProbe_m) decides. Dither method only.
+  static constexpr int kCreepUpdates = 3;
+  static constexpr double kCreepFloor = 0.25;
+  static constexpr double kCreepFollow = 0.25;
+  /// A run is suspected when its steady state follows by less than this share of what the
+  /// steps should have moved it: a dither that only grazes the stop lets it follow by a quarter
+  /// or so (a point 0.1 mm from a 2000 N/m stop: 26 %), free space by nearly all; the push test
+  /// (kCreepFollow of kCreepProbe_m) tells the two apart.
+  static constexpr double kCreepSuspectFollow = 0.5;
+  static constexpr double kCreepMinExpected_m = 0.02e-3;
+  /// The push test of a suspected creep: the hold target moves this far along the outward
+  /// direction for one steady state, G_hat unchanged. Free space follows by most of it
+  /// (sim:omni, whose friction under the dither makes runs that look held: 0.33-0.35 mm), a
+  /// stop by less than kCreepFollow of it (sim:falcon: 0.01-0.04 mm). A stop ends the vertex as
+  /// the held-still rule does, with G_hat from before the run; otherwise the target goes back
+  /// and the iteration goes on. Unit: [m]
+  static constexpr double kCreepProbe_m = 0.5e-3;
+  /// The outward direction at X_i (any length), which turns the creep rule on for this vertex;
+  /// start() turns it off. Call after start(). Real-time safe.
+  void setOutward(const Eigen::Vector3d& outward) noexcept { outward_ = outward; }
   /// True when the vertex ended against a stop (kStopFollowFraction). Real-time safe.
   bool stopContact() const noexcept { return stop_contact_; }
   /// Where the stop held the end-effector (the last steady state). Unit: [m]
@@ -188,6 +215,14 @@ class VertexEstimator {
   Eigen::Vector3d last_settled_m_ = Eigen::Vector3d::Zero();   // previous steady state. [m]
   Eigen::Vector3d last_previous_n_ = Eigen::Vector3d::Zero();  // G_hat before the last step. [N]
   bool stop_contact_ = false;
+  Eigen::Vector3d outward_ = Eigen::Vector3d::Zero();  // creep rule on when nonzero
+  int creep_count_ = 0;                                // updates in the current run
+  double creep_expected_m_ = 0.0;  // how far the run's applied steps should have moved X. [m]
+  Eigen::Vector3d creep_start_settled_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d creep_start_gravity_n_ = Eigen::Vector3d::Zero();  // G_hat before the run
+  bool creep_probe_ = false;                                         // push test under way
+  Eigen::Vector3d creep_probe_offset_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d creep_probe_base_m_ = Eigen::Vector3d::Zero();
   bool stop_second_look_ = false;  // a held step is being looked at again (kStopFollowFraction)
   double second_look_start_periods_ = 0.0;  // elapsed_periods_ when the second look began
   Eigen::Vector3d contact_position_m_ = Eigen::Vector3d::Zero();
