@@ -3,52 +3,22 @@
 // What the fault tests share: a scratch folder per test, and the check that a vertex finished
 // before a fault is still there, bit for bit.
 
-#include <stdlib.h>
-
-#include <algorithm>
 #include <cstring>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "autograv/map/gravity_map.h"
+#include "scratch_folder.h"
 #include "subprocess.h"
 
 namespace autograv::testing {
 
-/// A fresh folder under the system's temporary folder, removed when the test passed (kept for a
-/// look when it failed).
-class TestFolder {
+/// A fault test's scratch folder, autograv-faults-XXXXXX (see support/scratch_folder.h).
+class TestFolder : public ScratchFolder {
  public:
-  TestFolder() {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "autograv-faults-XXXXXX").string();
-    path_ = ::mkdtemp(pattern.data());
-  }
-  ~TestFolder() {
-    std::error_code ignored;
-    std::filesystem::permissions(path_, std::filesystem::perms::owner_all,
-                                 std::filesystem::perm_options::add, ignored);
-    if (!::testing::Test::HasFailure()) std::filesystem::remove_all(path_, ignored);
-  }
-  TestFolder(const TestFolder&) = delete;
-  TestFolder& operator=(const TestFolder&) = delete;
-
-  const std::string& path() const { return path_; }
-  std::string file(const std::string& name) const { return path_ + "/" + name; }
-  /// The names in the folder, sorted.
-  std::vector<std::string> names() const {
-    std::vector<std::string> result;
-    for (const auto& entry : std::filesystem::directory_iterator(path_))
-      result.push_back(entry.path().filename().string());
-    std::sort(result.begin(), result.end());
-    return result;
-  }
-
- private:
-  std::string path_;
+  TestFolder() : ScratchFolder("faults") {}
 };
 
 inline bool sameBits(const double& a, const double& b) {
