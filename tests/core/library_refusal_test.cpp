@@ -15,7 +15,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/error.h"
@@ -27,6 +26,7 @@
 #include "autograv/wizard/calibration_wizard.h"
 #include "core/estimation/vertex_estimator.h"
 #include "recording_device.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -39,15 +39,10 @@ struct Refusal {
   std::function<std::string()> raise;  ///< Returns the library's message.
 };
 
-std::filesystem::path folder() {
-  static const std::filesystem::path path = [] {
-    const auto p = std::filesystem::temp_directory_path() /
-                   ("autograv_refusal_test_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(p);
-    std::filesystem::create_directories(p);
-    return p;
-  }();
-  return path;
+/// The process's folder (ctest runs one test a process), gone at exit.
+const std::filesystem::path& folder() {
+  static const testing::ScratchFolder scratch("refusal");
+  return scratch.path();
 }
 
 std::string thrownBy(const std::function<void()>& action) {
@@ -361,8 +356,6 @@ TEST(LibraryRefusalTest, EveryRefusalNamesItsParameterAndNoCommandLineFlag) {
     ++walked;
   }
   EXPECT_GE(walked, 50);
-  std::error_code ignored;
-  std::filesystem::remove_all(folder(), ignored);
 }
 
 }  // namespace

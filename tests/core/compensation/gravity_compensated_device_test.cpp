@@ -1,9 +1,6 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 
-#include <stdlib.h>
-
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -20,6 +17,7 @@
 #include "field_map.h"
 #include "forwarding_checks.h"
 #include "recording_device.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -278,9 +276,8 @@ TEST(GravityCompensatedDeviceTest, RefusesAMapForAnotherModelUnlessAllowed) {
 }
 
 TEST(GravityCompensatedDeviceTest, ABadMapFileLeavesThePreviousMapInUse) {
-  std::string pattern = (std::filesystem::temp_directory_path() / "autograv-gcd-XXXXXX").string();
-  const std::filesystem::path folder = ::mkdtemp(pattern.data());
-  const std::string path = (folder / "map.json").string();
+  const testing::ScratchFolder folder("gcd");
+  const std::string path = folder.file("map.json");
   Fixture f;
   const auto good = makeMap(Eigen::Vector3d(0.0, 0.0, -1.0));
   f.device.publishMap(good);
@@ -298,7 +295,6 @@ TEST(GravityCompensatedDeviceTest, ABadMapFileLeavesThePreviousMapInUse) {
     f.device.setForce(Eigen::Vector3d::Zero());
     EXPECT_TRUE(f.fake->last_force.isApprox(Eigen::Vector3d(0.0, 0.0, -1.0), 1e-12));
   }
-  std::filesystem::remove_all(folder);
 }
 
 // --- Faults -----------------------------------------------------------------------------------

@@ -2,7 +2,6 @@
 // componentwise and the corrected fits, the choice between them, and schema 5.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -17,6 +16,7 @@
 #include "autograv/map/map_io.h"
 #include "autograv/map/vertex_fill.h"
 #include "core/map/map_json.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -291,12 +291,11 @@ TEST(FieldFitTest, TooFewMeasurementsKeepTheThinPlateLookup) {
 }
 
 TEST(FieldFitTest, RoundTripsWithTheSameLookup) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / "autograv_conservative_map.json").string();
+  const testing::ScratchFolder folder("field-fit");
+  const std::string path = folder.file("conservative_map.json");
   const GravityMap original = ballMap(curvedPotentialField, FieldModel::kConservative);
   saveMap(original, path);
   const GravityMap loaded = loadMap(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(loaded.metadata().field_model, FieldModel::kConservative);
   EXPECT_EQ(loaded.fieldModel(), FieldModel::kConservative);
   EXPECT_EQ(loaded.metadata().lookup_refinement, kDefaultLookupRefinement);
@@ -537,11 +536,10 @@ TEST(FieldModelChoiceTest, AFieldWithAKnownCurlIsRecoveredByTheCorrectedModel) {
   EXPECT_LE(chosen_p99, componentwise_p99 * 1.05)
       << "chosen " << chosen_p99 << ", componentwise " << componentwise_p99;
   // The choice is saved: the map loads with the same model, weight, scores and lookup.
-  const std::string path =
-      (std::filesystem::temp_directory_path() / "autograv_corrected_map.json").string();
+  const testing::ScratchFolder folder("field-fit");
+  const std::string path = folder.file("corrected_map.json");
   saveMap(chosen, path);
   const GravityMap loaded = loadMap(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(loaded.fieldModel(), FieldModel::kCorrected);
   EXPECT_EQ(loaded.curlWeight(), chosen.curlWeight());
   ASSERT_EQ(loaded.metadata().field_model_scores.size(), 3u);

@@ -1,7 +1,5 @@
 #include "autograv/map/map_io.h"
 
-#include <stdlib.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +15,7 @@
 
 #include "autograv/error.h"
 #include "core/map/map_json.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -53,25 +52,6 @@ GravityMap makeMap(const std::string& model = "sim:omni") {
   metadata.parameters.max_iterations = 77;
   return GravityMap(grid, std::move(vertices), metadata);
 }
-
-class TemporaryFolder {
- public:
-  TemporaryFolder() {
-    std::string pattern = (fs::temp_directory_path() / "autograv-map-io-XXXXXX").string();
-    path_ = ::mkdtemp(pattern.data());
-  }
-  ~TemporaryFolder() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(path_))
-      names.push_back(entry.path().filename());
-    return names;
-  }
-
- private:
-  fs::path path_;
-};
 
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -143,7 +123,7 @@ TEST(MapIoTest, Fnv1a64MatchesPublishedTestVectors) {
 }
 
 TEST(MapIoTest, SaveThenLoadGivesTheSameMapBitForBit) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const GravityMap original = makeMap();
   saveMap(original, folder.file("map.json"));
   const GravityMap loaded = loadMap(folder.file("map.json"));
@@ -327,7 +307,7 @@ TEST(MapIoTest, AnEditThatStillParsesFailsTheChecksum) {
 }
 
 TEST(MapIoTest, ByteFlipsAndTruncationsNeverLoad) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const std::string text = mapToJson(makeMap());
   // Every truncation fails as invalid JSON (the document closes only at its last brace).
   for (const std::size_t length :
@@ -362,7 +342,7 @@ TEST(MapIoTest, ByteFlipsAndTruncationsNeverLoad) {
 // A number beyond the range of double is a JSON parse failure of its own kind in nlohmann
 // (out_of_range, not parse_error); it must still be an autograv::Error naming file and field.
 TEST(MapIoTest, ANumberBeyondDoubleRangeNamesTheFileAndTheField) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   std::string text = json::parse(mapToJson(makeMap())).dump();
   const std::string size = "\"size_m\":[0.09";
   ASSERT_NE(text.find(size), std::string::npos) << text;
@@ -404,7 +384,7 @@ TEST(MapIoTest, MissingFileNamesThePathAndTheFix) {
 }
 
 TEST(MapIoTest, AMapForAnotherModelIsRefusedUnlessAllowed) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   saveMap(makeMap("sim:omni"), folder.file("omni.json"));
   MapLoadOptions options;
   options.expected_device_model = "sim:omega";
@@ -422,17 +402,17 @@ TEST(MapIoTest, AMapForAnotherModelIsRefusedUnlessAllowed) {
 }
 
 TEST(MapIoTest, SaveReplacesAtomicallyAndLeavesNoTemporaryFiles) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const std::string path = folder.file("map.json");
   saveMap(makeMap("first"), path);
   saveMap(makeMap("second"), path);
   EXPECT_EQ(loadMap(path).metadata().device_model, "second");
-  EXPECT_EQ(folder.entries(), std::vector<std::string>{"map.json"});
+  EXPECT_EQ(folder.names(), std::vector<std::string>{"map.json"});
   EXPECT_EQ(fs::status(path).permissions() & fs::perms::others_read, fs::perms::others_read);
 }
 
 TEST(MapIoTest, AFailedSaveKeepsThePreviousFile) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const std::string path = folder.file("map.json");
   saveMap(makeMap(), path);
   const std::string before = readText(path);
@@ -451,7 +431,7 @@ TEST(MapIoTest, AFailedSaveKeepsThePreviousFile) {
   EXPECT_NE(errorOf([&] { saveMap(anonymous, path); }).find("device_model is empty"),
             std::string::npos);
   EXPECT_EQ(readText(path), before);
-  EXPECT_EQ(folder.entries(), std::vector<std::string>{"map.json"});
+  EXPECT_EQ(folder.names(), std::vector<std::string>{"map.json"});
 
   // A folder that does not exist: named in the message.
   const std::string nowhere = folder.file("missing/map.json");
@@ -500,7 +480,7 @@ GravityMap makeBoxMap() {
 }
 
 TEST(MapIoTest, BoxGridAndProvenanceRoundTripInTheCurrentSchema) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const GravityMap original = makeBoxMap();
   ASSERT_GT(original.filledCount(), 0);
   ASSERT_TRUE(original.isComplete());
@@ -620,7 +600,7 @@ void expectSamePrior(const MapPrior& a, const MapPrior& b) {
 }
 
 TEST(MapIoTest, PriorRoundTripsBitForBit) {
-  TemporaryFolder folder;
+  const testing::ScratchFolder folder("map-io");
   const GravityMap original = withPrior(makeMap(), makePrior());
   saveMap(original, folder.file("corrected.json"));
   const json document = json::parse(readText(folder.file("corrected.json")));

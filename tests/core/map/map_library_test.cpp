@@ -9,6 +9,7 @@
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -37,16 +38,9 @@ DeviceSpecifications device(const std::string& model, const std::string& serial)
 
 class MapLibraryTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = (fs::temp_directory_path() /
-            ("autograv_map_library_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-               .string();
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string dir_;
+  testing::ScratchFolder scratch_{"map-library"};
+  // The library's folder, not made yet: saving makes it.
+  std::string dir_ = scratch_.file("maps");
 };
 
 TEST_F(MapLibraryTest, FilesMapsByModelAndSerialWithSafeNames) {

@@ -1,7 +1,6 @@
 // Maps made of measurements off their vertices, solved on a finer lookup grid, and written as
 // schema 3.
 #include <cmath>
-#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -13,6 +12,7 @@
 #include "autograv/map/gravity_map.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/vertex_fill.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -144,8 +144,8 @@ TEST(MapRefinementTest, AThinPlateLookupThatWouldTakeMinutesToBuildIsRefused) {
 }
 
 TEST(MapRefinementTest, WorkspaceMeasurementsAndRefinementRoundTripInSchema3) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / "autograv_refined_map.json").string();
+  const testing::ScratchFolder folder("map-refinement");
+  const std::string path = folder.file("refined_map.json");
   GravityMap original = measuredMap(curvedField, 2);
   MapMetadata metadata = original.metadata();
   metadata.workspace =
@@ -154,7 +154,6 @@ TEST(MapRefinementTest, WorkspaceMeasurementsAndRefinementRoundTripInSchema3) {
   original = GravityMap(original.grid(), original.vertices(), metadata);
   saveMap(original, path);
   const GravityMap loaded = loadMap(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(loaded.metadata().lookup_refinement, 2);
   ASSERT_EQ(loaded.metadata().workspace.directions().size(), 8u);
   EXPECT_EQ(loaded.metadata().workspace.center_m(), metadata.workspace.center_m());

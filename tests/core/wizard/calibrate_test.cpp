@@ -10,25 +10,15 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "autograv/error.h"
 #include "autograv/map/map_io.h"
 #include "point_mass_device.h"
+#include "scratch_folder.h"
 #include "simulated_user.h"
 
 namespace autograv {
 namespace {
-
-std::string temporaryPath(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() /
-                      ("autograv_calibrate_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  const std::string path = (folder / name).string();
-  std::filesystem::remove(path);
-  std::filesystem::remove(path + ".partial");
-  return path;
-}
 
 /// The example's quick run: a 3x3x3 grid fitted to the explored workspace, the servo loop at 200
 /// times real time (the point mass runs in simulated time): about a second of simulated time per
@@ -50,7 +40,8 @@ CalibrateOptions quickOptions(example::SimulatedUser& user) {
 }
 
 TEST(CalibrateTest, CalibratesADeviceOfItsOwnToASavedMapInOneCall) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("calibrate");
+  const std::string path = folder.file("map.json");
   auto device = std::make_shared<example::PointMassDevice>();
   example::SimulatedUser user(*device);
   CalibrateOptions options = quickOptions(user);
@@ -100,7 +91,8 @@ TEST(CalibrateTest, GivesUpAtCheckWithTheReasonWhenNobodyCanAnswer) {
   // Speed 1, as on a real device: the servo thread paces itself on the wall clock and asks for
   // real-time priority before the first tick.
   auto device = std::make_shared<example::PointMassDevice>();
-  WizardConfig config = quickConfig(temporaryPath("no such folder/map.json"));
+  const testing::ScratchFolder folder("calibrate");
+  WizardConfig config = quickConfig(folder.file("no such folder/map.json"));
   const CalibrateResult result = calibrate(device, config);
   EXPECT_FALSE(result.ok());
   EXPECT_EQ(result.status.step, WizardStep::kCheck);
@@ -112,7 +104,8 @@ TEST(CalibrateTest, GivesUpAtCheckWithTheReasonWhenNobodyCanAnswer) {
 }
 
 TEST(CalibrateTest, AnEarlierCheckpointIsNeitherReplacedNorResumedUnasked) {
-  const std::string path = temporaryPath("earlier.json");
+  const testing::ScratchFolder folder("calibrate");
+  const std::string path = folder.file("earlier.json");
   auto device = std::make_shared<example::PointMassDevice>();
   example::SimulatedUser user(*device);
   // A run stopped during the grid leaves its checkpoint.
@@ -149,7 +142,8 @@ TEST(CalibrateTest, AnEarlierCheckpointIsNeitherReplacedNorResumedUnasked) {
 }
 
 TEST(CalibrateTest, AsFastAsTheProcessorAllows) {
-  const std::string path = temporaryPath("fast.json");
+  const testing::ScratchFolder folder("calibrate");
+  const std::string path = folder.file("fast.json");
   auto device = std::make_shared<example::PointMassDevice>();
   example::SimulatedUser user(*device);
   CalibrateOptions options = quickOptions(user);
@@ -160,7 +154,8 @@ TEST(CalibrateTest, AsFastAsTheProcessorAllows) {
 
 TEST(CalibrateTest, RefusesOptionsItCannotUseBeforeAnythingMoves) {
   auto device = std::make_shared<example::PointMassDevice>();
-  const WizardConfig config = quickConfig(temporaryPath("refused.json"));
+  const testing::ScratchFolder folder("calibrate");
+  const WizardConfig config = quickConfig(folder.file("refused.json"));
   const auto refusal = [&](const CalibrateOptions& options) {
     try {
       calibrate(device, config, options);

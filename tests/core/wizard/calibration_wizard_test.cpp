@@ -15,7 +15,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "allocation_counter.h"
 #include "autograv/device/device_specifications.h"
@@ -28,6 +27,7 @@
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/scripted_wizard_user.h"
 #include "autograv/sim/simulated_device.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -38,31 +38,6 @@ const std::size_t kDefaultDirections =
 
 constexpr double kPeriod = 1e-3;
 constexpr int kTicksPerFrame = 20;  // 20 ms of simulated time per "UI frame"
-
-/// Per-test folder under the system's temporary folder, empty at the start of the test and
-/// removed after it unless it failed (its files then help to see why).
-std::filesystem::path testFolder(const std::string& test_name) {
-  return std::filesystem::temp_directory_path() /
-         ("autograv_wizard_test_" + std::to_string(::getpid()) + "_" + test_name);
-}
-
-std::string temporaryPath(const std::string& name) {
-  const std::filesystem::path folder =
-      testFolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
-  std::filesystem::create_directories(folder);
-  return (folder / name).string();
-}
-
-class RemoveTestFolders : public ::testing::EmptyTestEventListener {
-  void OnTestEnd(const ::testing::TestInfo& info) override {
-    std::error_code ignored;
-    if (info.result()->Passed()) std::filesystem::remove_all(testFolder(info.name()), ignored);
-  }
-};
-const bool kRemoveTestFolders = [] {
-  ::testing::UnitTest::GetInstance()->listeners().Append(new RemoveTestFolders);
-  return true;
-}();
 
 bool bitwiseEqual(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -183,7 +158,8 @@ WizardConfig smallConfig(const std::string& map_path, int resolution = 2, double
 }
 
 TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   config.verify_points = 3;
   // The whole workflow, not the estimator's accuracy through friction: low friction keeps the
@@ -282,7 +258,8 @@ TEST(CalibrationWizardTest, GoesThroughEveryStepAndSavesAGoodMap) {
 }
 
 TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   config.advanced.parameters.max_iterations = 5;  // some vertices fail: Review offers a redo
   // Every step, the exploration included (on this box: its vertices lie inside the workspace).
@@ -323,7 +300,8 @@ TEST(CalibrationWizardTest, ServoTickAllocatesNothingInAnyStep) {
 }
 
 TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path), 1, /*calibrated=*/false);
   for (int i = 0; i < 5; ++i) rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
@@ -343,7 +321,8 @@ TEST(CalibrationWizardTest, AnUncalibratedDeviceIsStoppedAtCheckUntilItIsHomed) 
 TEST(CalibrationWizardTest, ADeviceTheCallerOpenedIsNeitherReopenedNorHomedNorClosed) {
   // As in the real-time demo: the application opened and homed the device and its servo thread
   // still drives it while the wizard's Check runs on another thread.
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   config.advanced.device_already_open = true;
   auto rig = std::make_unique<Rig>("sim:omega", config);
@@ -359,7 +338,8 @@ TEST(CalibrationWizardTest, ADeviceTheCallerOpenedIsNeitherReopenedNorHomedNorCl
 }
 
 TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path, 4, 0.05);
   // With c = 200 N/m, convergence needs |G| >= 7 N, and holding 7 N plus the PD effort over a
   // 17 mm cell exceeds the 12 N of the device: no weight passes both checks.
@@ -385,7 +365,8 @@ TEST(CalibrationWizardTest, ParametersThatCannotWorkAreRefusedAtCheck) {
 }
 
 TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path, 3, 0.2));
   rig.frame();
   EXPECT_EQ(rig.wizard->step(), WizardStep::kCheck);
@@ -395,7 +376,8 @@ TEST(CalibrationWizardTest, AGridLargerThanTheWorkspaceIsRefusedAtCheck) {
 }
 
 TEST(CalibrationWizardTest, APlanThatCannotConvergeForThisDeviceIsRefusedAfterRelease) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path, 2, 0.05);
   // beta |G| >= 2 c g holds for an end-effector above 3.9 N, not for this one's 2.1 N: only the
   // weight measured at the initialization can tell.
@@ -416,7 +398,8 @@ TEST(CalibrationWizardTest, APlanThatCannotConvergeForThisDeviceIsRefusedAfterRe
 }
 
 TEST(CalibrationWizardTest, ConfirmingFarFromTheCentreIsRefused) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   rig.auto_hand = false;
   rig.frame();
@@ -460,7 +443,8 @@ TEST(CalibrationWizardTest, ConfirmingFarFromTheCentreIsRefused) {
 }
 
 TEST(CalibrationWizardTest, AHandThatKeepsHoldingIsToldToLetGoAndTheWizardWaits) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kRelease, 20.0));
   rig.auto_hand = false;  // the user does not let go: a firm grip
@@ -489,7 +473,8 @@ TEST(CalibrationWizardTest, AHandThatKeepsHoldingIsToldToLetGoAndTheWizardWaits)
 }
 
 TEST(CalibrationWizardTest, AReleaseThatNeverSettlesIsReportedAndTheWizardWaits) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kRelease, 20.0));
   rig.auto_hand = false;
@@ -524,7 +509,8 @@ TEST(CalibrationWizardTest, AReleaseThatNeverSettlesIsReportedAndTheWizardWaits)
 }
 
 TEST(CalibrationWizardTest, AbortDuringCalibrationHoldsTheDeviceAndKeepsTheFinishedVertices) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 3; }, 200.0));
   rig.wizard->post(WizardEvent::kAbort);
@@ -547,7 +533,8 @@ TEST(CalibrationWizardTest, AbortDuringCalibrationHoldsTheDeviceAndKeepsTheFinis
 }
 
 TEST(CalibrationWizardTest, ResumeAfterACrashKeepsTheFinishedVerticesBitForBit) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   std::vector<VertexEstimate> before;
   {
     Rig rig("sim:omega", smallConfig(path));
@@ -582,7 +569,8 @@ TEST(CalibrationWizardTest, ResumeAfterACrashKeepsTheFinishedVerticesBitForBit) 
 }
 
 TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   std::vector<VertexEstimate> before;
   {
     Rig rig("sim:omega", smallConfig(path));
@@ -603,7 +591,8 @@ TEST(CalibrationWizardTest, ADeviceThatStopsAnsweringMidGridFaultsAndResumes) {
 }
 
 TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   // The paper's method with a tight cap: some vertices hit it.
   config.advanced.parameters = EstimationParameters::paper();
@@ -643,7 +632,8 @@ TEST(CalibrationWizardTest, RedoVisitsOnlyTheFailedVerticesAndKeepsTheOthers) {
 }
 
 TEST(CalibrationWizardTest, ADeviceLostWhileTheUserReadsTheReviewIsAFault) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
   const WizardStatus status = rig.stopTheDevice();
@@ -655,7 +645,8 @@ TEST(CalibrationWizardTest, ADeviceLostWhileTheUserReadsTheReviewIsAFault) {
 }
 
 TEST(CalibrationWizardTest, AbortDuringVerifyKeepsTheSavedMapAndCatchesTheDevice) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kReview, 200.0));
   rig.wizard->post(WizardEvent::kConfirm);
@@ -674,7 +665,8 @@ TEST(CalibrationWizardTest, AbortDuringVerifyKeepsTheSavedMapAndCatchesTheDevice
 }
 
 TEST(CalibrationWizardTest, AbortInReleaseKeepsTheFieldHoldingTheEndEffector) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", smallConfig(path));
   ASSERT_TRUE(rig.runUntil(
       [&] {
@@ -697,7 +689,8 @@ TEST(CalibrationWizardTest, AbortInReleaseKeepsTheFieldHoldingTheEndEffector) {
 }
 
 TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   {
     Rig rig("sim:omega", smallConfig(path));
     ASSERT_TRUE(rig.runUntil([&] { return rig.wizard->status().converged >= 2; }, 200.0));
@@ -714,7 +707,8 @@ TEST(CalibrationWizardTest, AnEarlierCheckpointIsNotOverwrittenWithoutConsent) {
 }
 
 TEST(CalibrationWizardTest, ResumingWithoutACheckpointOrOnAnotherGridSaysWhatToDo) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   config.resume = true;
   {
@@ -746,7 +740,8 @@ WizardConfig exploringConfig(const std::string& map_path, int resolution) {
 }
 
 TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAndSavesBoth) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omni", exploringConfig(path, 3));
   rig.wizard->service();
   ASSERT_EQ(rig.wizard->step(), WizardStep::kCentre) << rig.wizard->status().message;
@@ -844,7 +839,8 @@ TEST(CalibrationWizardTest, ExploresTheWorkspaceThenCalibratesAGridFittedToItAnd
 }
 
 TEST(CalibrationWizardTest, AResumedRunKeepsTheExploredWorkspaceAndDoesNotExploreAgain) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   ExploredWorkspace explored;
   WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.01, 2);
   std::vector<VertexEstimate> before;
@@ -900,7 +896,8 @@ TEST(CalibrationWizardTest, AResumedRunKeepsTheExploredWorkspaceAndDoesNotExplor
 }
 
 TEST(CalibrationWizardTest, AWorkspaceTooSmallIsRefusedBeforeTheGridRun) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   Rig rig("sim:omega", exploringConfig(path, 3));
   ASSERT_TRUE(rig.runUntilStep(WizardStep::kExplore, 30.0)) << rig.wizard->status().message;
   // The user takes the stylus again while the probe runs: nothing moves, every direction ends
@@ -925,7 +922,8 @@ TEST(CalibrationWizardTest, AWorkspaceTooSmallIsRefusedBeforeTheGridRun) {
 TEST(CalibrationWizardTest, RunsWithTheServoLoopOnItsOwnThread) {
   // The servo thread owns the device (ticks, physics, the user's hand); the main thread only
   // services the wizard, reads its status and posts events, as a UI thread would.
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   auto device = std::shared_ptr<sim::SimulatedDevice>(sim::makeSimulatedDevice("sim:omega", 5));
   WizardConfig config = smallConfig(path);
   config.centre_m = device->workspaceCenter_m();
@@ -977,7 +975,8 @@ TEST(CalibrationWizardTest, ReadsItsClockOncePerTickForItselfAndItsCompensation)
   // A FixedPeriodServoClock advances on every reading. The wizard reads the run's clock once per
   // tick and hands the reading to its compensation: read twice, such a clock would run at twice
   // its rate for both.
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   WizardConfig config = smallConfig(path);
   const auto clock = std::make_shared<FixedPeriodServoClock>(kPeriod);
   config.clock = clock;
@@ -1013,7 +1012,8 @@ class ForceRecordingDriver final : public ForwardingDevice {
 };
 
 TEST(CalibrationWizardTest, ReportsTheForcesSentToADeviceWithNoSimulationBehindIt) {
-  const std::string path = temporaryPath("map.json");
+  const testing::ScratchFolder folder("wizard");
+  const std::string path = folder.file("map.json");
   const std::shared_ptr<sim::SimulatedDevice> simulated = sim::makeSimulatedDevice("sim:omni", 1);
   const auto driver = std::make_shared<ForceRecordingDriver>(simulated);
   WizardConfig config = smallConfig(path, 2, 0.03);
