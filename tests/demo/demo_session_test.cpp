@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +20,7 @@
 
 #include "allocation_counter.h"
 #include "autograv/sim/simulated_device.h"
+#include "scratch_folder.h"
 
 namespace autograv::demo {
 namespace {
@@ -160,26 +159,6 @@ TEST(DemoSessionTest, ServoTicksAllocateNothing) {
   EXPECT_TRUE(session.snapshot().released);
 }
 
-/// A scratch directory of its own for each test, removed at the end.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("autograv_demo_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
-
 /// A 3x3x3 calibration saving into `map_path`, with one release test.
 SessionOptions calibrationOptions(const std::string& map_path) {
   SessionOptions options;
@@ -221,7 +200,7 @@ WizardStatus calibrateAsTheUser(DemoSession& session, StopWhen stop_when,
 }
 
 TEST(DemoSessionTest, CalibrationKeyRunsTheWizardSavesAndHandsTheMapToTheApplication) {
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   const std::string map_path = scratch.file("map.json");
   SessionOptions options = calibrationOptions(map_path);
   // The calibration key's workflow, not the estimator's accuracy through friction (checked
@@ -311,7 +290,7 @@ WizardStatus initializeAsTheUser(DemoSession& session, std::string& messages) {
 }
 
 TEST(DemoSessionTest, CalibrationKeyInitializationAwayFromTheStopsSaysNothing) {
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   DemoSession session(calibrationOptions(scratch.file("map.json")));
   run(session, 0.2);
   std::string messages;
@@ -324,7 +303,7 @@ TEST(DemoSessionTest, CalibrationKeyInitializationAwayFromTheStopsSaysNothing) {
 }
 
 TEST(DemoSessionTest, CalibrationKeyInitializationOnAnEndStopIsRefusedFromDriverData) {
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   DemoSession session(calibrationOptions(scratch.file("map.json")));
   // The published map's grid is where the A key calibrates: one whose centre lies 1 mm above
   // the bottom of sim:omega's workspace sphere, so the end-effector sags onto the stop.
@@ -365,7 +344,7 @@ TEST(DemoSessionTest, CalibrationKeyInitializationOnAnEndStopIsRefusedFromDriver
 
 /// The map the A key makes on `device` (3x3x3, seed 1), as the user at the demo would.
 std::shared_ptr<const GravityMap> calibrateWithTheAKey(const std::string& device) {
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   SessionOptions options = calibrationOptions(scratch.file("map.json"));
   options.device = device;
   DemoSession session(options);
@@ -404,7 +383,7 @@ TEST(DemoSessionTest, CalibrationKeyWorksOnAChai3dDeviceExactlyAsOnASimulatedOne
 }
 
 TEST(DemoSessionTest, AbortedCalibrationKeepsItsVerticesAndTheNextOneResumes) {
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   const std::string map_path = scratch.file("map.json");
   DemoSession session(calibrationOptions(map_path));
   session.publishMap(groundTruthMap(session));
@@ -502,7 +481,7 @@ TEST(DemoSessionTest, RealTimeThreadTicksAndReportsItsTiming) {
 TEST(DemoSessionTest, CalibrationKeyRunsBesideTheServoThread) {
   // The A key as in the demo: the servo thread ticks at 1 kHz on the wall clock while the UI
   // thread moves the wizard on and reads the end-stop watch (ThreadSanitizer runs this too).
-  const ScratchDirectory scratch;
+  const autograv::testing::ScratchFolder scratch("demo");
   SessionOptions options = calibrationOptions(scratch.file("map.json"));
   options.realtime_priority = false;
   DemoSession session(options);

@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -13,34 +12,23 @@
 #include "autograv/error.h"
 #include "autograv/gl/offscreen_context.h"
 #include "autograv/gl/renderer.h"
+#include "scratch_folder.h"
 
 namespace autograv::gl::detail {
 namespace {
 
 const std::string kShaderDir = std::string(AUTOGRAV_SOURCE_DIR) + "/shaders";
 
-/// A scratch folder of shader files, removed at the end of the test.
+/// A scratch folder of shader files (autograv-shaders-XXXXXX).
 class ScratchShaders {
  public:
-  ScratchShaders() {
-    char pattern[] = "/tmp/autograv_shaders_XXXXXX";
-    const char* made = ::mkdtemp(pattern);
-    if (made == nullptr) throw Error("cannot make a scratch folder in /tmp");
-    directory_ = made;
-  }
-  ~ScratchShaders() {
-    for (const std::string& file : files_) std::remove((directory_ + "/" + file).c_str());
-    ::rmdir(directory_.c_str());
-  }
   void write(const std::string& name, const std::string& text) {
-    std::ofstream(directory_ + "/" + name) << text;
-    files_.push_back(name);
+    std::ofstream(folder_.file(name)) << text;
   }
-  const std::string& directory() const { return directory_; }
+  std::string directory() const { return folder_.path().string(); }
 
  private:
-  std::string directory_;
-  std::vector<std::string> files_;
+  autograv::testing::ScratchFolder folder_{"shaders"};
 };
 
 const char* const kGoodVertex =

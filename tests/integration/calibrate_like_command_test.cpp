@@ -1,10 +1,9 @@
 // `autograv calibrate --like` and `wizard --like`, the real binary on sim:omega: unit 2 corrected
 // from unit 1's whole calibration, the map library finding that prior by model, a refused prior
 // saving nothing, and options that cannot go with --like refused before anything runs.
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -12,6 +11,7 @@
 
 #include "autograv/map/map_io.h"
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -31,23 +31,24 @@ class CalibrateLikeCommandTest : public ::testing::Test {
   // One whole calibration of unit 1 into a map library of the suite's own.
   static void SetUpTestSuite() {
     if (!fs::exists(kBinary)) return;
-    dir_ = fs::temp_directory_path() / ("autograv_like_" + std::to_string(::getpid()));
+    scratch_ = std::make_unique<testing::ScratchFolder>("like");
+    dir_ = scratch_->path();
     fs::create_directories(dir_ / "maps");
     prior_ = (dir_ / "maps" / "sim_omega@SIM-OMEGA-0001.json").string();
     const auto run = runCommand(kBinary + " calibrate --device sim:omega --out " + prior_);
     ASSERT_EQ(run.exit_code, 0) << run.output;
   }
-  static void TearDownTestSuite() {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
+  static void TearDownTestSuite() { scratch_.reset(); }
   void SetUp() override {
     if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
   }
 
-  static fs::path dir_;
+  static std::unique_ptr<testing::ScratchFolder> scratch_;
+  static fs::path dir_;  // scratch_'s
   static std::string prior_;
 };
 
+std::unique_ptr<testing::ScratchFolder> CalibrateLikeCommandTest::scratch_;
 fs::path CalibrateLikeCommandTest::dir_;
 std::string CalibrateLikeCommandTest::prior_;
 

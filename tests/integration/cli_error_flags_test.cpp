@@ -6,12 +6,12 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "../../demo/cli/error_translation.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/measurement_plan.h"
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -21,19 +21,9 @@ using testing::runCommand;
 const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 
 // This process's scratch folder, removed when the process ends (ctest runs one test a process).
-struct ScratchFolder {
-  std::filesystem::path path = std::filesystem::temp_directory_path() /
-                               ("autograv_cli_error_flags_" + std::to_string(::getpid()));
-  ~ScratchFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path, ignored);
-  }
-};
-
 std::string scratch(const std::string& name) {
-  static const ScratchFolder folder;
-  std::filesystem::create_directories(folder.path);
-  return (folder.path / name).string();
+  static const testing::ScratchFolder folder("cli-error-flags");
+  return folder.file(name);
 }
 
 /// The run failed, printed `flag`, and no library parameter name leaked through.

@@ -2,11 +2,10 @@
 // the research and simulation options are declared once, listed by --help-advanced and refused by
 // a command that does not take them; every command has the same default device; every flag with
 // a unit names it, and the old spellings still work, with a note.
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -16,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -64,10 +64,10 @@ class CliShapeTest : public ::testing::Test {
   void SetUp() override {
     if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  // Made by the first test that writes a file: most only read --help.
   std::string file(const std::string& name) {
-    fs::create_directories(dir_);
-    return (dir_ / name).string();
+    if (!folder_) folder_.emplace("cli-shape");
+    return folder_->file(name);
   }
   static std::string help(const std::string& arguments) {
     const auto run = runCommand(kBinary + " " + arguments);
@@ -79,7 +79,7 @@ class CliShapeTest : public ::testing::Test {
     return nlohmann::json::parse(in);
   }
 
-  fs::path dir_ = fs::temp_directory_path() / ("autograv_cli_shape_" + std::to_string(::getpid()));
+  std::optional<testing::ScratchFolder> folder_;
 };
 
 /// The option names of a --help text, one per option line ("  -o,--out TEXT ...": "--out").

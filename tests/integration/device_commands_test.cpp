@@ -2,12 +2,14 @@
 // reason) and retare (its report), on the simulated Omni.
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -21,18 +23,15 @@ class DeviceCommandsTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     if (!fs::exists(kBinary)) return;
-    dir_ = (fs::temp_directory_path() / ("autograv_device_commands_" + std::to_string(::getpid())))
-               .string();
-    fs::create_directories(dir_);
+    scratch_ = std::make_unique<testing::ScratchFolder>("device-commands");
+    dir_ = scratch_->path().string();
     // A small map of the unloaded Omni, filed in a private map library.
     const auto result =
         runCommand(kBinary + " calibrate --device sim:omni --grid 3 --side-mm 60 --out " + dir_ +
                    "/omni.json");
     ASSERT_EQ(result.exit_code, 0) << result.output;
   }
-  static void TearDownTestSuite() {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
+  static void TearDownTestSuite() { scratch_.reset(); }
   void SetUp() override {
     if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
   }
@@ -40,9 +39,11 @@ class DeviceCommandsTest : public ::testing::Test {
     std::ifstream file(path);
     return nlohmann::json::parse(file);
   }
-  static std::string dir_;
+  static std::unique_ptr<testing::ScratchFolder> scratch_;
+  static std::string dir_;  // scratch_'s
 };
 
+std::unique_ptr<testing::ScratchFolder> DeviceCommandsTest::scratch_;
 std::string DeviceCommandsTest::dir_;
 
 TEST_F(DeviceCommandsTest, DevicesListsTheSimulatedOnesWithModelSerialAndLimits) {

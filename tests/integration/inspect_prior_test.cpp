@@ -1,8 +1,6 @@
 // `autograv inspect` of a map corrected from another unit's map (schema 6): the real binary says
 // which unit's map it came from and the correction, in its own label column; a calibrated map
 // shows neither row.
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -14,6 +12,7 @@
 #include "field_map.h"
 #include "map_prior_fixture.h"
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -34,11 +33,6 @@ class InspectPriorTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
-    dir_ = fs::temp_directory_path() / ("autograv_inspect_prior_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
   }
 
   /// A 4x4x4 map of a gently varying field (a 0.2 kg end-effector's weight), with `prior`.
@@ -55,12 +49,12 @@ class InspectPriorTest : public ::testing::Test {
           return Eigen::Vector3d(0.1 * x.y(), 0.1 * x.x(), -1.96 + 0.5 * x.z());
         },
         metadata);
-    const std::string path = (dir_ / name).string();
+    const std::string path = folder_.file(name);
     saveMap(*map, path);
     return path;
   }
 
-  fs::path dir_;
+  testing::ScratchFolder folder_{"inspect-prior"};
 };
 
 TEST_F(InspectPriorTest, ACorrectedMapSaysWhereItCameFromAndTheCorrection) {

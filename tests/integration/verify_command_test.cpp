@@ -1,7 +1,5 @@
 // `autograv verify` gives a verdict a user can act on: PASS (exit 0) on a good map, FAIL with a
 // non-zero exit on a map that is off by a few percent, on the default device of every command.
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,6 +11,7 @@
 #include "autograv/map/map_io.h"
 #include "run_command.h"
 #include "scaled_map.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -26,17 +25,14 @@ class VerifyCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
-    fs::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  std::string file(const std::string& name) const { return folder_.file(name); }
   static nlohmann::json readJson(const std::string& path) {
     std::ifstream in(path);
     return nlohmann::json::parse(in);
   }
 
-  fs::path dir_ =
-      fs::temp_directory_path() / ("autograv_verify_command_" + std::to_string(::getpid()));
+  testing::ScratchFolder folder_{"verify-command"};
 };
 
 TEST_F(VerifyCommandTest, PassesAGoodMapAndFailsItScaledByFivePercent) {

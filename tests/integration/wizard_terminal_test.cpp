@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <list>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -19,6 +20,7 @@
 
 #include "autograv/map/map_io.h"
 #include "run_command.h"
+#include "scratch_folder.h"
 
 namespace autograv {
 namespace {
@@ -86,16 +88,6 @@ class TmuxSession {
   bool started_ = false;
 };
 
-/// A folder for one test, removed after it unless the test failed.
-std::string freshFolder(const std::string& name) {
-  const std::filesystem::path folder =
-      std::filesystem::temp_directory_path() /
-      ("autograv_wizard_e2e_" + std::to_string(::getpid()) + "_" + name);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder.string();
-}
-
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> result;
   std::istringstream stream(text);
@@ -106,17 +98,12 @@ std::vector<std::string> lines(const std::string& text) {
 
 class WizardTerminalTest : public ::testing::Test {
  protected:
+  /// A folder for the test, autograv-wizard-<name>-XXXXXX, kept if the test fails.
   std::string folder(const std::string& name) {
-    folders_.push_back(freshFolder(name));
-    return folders_.back();
-  }
-  void TearDown() override {
-    if (HasFailure()) return;  // keep the files of a failed test
-    std::error_code ignored;
-    for (const auto& path : folders_) std::filesystem::remove_all(path, ignored);
+    return folders_.emplace_back("wizard-" + name).path().string();
   }
 
-  std::vector<std::string> folders_;
+  std::list<testing::ScratchFolder> folders_;  // a list: a ScratchFolder cannot move
 
   void SetUp() override {
     // A build without the demo (AUTOGRAV_BUILD_DEMO=OFF, as the sanitizer builds are) has no

@@ -1,7 +1,6 @@
 // The viz commands as a user runs them: `autograv render`, `render --compare`, `plot`, `export`
 // and `compare`, on the Omega fixture map, checked by their exit codes and the files they write.
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +15,7 @@
 #include "autograv/map/field_fit.h"
 #include "autograv/map/map_io.h"
 #include "autograv/viz/image.h"
+#include "scratch_folder.h"
 #include "viz_test_support.h"
 
 namespace autograv::viz {
@@ -56,20 +56,11 @@ class VizCommandsTest : public ::testing::Test {
     // (AUTOGRAV_BUILD_DEMO=OFF) has nothing to run.
     if (!std::filesystem::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built";
     AUTOGRAV_REQUIRE_DISPLAY();
-    folder_ = std::filesystem::temp_directory_path() /
-              ("autograv_viz_commands_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(folder_);
-    std::filesystem::create_directories(folder_);
   }
-  void TearDown() override {
-    std::error_code ignored;
-    if (!HasFailure()) std::filesystem::remove_all(folder_, ignored);
-  }
-  std::string file(const std::string& name) const { return (folder_ / name).string(); }
+  std::string file(const std::string& name) const { return folder_.file(name); }
 
  private:
-  std::filesystem::path folder_;
+  autograv::testing::ScratchFolder folder_{"viz-commands"};
 };
 
 TEST_F(VizCommandsTest, RenderWritesThePictureAndCompareCatchesAnotherCamera) {
