@@ -51,10 +51,10 @@ class WorkspaceExplorer {
     /// the field's worst 1 % lay more than 2 mm beyond the 26 radial stops' boundary). When the
     /// spread holds more candidates than this, the ones where the boundary bulges most beyond
     /// the radial triangles are probed (boundary_bulge_m). Each costs about 1 s of device time.
-    /// 40 take sim:omni's field p99 from 3.5-3.7 % to 2.7-2.8 % for 50 s and sim:falcon's from
-    /// 7.5 % to 5.6-5.7 % for 70 s (design notes, "Boundary probes"), but put one of
-    /// sim:falcon's points against its soft arm stops; 0, the default until that is solved,
-    /// probes the radial directions only.
+    /// 40 take sim:omni's field p99 from 2.9-3.0 % to 2.5-2.8 % and its maximum from 13 % to
+    /// 8.2-8.4 % for 48 s (design notes, "Boundary probes"); on sim:falcon they sink into the
+    /// stops' rubber, so its points end against them. 0, the default until the probes stop where
+    /// the end-effector first meets a stop, probes the radial directions only.
     int boundary_directions = 0;
     /// Size of the even spread the boundary probes are chosen from (at least
     /// boundary_directions are always taken).

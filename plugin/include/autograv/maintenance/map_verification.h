@@ -41,8 +41,10 @@ std::vector<Eigen::Vector3d> drawVerificationPoints(const WorkspaceGrid& grid,
 struct VerificationOptions {
   int points = 100;        ///< Seeded points drawn uniformly from the map's workspace.
   std::uint64_t seed = 1;  ///< Seed of the points.
-  /// The points lie this far inside the explored workspace: where the calibration's own boundary
-  /// measurements stand (kBoundaryMargin_m), next to the stops. Unit: [m]
+  /// The points lie this far inside the explored workspace, next to the stops but clear of them:
+  /// a probe records the boundary pressed into a stop's rubber (about 2 mm on sim:falcon). The
+  /// calibration measures closer (kBoundaryMargin_m), watching each hold for a stop; verify's
+  /// residual probe has no such watch. Unit: [m]
   double point_margin_m = 0.004;
   /// How each release is watched and caught; catch_inside is the map's workspace.
   ReleaseOptions release;
