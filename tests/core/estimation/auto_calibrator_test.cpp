@@ -111,7 +111,7 @@ TEST(AutoCalibratorTest, APointAStopHoldsDuringItsHoldIsMovedBackAndMeasuredClea
     if (vertex.outcome == VertexOutcome::kUnreachable) continue;  // solved from the others
     ASSERT_EQ(vertex.outcome, VertexOutcome::kConverged) << "vertex " << i;
     ++measured;
-    EXPECT_LT(vertex.measured_at_m.x(), f.device.wall_x_m - 0.5e-3) << "vertex " << i;
+    EXPECT_LT(vertex.measured_at_m.x(), f.device.wall_x_m - 0.25e-3) << "vertex " << i;
     EXPECT_LT((vertex.measured_gravity_n - f.device.gravity(vertex.measured_at_m)).norm(),
               2.0 * f.parameters.eps_g_n)
         << "vertex " << i << ": the stop's reaction taken for gravity";

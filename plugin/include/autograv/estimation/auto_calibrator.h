@@ -113,8 +113,9 @@ class AutoCalibrator {
   /// this far back from where the stop held it, away from the stop, and the vertex is measured
   /// there; at most kMaxStopRetreats times per vertex. Unit: [m]
   static constexpr double kStopRetreat_m = 0.001;
-  /// Most retreats from a stop (or from a hold that does not settle next to the boundary) per
-  /// vertex; a vertex still held after them ends unreachable and is solved from the others.
+  /// Most retreats from a stop (or from a hold next to the boundary that does not settle, or
+  /// that stalls pushing outward) per vertex; a vertex still held after them ends unreachable
+  /// and is solved from the others.
   static constexpr int kMaxStopRetreats = 3;
   /// Points closer than this to the explored boundary are watched for stops: the creep rule
   /// (VertexEstimator::setOutward) and kBoundarySettle_s. Unit: [m]

@@ -499,6 +499,24 @@ AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
                 estimator_.gravityBeforeContact_n(), sample.position_m);
         break;
       }
+      // The way the last step of eq. (12) pushed: against a stop, the stop's normal.
+      const std::vector<IterationRecord>& steps = estimator_.estimate().history;
+      const Eigen::Vector3d push_n =
+          steps.size() >= 2 ? Eigen::Vector3d(steps[steps.size() - 1].gravity_estimate_n -
+                                              steps[steps.size() - 2].gravity_estimate_n)
+                            : Eigen::Vector3d::Zero();
+      if (inner == VertexEstimator::Status::kUnreachable && watched_ &&
+          push_n.dot(outward_) > 0.0 && stop_retreats_here_ < kMaxStopRetreats) {
+        // Next to the boundary, a hold that stalls pushing outward may rest on a stop that no
+        // rule confirmed (sim:omni at high friction, by its -x reach): try again inward along
+        // the boundary's normal, a millimetre back against its push (at a box's corner the
+        // normal is a diagonal, and a millimetre along it leaves the point on the face's stop).
+        const Eigen::Vector3d normal = outward_.normalized();
+        const double along_push = std::max(0.5, normal.dot(push_n.normalized()));
+        retreat(targets_[static_cast<std::size_t>(current_vertex_)], normal / along_push,
+                initialEstimateFor(current_vertex_), sample.position_m);
+        break;
+      }
       recordFinished();
       hold_m_ = targets_[static_cast<std::size_t>(current_vertex_)];
       if (inner == VertexEstimator::Status::kDeviceFault) {
