@@ -66,7 +66,6 @@ struct AutoCalibrator::Impl {
   ImpedanceHold hold_;  // the moves' and holds' law, with the estimator's floor
   double max_invalid_periods_;
   VertexEstimator estimator_;
-  bool retreated_ = false;  // the current vertex's point was moved back from a stop
   int stop_retreats_ = 0;
   MinimumJerkMove move_;
   std::vector<VertexEstimate> vertices_;
@@ -100,7 +99,6 @@ struct AutoCalibrator::Impl {
 void AutoCalibrator::Impl::retreat(const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
                                    const Eigen::Vector3d& feedforward_n,
                                    const Eigen::Vector3d& position_m) noexcept {
-  retreated_ = true;
   met_stop_[static_cast<std::size_t>(current_vertex_)] = true;
   ++stop_retreats_;
   ++stop_retreats_here_;
@@ -233,7 +231,6 @@ void AutoCalibrator::Impl::beginNextVertex(const Eigen::Vector3d& from_m) noexce
   }
   current_vertex_ = order_[next_in_order_++];
   active_ = true;
-  retreated_ = false;
   stop_retreats_here_ = 0;
   beginMove(from_m);
 }
