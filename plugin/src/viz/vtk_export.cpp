@@ -124,7 +124,7 @@ void addFieldData(const GravityMap& map, vtkFieldData* field) {
   for (const VertexOutcome o :
        {VertexOutcome::kPending, VertexOutcome::kConverged, VertexOutcome::kIterationCap,
         VertexOutcome::kNoSteadyState, VertexOutcome::kSaturated, VertexOutcome::kDeviceFault,
-        VertexOutcome::kUnreachable}) {
+        VertexOutcome::kUnreachable, VertexOutcome::kLeftOut}) {
     names->InsertNextValue(toString(o));
   }
   field->AddArray(model);

@@ -550,5 +550,45 @@ TEST(FieldModelChoiceTest, AFieldWithAKnownCurlIsRecoveredByTheCorrectedModel) {
   }
 }
 
+// Two eps_G of the default estimation parameters: what a calibration's measurements repeat to.
+// Unit: [N]
+constexpr double kFloor_n = kStandOutRepeatability * 0.5e-3 * 9.81;
+
+TEST(FieldModelChoiceTest, OneMeasurementAStopHeldDoesNotChooseTheModel) {
+  // Held 20 % short by a stop, one of 120 measurements: set aside, and the model is the one the
+  // clean measurements choose (with every measurement counted, it chose the componentwise fit
+  // for both fields).
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(120, 0.05, 21);
+  for (auto field : {&curvedPotentialField, &curledField}) {
+    std::vector<Eigen::Vector3d> values = valuesAt(points, field);
+    const FieldModelChoice clean = chooseFieldModel(points, values, kFloor_n);
+    EXPECT_TRUE(clean.set_aside.empty());
+    values[17] *= 0.8;
+    const FieldModelChoice held = chooseFieldModel(points, values, kFloor_n);
+    EXPECT_EQ(held.model, clean.model);
+    EXPECT_EQ(held.set_aside, std::vector<int>{17});
+  }
+}
+
+TEST(FieldModelChoiceTest, StandingOutFindsEachContradictedMeasurementAndNoneOfTheirNeighbours) {
+  const std::vector<Eigen::Vector3d> points = scatteredPoints(120, 0.05, 22);
+  std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
+  EXPECT_TRUE(findStandingOut(points, values, 0.0, 6, kFloor_n).empty());
+  values[3] *= 1.15;
+  values[40] += Eigen::Vector3d(0.05, 0.0, 0.0);  // 5 % sideways: a knock
+  std::vector<StandingOut> found = findStandingOut(points, values, 0.0, 6, kFloor_n);
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0].index, 3);  // the most contradicted first
+  EXPECT_EQ(found[1].index, 40);
+  for (const StandingOut& one : found) {
+    EXPECT_GT(one.residual_rel, kStandOutLocalRatio * one.local_rel);
+  }
+  // At most `most`, and none among fewer than kStandOutMinMeasurements.
+  EXPECT_EQ(findStandingOut(points, values, 0.0, 1, kFloor_n).size(), 1u);
+  const std::vector<Eigen::Vector3d> few_points(points.begin(), points.begin() + 11);
+  const std::vector<Eigen::Vector3d> few_values(values.begin(), values.begin() + 11);
+  EXPECT_TRUE(findStandingOut(few_points, few_values, 0.0, 6, kFloor_n).empty());
+}
+
 }  // namespace
 }  // namespace autograv

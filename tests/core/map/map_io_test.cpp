@@ -188,7 +188,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
        "field /vertices/4/provenance:", "one of measured, filled"},
       {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
-       "field /vertices/4/provenance:", "missing (required by schema version 6)"},
+       "field /vertices/4/provenance:", "missing (required by schema version 7)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -214,7 +214,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
       {"newer schema", [](json& d) { d["schema_version"] = kMapSchemaVersion + 1; },
-       "field /schema_version:", "reads schema versions 1 to 6 only"},
+       "field /schema_version:", "reads schema versions 1 to 7 only"},
       {"unknown field model", [](json& d) { d["field_model"]["name"] = "spline"; },
        "field /field_model/name:", "\"conservative\", \"componentwise\", \"corrected\""},
       {"a request, not a model", [](json& d) { d["field_model"]["name"] = "choose"; },
@@ -231,10 +231,10 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
                                                         {"loo_p90_rel", 0.02}}});
        },
        "field /field_model/scores/0/loo_mean_rel:", "missing"},
-      {"no field model in schema 6", [](json& d) { d.erase("field_model"); },
+      {"no field model in schema 7", [](json& d) { d.erase("field_model"); },
        "field /field_model:", "missing"},
-      {"interpolant in schema 6", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
-       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 6"},
+      {"interpolant in schema 7", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
+       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 7"},
       {"interpolant in schema 5",
        [](json& d) {
          d["schema_version"] = 5;
@@ -604,7 +604,7 @@ TEST(MapIoTest, PriorRoundTripsBitForBit) {
   const GravityMap original = withPrior(makeMap(), makePrior());
   saveMap(original, folder.file("corrected.json"));
   const json document = json::parse(readText(folder.file("corrected.json")));
-  EXPECT_EQ(document.at("schema_version"), 6);
+  EXPECT_EQ(document.at("schema_version"), 7);
   const json& prior = document.at("prior");
   EXPECT_EQ(prior.at("gain").size(), 3u);
   EXPECT_EQ(prior.at("gain").at(1), json::array({0.1 + 0.2, 0.987, -0.0}));  // row-major
@@ -682,7 +682,7 @@ TEST(MapIoTest, EveryCorruptedPriorFieldIsNamed) {
        [](json& d) { d["prior"]["workspace_difference_m"] = "3 mm"; },
        "field /prior/workspace_difference_m:", ">= 0 (unit: m)"},
       {"missing serial", [](json& d) { d["prior"].erase("device_serial"); },
-       "field /prior/device_serial:", "missing (required by schema version 6)"},
+       "field /prior/device_serial:", "missing (required by schema version 7)"},
       {"misspelt member", [](json& d) { d["prior"]["gains"] = 1; },
        "field /prior/gains:", "unexpected field"},
       {"not an object", [](json& d) { d["prior"] = "maps/a.json"; },
@@ -717,6 +717,97 @@ TEST(MapIoTest, APriorThatWouldNotLoadIsNotSaved) {
   const std::string short_residuals = errorOf([&] { mapToJson(withPrior(makeMap(), prior)); });
   EXPECT_NE(short_residuals.find("field /prior/residuals_n:"), std::string::npos)
       << short_residuals;
+}
+
+// makeMap with vertex 7 left out of the fit (measured at a point of its own, contradicted twice)
+// and the review that left it out.
+GravityMap withLeftOut(const GravityMap& map) {
+  std::vector<VertexEstimate> vertices = map.vertices();
+  VertexEstimate& left = vertices[7];
+  left.outcome = VertexOutcome::kLeftOut;
+  left.provenance = VertexProvenance::kFilled;
+  left.measured_at_m = Eigen::Vector3d(0.011, -0.0201, 0.0333);
+  left.measured_gravity_n = Eigen::Vector3d(0.1 + 0.2, -0.7, -1.9);
+  MapMetadata metadata = map.metadata();
+  ReviewedMeasurement reviewed;
+  reviewed.first.vertex = 7;
+  reviewed.first.point_m = Eigen::Vector3d(0.011, -0.0201, 0.0365);
+  reviewed.first.value_n = Eigen::Vector3d(0.3, -0.6, -1.5);
+  reviewed.first.residual_rel = 0.167;
+  reviewed.first.local_rel = 0.0014;
+  reviewed.again_point_m = left.measured_at_m;
+  reviewed.again_value_n = left.measured_gravity_n;
+  reviewed.again_residual_rel = 0.05;
+  reviewed.left_out = true;
+  metadata.reviewed_measurements = {reviewed};
+  return GravityMap(map.grid(), std::move(vertices), std::move(metadata));
+}
+
+TEST(MapIoTest, AVertexLeftOutAndTheReviewRoundTripBitForBit) {
+  const testing::ScratchFolder folder("map-io");
+  const GravityMap original = withLeftOut(makeMap());
+  saveMap(original, folder.file("reviewed.json"));
+  const json document = json::parse(readText(folder.file("reviewed.json")));
+  EXPECT_EQ(document.at("vertices").at(7).at("outcome"), "left_out");
+  EXPECT_EQ(document.at("reviewed_measurements").size(), 1u);
+  const GravityMap loaded = loadMap(folder.file("reviewed.json"));
+  expectSameMap(original, loaded);
+  const VertexEstimate& left = loaded.vertices()[7];
+  EXPECT_EQ(left.measured_at_m, original.vertices()[7].measured_at_m);
+  EXPECT_EQ(left.measured_gravity_n, original.vertices()[7].measured_gravity_n);
+  ASSERT_EQ(loaded.metadata().reviewed_measurements.size(), 1u);
+  const ReviewedMeasurement& a = original.metadata().reviewed_measurements.front();
+  const ReviewedMeasurement& b = loaded.metadata().reviewed_measurements.front();
+  EXPECT_EQ(a.first.vertex, b.first.vertex);
+  EXPECT_EQ(a.first.point_m, b.first.point_m);
+  EXPECT_EQ(a.first.value_n, b.first.value_n);
+  EXPECT_EQ(a.first.residual_rel, b.first.residual_rel);
+  EXPECT_EQ(a.first.local_rel, b.first.local_rel);
+  EXPECT_EQ(a.again_point_m, b.again_point_m);
+  EXPECT_EQ(a.again_value_n, b.again_value_n);
+  EXPECT_EQ(a.again_residual_rel, b.again_residual_rel);
+  EXPECT_EQ(a.left_out, b.left_out);
+  saveMap(loaded, folder.file("again.json"));
+  EXPECT_EQ(readText(folder.file("reviewed.json")), readText(folder.file("again.json")));
+}
+
+TEST(MapIoTest, ALeftOutVertexOrAReviewThatAnOlderSchemaCannotHoldIsRefusedByName) {
+  const std::vector<Corruption> cases = {
+      {"left out in schema 6",
+       [](json& d) {
+         d["schema_version"] = 6;
+         d.erase("reviewed_measurements");
+       },
+       "field /vertices/7/outcome:", "one of pending, converged"},
+      {"review in schema 6",
+       [](json& d) {
+         d["schema_version"] = 6;
+         d["vertices"][7]["outcome"] = "unreachable";
+       },
+       "field /reviewed_measurements:", "unexpected field (not part of schema version 6"},
+      {"left out without what it measured",
+       [](json& d) {
+         d["vertices"][7].erase("measured_at_m");
+         d["vertices"][7].erase("measured_gravity_n");
+       },
+       "field /vertices/7:", "a vertex left out keeps what it measured"},
+      {"review of a vertex beyond the grid",
+       [](json& d) { d["reviewed_measurements"][0]["vertex"] = 125; },
+       "field /reviewed_measurements/0/vertex:", "integer"},
+      {"left_out not a boolean", [](json& d) { d["reviewed_measurements"][0]["left_out"] = 1; },
+       "field /reviewed_measurements/0/left_out:", "true or false"},
+  };
+  const json valid = json::parse(mapToJson(withLeftOut(makeMap())));
+  for (const Corruption& corruption : cases) {
+    json document = valid;
+    corruption.edit(document);
+    detail::stampChecksum(document);
+    const std::string message = errorOf([&] { mapFromJson(document.dump(1), "maps/c.json"); });
+    EXPECT_NE(message.find(corruption.pointer), std::string::npos)
+        << corruption.name << ": " << message;
+    EXPECT_NE(message.find(corruption.expected), std::string::npos)
+        << corruption.name << ": " << message;
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -127,9 +128,56 @@ struct FieldModelScore {
 struct FieldModelChoice {
   FieldModel model = FieldModel::kConservative;  ///< The model kept.
   double curl_weight = 0.0;                      ///< Of the kept model.
-  /// The conservative, componentwise and corrected candidates, in that order.
+  /// The conservative, componentwise and corrected candidates, in that order (scored without
+  /// the measurements set aside).
   std::vector<FieldModelScore> scores;
+  /// Indices of the measurements the scores leave out, because the others contradict them
+  /// (findStandingOut under the choice made with every measurement); empty when none does.
+  std::vector<int> set_aside;
 };
+
+/// A measurement that the others contradict, found by findStandingOut.
+struct StandingOut {
+  int index = -1;             ///< Into the measurements given.
+  double residual_rel = 0.0;  ///< |leave-one-out residual| / |value| when it was found.
+  /// The same figure of the measurements around it (the median of the kStandOutNeighbours
+  /// nearest, judged with it left out): the scale it stands out from.
+  double local_rel = 0.0;
+};
+
+/// findStandingOut looks at a measurement whose leave-one-out residual (relative) lies beyond
+/// the others' median by this many robust spreads (1.4826 times their median absolute
+/// deviation): a figure of the measurements themselves, not a fixed percentage.
+inline constexpr double kStandOutSpreads = 6.0;
+/// ... and it stands out when its residual is also this many times that of the measurements
+/// around it, judged without it: a field that steepens near a stop leaves large residuals at
+/// every measurement of its region, a stop's reaction or a slip at one.
+inline constexpr double kStandOutLocalRatio = 5.0;
+/// Measurements around a candidate whose residuals make its local scale.
+inline constexpr int kStandOutNeighbours = 6;
+/// Most measurements chooseFieldModel sets aside, and the calibration's review finds standing
+/// out, as a share of all (at least one): where more stand out, something no re-measure fixes is
+/// wrong (a device that drifts, a wrong model), and every measurement is kept.
+inline constexpr double kStandOutShare = 0.05;
+/// Fewest measurements findStandingOut judges: with fewer, a residual is an extrapolation, not
+/// one of a population to stand out from.
+inline constexpr int kStandOutMinMeasurements = 12;
+/// The repeatability of a calibration's measurements, in eps_G: the floor below which
+/// findStandingOut finds nothing contradicted.
+inline constexpr double kStandOutRepeatability = 2.0;
+
+/// The measurements that the others contradict under the fit with `curl_weight` (kStandOutSpreads,
+/// kStandOutLocalRatio), at most `most`, the most contradicted first; a residual below
+/// `floor_n`, the measurements' own repeatability, never stands out (kStandOutRepeatability
+/// eps_G for a calibration's: a hold converges when its updates fall below eps_G, so two holds
+/// of one point differ by that much). Each one found is set aside
+/// before the next is looked for, so that it does not make its neighbours look contradicted too.
+/// Empty for fewer than kStandOutMinMeasurements measurements, or where they determine no fit.
+/// Not real-time safe: one leave-one-out per measurement found and per candidate looked at.
+/// Units: [m], [N]
+std::vector<StandingOut> findStandingOut(const std::vector<Eigen::Vector3d>& points_m,
+                                         const std::vector<Eigen::Vector3d>& values_n,
+                                         double curl_weight, int most, double floor_n);
 
 /// Curl weights the corrected model tries (each a fit and a leave-one-out): a geometric ladder
 /// from a correction that barely bends the conservative fit up to one that outweighs it (1, where
@@ -156,11 +204,16 @@ FieldModelScore bestCorrectedScore(const std::vector<Eigen::Vector3d>& points_m,
 /// kFieldModelFloor). The
 /// mean, not the root mean square: a few measurements next to the stops, which every model
 /// extrapolates to, would decide a root mean square alone, and the field between the others
-/// would not count. Throws autograv::Error as leaveOneOutResiduals_n does, for a conservative
+/// would not count. The mean is not robust to one measurement that a stop held, so the
+/// measurements that the others contradict under that first choice (findStandingOut, at most
+/// one in twenty; none below `floor_n`, their repeatability) are set aside and the candidates
+/// scored again without them (FieldModelChoice::set_aside). The default floor, infinite, sets
+/// nothing aside. Throws autograv::Error as leaveOneOutResiduals_n does, for a conservative
 /// fit that cannot be scored (the other candidates are skipped when they cannot be). Not real-time
 /// safe: a few tenths of a second for a hundred measurements. Units: [m], [N]
 FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
-                                  const std::vector<Eigen::Vector3d>& values_n);
+                                  const std::vector<Eigen::Vector3d>& values_n,
+                                  double floor_n = std::numeric_limits<double>::infinity());
 
 /// How the measurements of a map agree with one another: each converged vertex's measurement
 /// against the fit of all the others (leaveOneOutResiduals_n) in the map's own model, over |G_hat|

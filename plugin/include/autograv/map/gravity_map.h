@@ -9,6 +9,7 @@
 
 #include "autograv/map/explored_workspace.h"
 #include "autograv/map/field_fit.h"
+#include "autograv/map/measurement_review.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/types/estimation_parameters.h"
 #include "autograv/types/vertex_estimate.h"
@@ -72,6 +73,9 @@ struct MapMetadata {
   std::vector<FieldModelScore> field_model_scores;
   /// The map of another unit this one was corrected from; empty for a whole calibration.
   std::optional<MapPrior> prior;
+  /// The measurements that the others contradicted (judgeMeasurements), each measured again, and
+  /// whether it was left out of the fit: empty when none stood out.
+  std::vector<ReviewedMeasurement> reviewed_measurements;
 };
 
 /// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): six

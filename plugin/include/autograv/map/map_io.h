@@ -7,14 +7,16 @@
 
 namespace autograv {
 
-/// Map file schema version written by saveMap. Schema 6 adds, for a map corrected from another
+/// Map file schema version written by saveMap. Schema 7 adds the measurements the calibration
+/// measured again because the others contradicted them (reviewed_measurements), the vertices left
+/// out of the fit (outcome "left_out"); schema 6 adds, for a map corrected from another
 /// unit's map, where it came from and the correction (prior); schema 5 names the field model and
 /// the scores it was chosen by (field_model); schema 4 adds the lookup's interpolant
 /// (grid.lookup_interpolant: "thin_plate", the default, or "conservative"); schema 3 adds the
 /// explored workspace and the points measured off their vertices; schema 2 (box grids and where
 /// each vertex's value came from) and schema 1 (cubic grids) files still load. Other versions are
 /// refused.
-inline constexpr int kMapSchemaVersion = 6;
+inline constexpr int kMapSchemaVersion = 7;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 
@@ -54,21 +56,24 @@ void checkWritable(const std::string& path, const std::string& what = "file");
 
 // --- In-memory form and checksum (additions for tools and tests) ---------------------------
 //
-// File format (schema version 6), one JSON object:
+// File format (schema version 7), one JSON object:
 //   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
 //   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], size_m[3],
 //   resolution[3]} (extents and vertex counts along x, y, z; from schema 3 lookup_refinement,
 //   schema 4 only lookup_interpolant), from schema 5 field_model {name (conservative,
 //   componentwise, corrected, thin_plate), curl_weight, scores[] of {name, curl_weight,
-//   loo_median_rel, loo_p90_rel, loo_mean_rel} where the model was chosen}, from schema 6 and
-//   only for a map corrected from another unit's map prior {source, device_serial, created_utc
-//   (ISO 8601 or ""), correction_model (shift, affine, conservative, componentwise), gain (3
-//   rows of 3), offset_n[3], points_m[] of [3], residuals_n[] of [3] (none, or one per point),
-//   check_points, check_mean_rel, check_max_rel, workspace_difference_m}, parameters {every
-//   EstimationParameters field under its C++ name}, vertices[] (one object per grid vertex, in
-//   vertex-index order ix + nx (iy + ny iz): index, position_m[3], gravity_n[3], iterations,
-//   seconds, outcome (pending, converged, iteration_cap, no_steady_state, saturated,
-//   device_fault, unreachable), provenance ("measured": estimated at the vertex; "filled":
+//   loo_median_rel, loo_p90_rel, loo_mean_rel} where the model was chosen}, from schema 7 and only
+//   where the calibration measured a point again reviewed_measurements[] of {vertex, point_m[3],
+//   value_n[3], residual_rel, local_rel, again_point_m[3], again_value_n[3], again_residual_rel,
+//   left_out}, from schema 6 and only for a map corrected from another unit's map prior {source,
+//   device_serial, created_utc (ISO 8601 or ""), correction_model (shift, affine, conservative,
+//   componentwise), gain (3 rows of 3), offset_n[3], points_m[] of [3], residuals_n[] of [3] (none,
+//   or one per point), check_points, check_mean_rel, check_max_rel, workspace_difference_m},
+//   parameters {every EstimationParameters field under its C++ name}, vertices[] (one object per
+//   grid vertex, in vertex-index order ix + nx (iy + ny iz): index, position_m[3], gravity_n[3],
+//   iterations, seconds, outcome (pending, converged, iteration_cap, no_steady_state, saturated,
+//   device_fault, unreachable, from schema 7 left_out: then with measured_at_m and
+//   measured_gravity_n), provenance ("measured": estimated at the vertex; "filled":
 //   filled from measured vertices because the device could not reach it), history[] of
 //   {position_error_m, mass_estimate_kg, gravity_estimate_n[3], duration_s}), and checksum
 //   {algorithm "fnv1a-64", value}.

@@ -12,8 +12,9 @@
 namespace autograv {
 
 /// True for a vertex held at a reachable point that did not converge there: it hit the iteration
-/// cap, never settled, saturated or its device faulted. A pending vertex (never visited) and an
-/// unreachable one (solved from its neighbours, never redone) are not failed. Real-time safe.
+/// cap, never settled, saturated or its device faulted. A pending vertex (never visited), an
+/// unreachable one (solved from its neighbours, never redone) and one left out (measured twice,
+/// contradicted both times) are not failed. Real-time safe.
 bool isFailed(const VertexEstimate& vertex) noexcept;
 
 /// True for a visited vertex the map holds no value for: a failed one, or an unreachable one that
@@ -52,6 +53,7 @@ struct MapSummary {
   int converged = 0;    ///< Outcome kConverged.
   int pending = 0;      ///< Outcome kPending: never visited.
   int unreachable = 0;  ///< Outcome kUnreachable.
+  int left_out = 0;     ///< Outcome kLeftOut: measured, contradicted, left out of the fit.
   int filled = 0;       ///< Provenance kFilled: solved from the measurements.
   /// Value kinds (valueKind): measured at the vertex, measured inside the stops, solved.
   int at_vertex = 0;

@@ -36,6 +36,10 @@ enum class VertexOutcome : std::uint8_t {
   kDeviceFault,    ///< The device stopped answering or sent non-finite samples.
   kUnreachable,    ///< The device could not be held at the vertex (end stop, saturation,
                    ///< singular pose); its value is filled from measured neighbours.
+  kLeftOut,        ///< Converged, but the other measurements contradicted it twice, the second
+                   ///< time measured again further from the stops (judgeMeasurements): what it
+                   ///< measured stays in measured_at_m / measured_gravity_n, and its value is
+                   ///< filled from the others as an unreachable vertex's is (maps of schema 7).
 };
 
 /// Where a vertex's value comes from.

@@ -157,6 +157,49 @@ double quantileOfSorted(const std::vector<double>& sorted, double q) {
   return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
 }
 
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+/// The measurements `kept` of `all`.
+std::vector<Eigen::Vector3d> subset(const std::vector<Eigen::Vector3d>& all,
+                                    const std::vector<int>& kept) {
+  std::vector<Eigen::Vector3d> chosen;
+  chosen.reserve(kept.size());
+  for (const int k : kept) chosen.push_back(all[static_cast<std::size_t>(k)]);
+  return chosen;
+}
+
+/// The median residual of the kStandOutNeighbours measurements of `active` nearest measurement
+/// `candidate` (one of them), with the candidate left out of the fit: what the field around it
+/// leaves to a measurement that agrees.
+double localResidual(const std::vector<Eigen::Vector3d>& points_m,
+                     const std::vector<Eigen::Vector3d>& values_n, double curl_weight,
+                     const std::vector<int>& active, int candidate) {
+  std::vector<int> others;
+  for (const int k : active) {
+    if (k != candidate) others.push_back(k);
+  }
+  const std::vector<Eigen::Vector3d> others_m = subset(points_m, others);
+  const std::vector<Eigen::Vector3d> others_n = subset(values_n, others);
+  const std::vector<double> residuals =
+      relativeResiduals(leaveOneOutResiduals_n(others_m, others_n, curl_weight), others_n);
+  const Eigen::Vector3d& at_m = points_m[static_cast<std::size_t>(candidate)];
+  std::vector<std::pair<double, double>> by_distance;  // distance [m], residual
+  for (std::size_t k = 0; k < others_m.size(); ++k) {
+    by_distance.emplace_back((others_m[k] - at_m).norm(), residuals[k]);
+  }
+  const auto count = std::min<std::size_t>(kStandOutNeighbours, by_distance.size());
+  std::partial_sort(by_distance.begin(), by_distance.begin() + static_cast<std::ptrdiff_t>(count),
+                    by_distance.end());
+  std::vector<double> nearest;
+  for (std::size_t k = 0; k < count; ++k) nearest.push_back(by_distance[k].second);
+  return medianOf(nearest);
+}
+
 FieldModelScore scoreOf(FieldModel model, double curl_weight,
                         const std::vector<Eigen::Vector3d>& points_m,
                         const std::vector<Eigen::Vector3d>& values_n) {
@@ -289,8 +332,60 @@ FieldModelScore bestCorrectedScore(const std::vector<Eigen::Vector3d>& points_m,
   return best;
 }
 
-FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
-                                  const std::vector<Eigen::Vector3d>& values_n) {
+std::vector<StandingOut> findStandingOut(const std::vector<Eigen::Vector3d>& points_m,
+                                         const std::vector<Eigen::Vector3d>& values_n,
+                                         double curl_weight, int most, double floor_n) {
+  std::vector<StandingOut> found;
+  const int count = static_cast<int>(points_m.size());
+  if (count < kStandOutMinMeasurements || values_n.size() != points_m.size()) return found;
+  std::vector<int> active(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) active[static_cast<std::size_t>(k)] = k;
+  try {
+    while (static_cast<int>(found.size()) < most) {
+      const std::vector<Eigen::Vector3d> active_n = subset(values_n, active);
+      const std::vector<double> residuals = relativeResiduals(
+          leaveOneOutResiduals_n(subset(points_m, active), active_n, curl_weight), active_n);
+      const double median_rel = medianOf(residuals);
+      std::vector<double> deviations;
+      for (const double residual : residuals) deviations.push_back(std::abs(residual - median_rel));
+      const double looked_at_rel = median_rel + kStandOutSpreads * 1.4826 * medianOf(deviations);
+      std::vector<std::size_t> candidates;  // positions in `active`
+      for (std::size_t k = 0; k < residuals.size(); ++k) {
+        const double value_n = values_n[static_cast<std::size_t>(active[k])].norm();
+        if (residuals[k] > looked_at_rel && residuals[k] * value_n > floor_n) {
+          candidates.push_back(k);
+        }
+      }
+      std::sort(candidates.begin(), candidates.end(),
+                [&](std::size_t a, std::size_t b) { return residuals[a] > residuals[b]; });
+      bool more = false;
+      for (const std::size_t k : candidates) {
+        const int index = active[k];
+        double local_rel = 0.0;
+        try {
+          local_rel = localResidual(points_m, values_n, curl_weight, active, index);
+        } catch (const Error&) {
+          continue;  // without it the others determine no fit: it is needed, not contradicted
+        }
+        if (residuals[k] < kStandOutLocalRatio * std::max(local_rel, median_rel)) continue;
+        found.push_back(StandingOut{index, residuals[k], local_rel});
+        active.erase(active.begin() + static_cast<std::ptrdiff_t>(k));
+        more = true;
+        break;
+      }
+      if (!more) break;
+    }
+  } catch (const Error&) {
+    // The measurements left determine no fit: what was found so far stands.
+  }
+  return found;
+}
+
+namespace {
+
+/// chooseFieldModel's comparison of the candidates' scores over every measurement given.
+FieldModelChoice chooseAmongCandidates(const std::vector<Eigen::Vector3d>& points_m,
+                                       const std::vector<Eigen::Vector3d>& values_n) {
   FieldModelChoice choice;
   const FieldModelScore conservative = scoreOf(FieldModel::kConservative, 0.0, points_m, values_n);
   choice.scores.push_back(conservative);
@@ -313,6 +408,33 @@ FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
   choice.model = best->model;
   choice.curl_weight = best->curl_weight;
   return choice;
+}
+
+}  // namespace
+
+FieldModelChoice chooseFieldModel(const std::vector<Eigen::Vector3d>& points_m,
+                                  const std::vector<Eigen::Vector3d>& values_n, double floor_n) {
+  const FieldModelChoice first = chooseAmongCandidates(points_m, values_n);
+  if (!(floor_n < std::numeric_limits<double>::infinity())) return first;
+  const int most =
+      std::max(1, static_cast<int>(kStandOutShare * static_cast<double>(points_m.size())));
+  const std::vector<StandingOut> standing = findStandingOut(
+      points_m, values_n, curlWeightOf(first.model, first.curl_weight), most, floor_n);
+  if (standing.empty()) return first;
+  std::vector<bool> aside(points_m.size(), false);
+  for (const StandingOut& found : standing) aside[static_cast<std::size_t>(found.index)] = true;
+  std::vector<int> kept;
+  for (int k = 0; k < static_cast<int>(points_m.size()); ++k) {
+    if (!aside[static_cast<std::size_t>(k)]) kept.push_back(k);
+  }
+  try {
+    FieldModelChoice choice = chooseAmongCandidates(subset(points_m, kept), subset(values_n, kept));
+    for (const StandingOut& found : standing) choice.set_aside.push_back(found.index);
+    std::sort(choice.set_aside.begin(), choice.set_aside.end());
+    return choice;
+  } catch (const Error&) {
+    return first;  // the others alone determine no fit
+  }
 }
 
 MeasurementAgreement measurementAgreement(const WorkspaceGrid& grid,

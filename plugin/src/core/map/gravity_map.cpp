@@ -114,7 +114,9 @@ std::optional<FieldFit> GravityMap::fieldFit() {
   if (count < FieldFit::kMinMeasurements || count > FieldFit::kMaxMeasurements) return {};
   try {
     if (metadata_.field_model == FieldModel::kChoose) {
-      const FieldModelChoice choice = chooseFieldModel(points_m, values_n);
+      // Set aside what the others contradict beyond the measurements' repeatability.
+      const FieldModelChoice choice = chooseFieldModel(
+          points_m, values_n, kStandOutRepeatability * metadata_.parameters.eps_g_n);
       metadata_.field_model = choice.model;
       metadata_.curl_weight = choice.model == FieldModel::kCorrected ? choice.curl_weight : 0.0;
       metadata_.field_model_scores = choice.scores;
@@ -199,7 +201,8 @@ int GravityMap::convergedCount() const noexcept {
 bool GravityMap::isComplete() const noexcept {
   return std::all_of(vertices_.begin(), vertices_.end(), [](const auto& v) {
     return v.outcome == VertexOutcome::kConverged ||
-           (v.outcome == VertexOutcome::kUnreachable && v.provenance == VertexProvenance::kFilled);
+           ((v.outcome == VertexOutcome::kUnreachable || v.outcome == VertexOutcome::kLeftOut) &&
+            v.provenance == VertexProvenance::kFilled);
   });
 }
 

@@ -71,6 +71,18 @@ json vertexToJson(const WorkspaceGrid& grid, int index, const VertexEstimate& ve
   return object;
 }
 
+json reviewedToJson(const ReviewedMeasurement& reviewed) {
+  return json{{"vertex", reviewed.first.vertex},
+              {"point_m", vectorToJson(reviewed.first.point_m)},
+              {"value_n", vectorToJson(reviewed.first.value_n)},
+              {"residual_rel", reviewed.first.residual_rel},
+              {"local_rel", reviewed.first.local_rel},
+              {"again_point_m", vectorToJson(reviewed.again_point_m)},
+              {"again_value_n", vectorToJson(reviewed.again_value_n)},
+              {"again_residual_rel", reviewed.again_residual_rel},
+              {"left_out", reviewed.left_out}};
+}
+
 json workspaceToJson(const ExploredWorkspace& workspace) {
   json directions = json::array();
   for (const Eigen::Vector3d& u : workspace.directions()) directions.push_back(vectorToJson(u));
@@ -172,6 +184,14 @@ json mapToDocument(const GravityMap& map) {
   document["field_model"] = std::move(field_model);
   // Only maps corrected from another unit's map have one: a calibrated map's file is unchanged.
   if (metadata.prior) document["prior"] = priorToJson(*metadata.prior);
+  // Only maps whose calibration measured a point again have it.
+  if (!metadata.reviewed_measurements.empty()) {
+    json reviewed = json::array();
+    for (const ReviewedMeasurement& entry : metadata.reviewed_measurements) {
+      reviewed.push_back(reviewedToJson(entry));
+    }
+    document["reviewed_measurements"] = std::move(reviewed);
+  }
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.

@@ -458,6 +458,42 @@ MapPrior readPrior(const DocumentReader& reader, const json& value) {
   return prior;
 }
 
+std::vector<ReviewedMeasurement> readReviewed(const DocumentReader& reader, const json& value,
+                                              const WorkspaceGrid& grid) {
+  const std::string p = "/reviewed_measurements";
+  if (!value.is_array() || value.size() > static_cast<std::size_t>(grid.vertexCount())) {
+    reader.expected(p,
+                    "an array of at most " + std::to_string(grid.vertexCount()) +
+                        " reviewed measurements (one per vertex of the grid)",
+                    value);
+  }
+  std::vector<ReviewedMeasurement> reviewed;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const std::string at = p + "/" + std::to_string(i);
+    const json& entry = value[i];
+    reader.requireObject(entry, at,
+                         {"vertex", "point_m", "value_n", "residual_rel", "local_rel",
+                          "again_point_m", "again_value_n", "again_residual_rel", "left_out"});
+    ReviewedMeasurement measurement;
+    measurement.first.vertex = reader.integer(entry, at, "vertex", 0, grid.vertexCount() - 1);
+    measurement.first.point_m = reader.vector3(entry, at, "point_m", "m");
+    measurement.first.value_n = reader.vector3(entry, at, "value_n", "N");
+    measurement.first.residual_rel =
+        reader.number(entry, at, "residual_rel", Range::kNonNegative, "1");
+    measurement.first.local_rel = reader.number(entry, at, "local_rel", Range::kNonNegative, "1");
+    measurement.again_point_m = reader.vector3(entry, at, "again_point_m", "m");
+    measurement.again_value_n = reader.vector3(entry, at, "again_value_n", "N");
+    measurement.again_residual_rel =
+        reader.number(entry, at, "again_residual_rel", Range::kNonNegative, "1");
+    if (!entry.at("left_out").is_boolean()) {
+      reader.expected(at + "/left_out", "true or false", entry.at("left_out"));
+    }
+    measurement.left_out = entry.at("left_out").get<bool>();
+    reviewed.push_back(measurement);
+  }
+  return reviewed;
+}
+
 VertexEstimate readVertex(const DocumentReader& reader, const json& value,
                           const WorkspaceGrid& grid, int index) {
   const std::string p = "/vertices/" + std::to_string(index);
@@ -502,13 +538,22 @@ VertexEstimate readVertex(const DocumentReader& reader, const json& value,
   vertex.iterations = reader.integer(value, p, "iterations", 0, 1000000000);
   vertex.seconds = reader.number(value, p, "seconds", Range::kNonNegative, "s");
   const std::string outcome = reader.string(value, p, "outcome", true);
+  const bool has_left_out = reader.schemaVersion() >= 7;
   if (!parseVertexOutcome(outcome, vertex.outcome) ||
-      (!has_provenance && vertex.outcome == VertexOutcome::kUnreachable)) {
+      (!has_provenance && vertex.outcome == VertexOutcome::kUnreachable) ||
+      (!has_left_out && vertex.outcome == VertexOutcome::kLeftOut)) {
     reader.expected(p + "/outcome",
                     std::string("one of pending, converged, iteration_cap, no_steady_state, "
                                 "saturated, device_fault") +
-                        (has_provenance ? ", unreachable" : " (schema version 1)"),
+                        (has_left_out     ? ", unreachable, left_out"
+                         : has_provenance ? ", unreachable"
+                                          : " (schema version 1)"),
                     value.at("outcome"));
+  }
+  if (vertex.outcome == VertexOutcome::kLeftOut && !value.contains("measured_at_m")) {
+    reader.fail(p,
+                "a vertex left out keeps what it measured: measured_at_m and "
+                "measured_gravity_n are missing");
   }
   if (has_provenance) {
     const std::string provenance = reader.string(value, p, "provenance", true);
@@ -567,7 +612,12 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     }
     reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
-  if (reader.schemaVersion() >= 6) {
+  if (reader.schemaVersion() >= 7) {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "field_model", "parameters", "vertices", "checksum"},
+                         {"workspace", "prior", "reviewed_measurements"});
+  } else if (reader.schemaVersion() >= 6) {
     reader.requireObject(document, "",
                          {"format", "schema_version", "units", "device", "created_utc", "grid",
                           "field_model", "parameters", "vertices", "checksum"},
@@ -636,6 +686,10 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     metadata.workspace = readWorkspace(reader, document.at("workspace"));
   }
   if (document.contains("prior")) metadata.prior = readPrior(reader, document.at("prior"));
+  if (document.contains("reviewed_measurements")) {
+    metadata.reviewed_measurements =
+        readReviewed(reader, document.at("reviewed_measurements"), grid);
+  }
 
   const json& vertices_json = document.at("vertices");
   const auto vertex_count = static_cast<std::size_t>(grid.vertexCount());

@@ -27,12 +27,13 @@ IterationSpread spreadOf(const std::vector<int>& iterations) {
 
 bool isFailed(const VertexEstimate& vertex) noexcept {
   return vertex.outcome != VertexOutcome::kConverged && vertex.outcome != VertexOutcome::kPending &&
-         vertex.outcome != VertexOutcome::kUnreachable;
+         vertex.outcome != VertexOutcome::kUnreachable && vertex.outcome != VertexOutcome::kLeftOut;
 }
 
 bool holdsNoValue(const VertexEstimate& vertex) noexcept {
   return vertex.provenance != VertexProvenance::kFilled &&
-         (isFailed(vertex) || vertex.outcome == VertexOutcome::kUnreachable);
+         (isFailed(vertex) || vertex.outcome == VertexOutcome::kUnreachable ||
+          vertex.outcome == VertexOutcome::kLeftOut);
 }
 
 bool needsAnotherVisit(const VertexEstimate& vertex) noexcept {
@@ -56,6 +57,7 @@ MapSummary summarizeVertices(const std::vector<VertexEstimate>& vertices) {
     summary.seconds += vertex.seconds;
     summary.pending += vertex.outcome == VertexOutcome::kPending;
     summary.unreachable += vertex.outcome == VertexOutcome::kUnreachable;
+    summary.left_out += vertex.outcome == VertexOutcome::kLeftOut;
     summary.filled += vertex.provenance == VertexProvenance::kFilled;
     const ValueKind kind = valueKind(vertex);
     summary.at_vertex += kind == ValueKind::kAtVertex;

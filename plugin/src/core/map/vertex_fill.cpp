@@ -129,7 +129,8 @@ int fillUnreachableVertices(const WorkspaceGrid& grid, std::vector<VertexEstimat
     return measured(v) && !v.measuredOffVertex();
   };
   const auto to_fill = [&](const VertexEstimate& v) {
-    return v.outcome == VertexOutcome::kUnreachable || (measured(v) && v.measuredOffVertex());
+    return v.outcome == VertexOutcome::kUnreachable || v.outcome == VertexOutcome::kLeftOut ||
+           (measured(v) && v.measuredOffVertex());
   };
   const auto is_known = [&](int index) {
     return measured_here(vertices[static_cast<std::size_t>(index)]);

@@ -11,7 +11,7 @@ struct OutcomeName {
   const char* name;
 };
 
-constexpr std::array<OutcomeName, 7> kOutcomeNames{{
+constexpr std::array<OutcomeName, 8> kOutcomeNames{{
     {VertexOutcome::kPending, "pending"},
     {VertexOutcome::kConverged, "converged"},
     {VertexOutcome::kIterationCap, "iteration_cap"},
@@ -19,6 +19,7 @@ constexpr std::array<OutcomeName, 7> kOutcomeNames{{
     {VertexOutcome::kSaturated, "saturated"},
     {VertexOutcome::kDeviceFault, "device_fault"},
     {VertexOutcome::kUnreachable, "unreachable"},
+    {VertexOutcome::kLeftOut, "left_out"},
 }};
 
 }  // namespace

@@ -1,0 +1,94 @@
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "autograv/map/explored_workspace.h"
+#include "autograv/map/field_fit.h"
+#include "autograv/map/workspace_grid.h"
+#include "autograv/types/vertex_estimate.h"
+
+namespace autograv {
+
+/// A measurement that the others contradict (findStandingOut), by vertex.
+struct StandingOutMeasurement {
+  int vertex = -1;                                    ///< Grid index.
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  ///< Where it was measured. Unit: [m]
+  Eigen::Vector3d value_n = Eigen::Vector3d::Zero();  ///< What was measured. Unit: [N]
+  double residual_rel = 0.0;                          ///< |leave-one-out residual| / |value|.
+  /// The same figure of the measurements around it (StandingOut::local_rel).
+  double local_rel = 0.0;
+};
+
+/// A measurement that stood out, measured again, and what became of it: what a map keeps of its
+/// calibration's review (MapMetadata::reviewed_measurements).
+struct ReviewedMeasurement {
+  /// As it stood out the first time (its vertex, point, value and residuals).
+  StandingOutMeasurement first;
+  /// Where it was measured again. Unit: [m]
+  Eigen::Vector3d again_point_m = Eigen::Vector3d::Zero();
+  /// What it measured there (zero when the second hold did not converge). Unit: [N]
+  Eigen::Vector3d again_value_n = Eigen::Vector3d::Zero();
+  /// |leave-one-out residual| / |value| of the second measurement (0 when it did not converge).
+  double again_residual_rel = 0.0;
+  /// The second measurement stood out too: the vertex is left out of the fit
+  /// (VertexOutcome::kLeftOut), its value solved from the others.
+  bool left_out = false;
+};
+
+/// What judging every measurement against the others found.
+struct MeasurementJudgement {
+  FieldModel model = FieldModel::kConservative;  ///< The model the residuals are those of.
+  double curl_weight = 0.0;                      ///< Of that model's fit.
+  int measurements = 0;                          ///< Measurements judged.
+  /// The measurements that stand out (findStandingOut, at most kStandOutShare of them), the most
+  /// contradicted first.
+  std::vector<StandingOutMeasurement> standing_out;
+  /// Every judged measurement's vertex and residual / |value|, in vertex order.
+  std::vector<std::pair<int, double>> residuals_rel;
+};
+
+/// Judges every converged measurement of `vertices` against the others (findStandingOut), under
+/// the model chooseFieldModel keeps for them, with the repeatability kStandOutRepeatability times
+/// `eps_g_n`, the calibration's eps_G (EstimationParameters::eps_g_n). Nothing stands out where
+/// fewer than kStandOutMinMeasurements were made or they determine no fit. Needs no ground truth.
+/// Not real-time safe: a few dense solves, about a second for a 5x5x5 plan.
+MeasurementJudgement judgeMeasurements(const WorkspaceGrid& grid,
+                                       const std::vector<VertexEstimate>& vertices, double eps_g_n);
+
+/// How deep inside the explored workspace a measurement that stood out is measured again when
+/// it was closer to the boundary: the margin the points kept before they came to
+/// kBoundaryMargin_m, at which no calibration of the simulated devices measured a stop's
+/// reaction. Unit: [m]
+inline constexpr double kRemeasureDepth_m = 0.004;
+
+/// Where a measurement made at `point_m` that stood out is measured again: kRemeasureDepth_m
+/// inside `workspace` along its ray from the centre, or `point_m` itself when it lies deeper or
+/// no workspace was explored (the same hold again: a slip, a knock, is not repeated). Unit: [m]
+Eigen::Vector3d remeasurePoint_m(const ExploredWorkspace& workspace,
+                                 const Eigen::Vector3d& point_m) noexcept;
+
+/// The first half of a calibration's review, after its pass over the plan: the measurements of
+/// `vertices` that stand out (judgeMeasurements), each with the point it is to be measured at
+/// again (remeasurePoint_m in `workspace`); `eps_g_n` as judgeMeasurements takes it. Measure them
+/// there (AutoCalibrator::remeasureAt) in the pass that redoes the failed vertices, then call
+/// concludeReview. Not real-time safe.
+std::vector<ReviewedMeasurement> planReview(const WorkspaceGrid& grid,
+                                            const std::vector<VertexEstimate>& vertices,
+                                            const ExploredWorkspace& workspace, double eps_g_n);
+
+/// The second half: judges the measurements again (`eps_g_n` as judgeMeasurements takes it),
+/// completes each entry of `reviewed` with what its vertex measured the second time, and leaves out
+/// of the fit (leaveOut) every vertex of `reviewed` that stands out again. A vertex whose second
+/// hold did not converge keeps that outcome. Throws autograv::Error when `vertices` does not match
+/// `grid`. Not real-time safe.
+void concludeReview(const WorkspaceGrid& grid, std::vector<VertexEstimate>& vertices,
+                    std::vector<ReviewedMeasurement>& reviewed, double eps_g_n);
+
+/// Marks `vertex` left out of the fit: its outcome kLeftOut, what it measured and where kept in
+/// measured_at_m / measured_gravity_n (the fill then gives its value from the others).
+void leaveOut(VertexEstimate& vertex, const Eigen::Vector3d& vertex_m) noexcept;
+
+}  // namespace autograv

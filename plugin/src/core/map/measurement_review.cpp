@@ -1,0 +1,105 @@
+#include "autograv/map/measurement_review.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "autograv/error.h"
+
+namespace autograv {
+
+MeasurementJudgement judgeMeasurements(const WorkspaceGrid& grid,
+                                       const std::vector<VertexEstimate>& vertices,
+                                       double eps_g_n) {
+  MeasurementJudgement judgement;
+  std::vector<Eigen::Vector3d> points_m, values_n;
+  std::vector<int> vertex_of;
+  collectMeasurements(grid, vertices, points_m, values_n, &vertex_of);
+  judgement.measurements = static_cast<int>(points_m.size());
+  if (judgement.measurements < kStandOutMinMeasurements ||
+      judgement.measurements > FieldFit::kMaxMeasurements) {
+    return judgement;
+  }
+  try {
+    const FieldModelChoice choice =
+        chooseFieldModel(points_m, values_n, kStandOutRepeatability * eps_g_n);
+    judgement.model = choice.model;
+    judgement.curl_weight = curlWeightOf(choice.model, choice.curl_weight);
+    const std::vector<Eigen::Vector3d> residuals_n =
+        leaveOneOutResiduals_n(points_m, values_n, judgement.curl_weight);
+    for (std::size_t k = 0; k < residuals_n.size(); ++k) {
+      judgement.residuals_rel.emplace_back(
+          vertex_of[k], residuals_n[k].norm() / std::max(values_n[k].norm(), 1e-12));
+    }
+  } catch (const Error&) {
+    return judgement;  // measurements that determine no fit: nothing to judge them by
+  }
+  const int most = std::max(1, static_cast<int>(kStandOutShare * judgement.measurements));
+  for (const StandingOut& found : findStandingOut(points_m, values_n, judgement.curl_weight, most,
+                                                  kStandOutRepeatability * eps_g_n)) {
+    const auto k = static_cast<std::size_t>(found.index);
+    StandingOutMeasurement measurement;
+    measurement.vertex = vertex_of[k];
+    measurement.point_m = points_m[k];
+    measurement.value_n = values_n[k];
+    measurement.residual_rel = found.residual_rel;
+    measurement.local_rel = found.local_rel;
+    judgement.standing_out.push_back(measurement);
+  }
+  return judgement;
+}
+
+Eigen::Vector3d remeasurePoint_m(const ExploredWorkspace& workspace,
+                                 const Eigen::Vector3d& point_m) noexcept {
+  if (workspace.empty() || workspace.depth_m(point_m) >= kRemeasureDepth_m) return point_m;
+  return workspace.pullInside(point_m, kRemeasureDepth_m);
+}
+
+std::vector<ReviewedMeasurement> planReview(const WorkspaceGrid& grid,
+                                            const std::vector<VertexEstimate>& vertices,
+                                            const ExploredWorkspace& workspace, double eps_g_n) {
+  std::vector<ReviewedMeasurement> reviewed;
+  for (const StandingOutMeasurement& found :
+       judgeMeasurements(grid, vertices, eps_g_n).standing_out) {
+    ReviewedMeasurement entry;
+    entry.first = found;
+    entry.again_point_m = remeasurePoint_m(workspace, found.point_m);
+    reviewed.push_back(entry);
+  }
+  return reviewed;
+}
+
+void concludeReview(const WorkspaceGrid& grid, std::vector<VertexEstimate>& vertices,
+                    std::vector<ReviewedMeasurement>& reviewed, double eps_g_n) {
+  if (static_cast<int>(vertices.size()) != grid.vertexCount()) {
+    throw Error("measurement review: " + std::to_string(vertices.size()) +
+                " vertex estimates for a grid of " + std::to_string(grid.vertexCount()));
+  }
+  if (reviewed.empty()) return;
+  const MeasurementJudgement judgement = judgeMeasurements(grid, vertices, eps_g_n);
+  for (ReviewedMeasurement& entry : reviewed) {
+    const int index = entry.first.vertex;
+    if (index < 0 || index >= grid.vertexCount()) continue;
+    VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
+    if (vertex.outcome != VertexOutcome::kConverged) continue;
+    entry.again_point_m = vertex.measuredAt_m(grid.vertexPosition(index));
+    entry.again_value_n = vertex.measuredGravity_n();
+    for (const auto& [judged, residual] : judgement.residuals_rel) {
+      if (judged == index) entry.again_residual_rel = residual;
+    }
+    entry.left_out =
+        std::any_of(judgement.standing_out.begin(), judgement.standing_out.end(),
+                    [index](const StandingOutMeasurement& found) { return found.vertex == index; });
+    if (entry.left_out) leaveOut(vertex, grid.vertexPosition(index));
+  }
+}
+
+void leaveOut(VertexEstimate& vertex, const Eigen::Vector3d& vertex_m) noexcept {
+  const Eigen::Vector3d at_m = vertex.measuredAt_m(vertex_m);
+  const Eigen::Vector3d value_n = vertex.measuredGravity_n();
+  vertex.measured_at_m = at_m;
+  vertex.measured_gravity_n = value_n;
+  vertex.outcome = VertexOutcome::kLeftOut;
+}
+
+}  // namespace autograv
