@@ -67,6 +67,12 @@ void printCalibrationOutcome(const CalibrationOutcome& outcome,
     const VertexEstimate& v = map.vertices()[static_cast<std::size_t>(index)];
     std::printf("  vertex %d: %s after %d iterations\n", index, toString(v.outcome), v.iterations);
   }
+  const std::vector<ReviewedMeasurement>& reviewed = map.metadata().reviewed_measurements;
+  std::printf("%-34s %zu measured again, %d left out of the fit\n",
+              "measurements the others contradict", reviewed.size(), summary.left_out);
+  for (const std::string& line : describeReviewedMeasurements(reviewed)) {
+    std::printf("  %s\n", line.c_str());
+  }
 }
 
 nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
@@ -132,6 +138,7 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
   addFieldErrorJson(report, outcome.field);
   addAgreementJson(report, outcome.agreement);
   addFieldModelJson(report, map);
+  addReviewedJson(report, map);
   report["servo_timing"] = sim::toString(outcome.servo_timing);
   report["servo_timing_seed"] = outcome.servo_timing_seed;
   report["servo_loop"] = servoLoopJson(outcome.servo_timing, result.servo_loop);

@@ -279,6 +279,43 @@ void addFieldModelJson(nlohmann::json& report, const GravityMap& map) {
   report["field_model_scores"] = std::move(scores);
 }
 
+std::vector<std::string> describeReviewedMeasurements(
+    const std::vector<ReviewedMeasurement>& reviewed) {
+  std::vector<std::string> lines;
+  for (const ReviewedMeasurement& entry : reviewed) {
+    const Eigen::Vector3d first_mm = 1e3 * entry.first.point_m;
+    const Eigen::Vector3d again_mm = 1e3 * entry.again_point_m;
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "vertex %d: %.2f %% off the others at (%.1f, %.1f, %.1f) mm (around it %.2f %%); "
+                  "again at (%.1f, %.1f, %.1f) mm: %.2f %%, %s",
+                  entry.first.vertex, 100.0 * entry.first.residual_rel, first_mm.x(), first_mm.y(),
+                  first_mm.z(), 100.0 * entry.first.local_rel, again_mm.x(), again_mm.y(),
+                  again_mm.z(), 100.0 * entry.again_residual_rel,
+                  entry.left_out ? "left out of the fit" : "kept");
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+void addReviewedJson(nlohmann::json& report, const GravityMap& map) {
+  nlohmann::json reviewed = nlohmann::json::array();
+  int left_out = 0;
+  for (const ReviewedMeasurement& entry : map.metadata().reviewed_measurements) {
+    left_out += entry.left_out ? 1 : 0;
+    reviewed.push_back({{"vertex", entry.first.vertex},
+                        {"point_m", vectorJson(entry.first.point_m)},
+                        {"residual_rel", entry.first.residual_rel},
+                        {"local_rel", entry.first.local_rel},
+                        {"again_point_m", vectorJson(entry.again_point_m)},
+                        {"again_residual_rel", entry.again_residual_rel},
+                        {"left_out", entry.left_out}});
+  }
+  report["measured_again"] = reviewed.size();
+  report["left_out"] = left_out;
+  report["reviewed_measurements"] = std::move(reviewed);
+}
+
 AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged) {
   AgreementText text;
   text.field_model = describeFieldModel(map);

@@ -147,6 +147,14 @@ std::vector<std::string> describeFieldModelScores(const std::vector<FieldModelSc
 /// Adds field_model, field_model_curl_weight and field_model_scores (each candidate's name,
 /// curl weight and leave-one-out median, p90 and rms over |G_hat|) to a JSON report.
 void addFieldModelJson(nlohmann::json& report, const GravityMap& map);
+/// One line per measurement the calibration measured again because the others contradicted it
+/// (MapMetadata::reviewed_measurements): where, how far off, where measured again, and whether
+/// it was kept or left out of the fit.
+std::vector<std::string> describeReviewedMeasurements(
+    const std::vector<ReviewedMeasurement>& reviewed);
+/// Adds measured_again, left_out and reviewed_measurements (each one's vertex, points and
+/// leave-one-out figures over |G_hat|) to a JSON report.
+void addReviewedJson(nlohmann::json& report, const GravityMap& map);
 
 /// For a servo loop on hardware: raises the calling thread, which is about to run the loop, to
 /// real-time priority where the system permits (enterRealTimePriority) and says on stderr what to

@@ -166,6 +166,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
   workspace_coverage = sim::deviceWorkspaceCoverage(*device, grid);
   metadata.lookup_refinement =
       lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
+  metadata.reviewed_measurements = result.reviewed_measurements;
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);

@@ -154,6 +154,14 @@ void runInspectCommand(const InspectOptions& options) {
   const AgreementText agreement = describeAgreement(map, judgeAgreement(map));
   printRow("leave-one-out", "each measurement from the fit of the others: " + agreement.summary);
   if (!agreement.least_sure.empty()) printRow("", agreement.least_sure);
+  // The calibration's own review: measurements the others contradicted, measured again.
+  const std::vector<std::string> reviewed =
+      describeReviewedMeasurements(metadata.reviewed_measurements);
+  printRow("measured again",
+           reviewed.empty() ? std::string("none: no measurement stood out from the others")
+                            : std::to_string(reviewed.size()) + " that the others contradicted, " +
+                                  std::to_string(summary.left_out) + " left out of the fit");
+  for (const std::string& line : reviewed) printRow("", line);
   if (!norms_n.empty()) {
     const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
     printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,

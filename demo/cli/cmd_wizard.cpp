@@ -206,7 +206,7 @@ class FrontEnd {
         break;
       case WizardStep::kReview:
         if (!status.review_valid) return;
-        if (!status.review.failed.empty() && !redo_done_) {
+        if (offersRedo(status.review) && !redo_done_) {
           redo_done_ = true;
           wizard_.post(WizardEvent::kRedoFailed);
         } else {
@@ -669,6 +669,9 @@ void runWizardCommand(const WizardOptions& options) {
   report["seconds_above_continuous_force"] = force_watch.seconds_above_continuous;
   report["force_limit_ticks"] = force_watch.limit_ticks;
   addServoPriorityJson(report, servo.priority());
+  if (const std::shared_ptr<const GravityMap> saved = wizard.savedMap()) {
+    addReviewedJson(report, *saved);
+  }
   // On a simulation, the field where the hand can be against its ground truth (scoring only),
   // as `autograv calibrate` reports it.
   std::optional<sim::FieldErrorReport> field;

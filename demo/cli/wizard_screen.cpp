@@ -97,8 +97,8 @@ std::string keyHelp(const WizardStatus& status, const ScreenContext& context, bo
       break;
     case WizardStep::kReview:
       keys.push_back("Enter save");
-      if (!status.review.failed.empty() || status.review.pending > 0) {
-        keys.push_back("r redo failed");
+      if (offersRedo(status.review)) {
+        keys.push_back("r redo");
       }
       break;
     case WizardStep::kSave:

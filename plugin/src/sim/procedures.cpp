@@ -11,6 +11,8 @@
 #include "autograv/estimation/initialization_estimator.h"
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_summary.h"
+#include "autograv/map/measurement_review.h"
+#include "autograv/map/vertex_fill.h"
 #include "autograv/sim/paper_frame.h"
 #include "core/estimation/vertex_estimator.h"
 
@@ -273,6 +275,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
 
   double next_progress_s = device.time_s();
   AutoCalibrator::Status status = AutoCalibrator::Status::kMoving;
+  bool reviewed = false;  // planReview ran
   while (device.time_s() - start_s < options.timeout_s) {
     if (options.stop_requested != nullptr && options.stop_requested->load()) {
       result.stopped = true;
@@ -291,12 +294,26 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
       options.on_progress(calibrator);
       next_progress_s = device.time_s() + options.progress_period_s;
     }
-    if (status == AutoCalibrator::Status::kFinished && result.redo_passes < options.redo_passes) {
+    if (status == AutoCalibrator::Status::kFinished &&
+        (result.redo_passes < options.redo_passes || (options.review_measurements && !reviewed))) {
       std::vector<int> failed;
       const std::vector<VertexEstimate>& vertices = calibrator.vertices();
-      for (int i = 0; i < grid.vertexCount(); ++i) {
-        // An unreachable vertex would hit the same stop again: it is filled, not redone.
-        if (needsAnotherVisit(vertices[static_cast<std::size_t>(i)])) failed.push_back(i);
+      if (result.redo_passes < options.redo_passes) {
+        for (int i = 0; i < grid.vertexCount(); ++i) {
+          // An unreachable vertex would hit the same stop again: it is filled, not redone.
+          if (needsAnotherVisit(vertices[static_cast<std::size_t>(i)])) failed.push_back(i);
+        }
+      }
+      if (options.review_measurements && !reviewed) {
+        // The measurements judged against one another, once, after the plan (and in the same
+        // pass as the failed vertices, as the wizard's Review does).
+        reviewed = true;
+        result.reviewed_measurements =
+            planReview(grid, vertices, result.workspace, parameters.eps_g_n);
+        for (const ReviewedMeasurement& entry : result.reviewed_measurements) {
+          calibrator.remeasureAt(entry.first.vertex, entry.again_point_m);
+          failed.push_back(entry.first.vertex);
+        }
       }
       if (!failed.empty()) {
         // Between ticks, as the wizard's redo: from where the end-effector is, with the last
@@ -324,7 +341,12 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   if (options.on_progress) options.on_progress(calibrator);
   device.setForce(Eigen::Vector3d::Zero());
   result.status = status;
-  result.vertices = calibrator.makeMap(MapMetadata{}).vertices();  // solved from all measurements
+  // Solved from every measurement that stands (concludeReview leaves out the contradicted ones).
+  result.vertices = calibrator.vertices();
+  if (!result.stopped && status == AutoCalibrator::Status::kFinished) {
+    concludeReview(grid, result.vertices, result.reviewed_measurements, parameters.eps_g_n);
+  }
+  fillUnreachableVertices(grid, result.vertices);
   result.simulated_seconds = device.time_s() - start_s;
   result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
   result.peak_force_n = calibrator.peakForce_n();

@@ -130,6 +130,10 @@ struct CalibrationRunOptions {
   /// the wizard's Review offers a user): a vertex that missed its steady state once, because of
   /// an encoder's one-count dither, usually settles on a second visit.
   int redo_passes = 1;
+  /// After the grid, judge the measurements against one another (planReview): those that stand
+  /// out are measured again, further from the stops, in the first redo pass (as the wizard's
+  /// Review does), and those that stand out again are left out of the fit (concludeReview).
+  bool review_measurements = true;
 };
 
 /// What runSimulatedCalibration measured.
@@ -158,6 +162,8 @@ struct CalibrationRunResult {
   bool stopped = false;                ///< stop_requested was honoured.
   int redo_passes = 0;                 ///< Passes over failed vertices actually run.
   int redone_vertices = 0;             ///< Vertex visits made by those passes.
+  /// The measurements that stood out, measured again, and whether each was left out.
+  std::vector<ReviewedMeasurement> reviewed_measurements;
   ServoLoopStats::Summary servo_loop;  ///< What the servo loop did, initialization included.
 };
 

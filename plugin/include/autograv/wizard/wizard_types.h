@@ -211,7 +211,20 @@ struct WizardReview {
   int unreachable = 0;
   /// Converged vertices that came from the checkpoint of an earlier run.
   int restored = 0;
+  /// Converged measurements that the others contradict (planReview): the redo measures each
+  /// again, further from the stops (again_point_m); one that still stands out is left out of the
+  /// saved map (concludeReview), its value solved from the others.
+  std::vector<ReviewedMeasurement> measure_again;
+  /// True once the redo took measure_again to the device.
+  bool measured_again = false;
 };
+
+/// True when a redo has something to do: vertices that failed or were never visited, or
+/// contradicted measurements not yet measured again. Real-time safe.
+inline bool offersRedo(const WizardReview& review) noexcept {
+  return !review.failed.empty() || review.pending > 0 ||
+         (!review.measure_again.empty() && !review.measured_again);
+}
 
 /// What the device was made to deliver so far: figures from the forces the wizard sent to the
 /// device's driver (its own commands plus its compensation, after the force limit), so a real

@@ -580,6 +580,27 @@ void AutoCalibrator::visitInOrder(const std::vector<int>& indices) { impl_->visi
 
 void AutoCalibrator::setPlan(const MeasurementPlan& plan) { impl_->setPlan(plan); }
 
+void AutoCalibrator::remeasureAt(int index, const Eigen::Vector3d& point_m) {
+  if (index < 0 || index >= impl_->grid_.vertexCount() || !point_m.allFinite()) {
+    std::ostringstream message;
+    message << "auto-calibrator: cannot measure vertex " << index << " again at ["
+            << point_m.transpose() << "] m: the index must lie in 0.."
+            << impl_->grid_.vertexCount() - 1 << " and the point be finite";
+    throw Error(message.str());
+  }
+  const auto i = static_cast<std::size_t>(index);
+  impl_->targets_[i] = point_m;
+  impl_->met_stop_[i] = false;
+  VertexEstimate& vertex = impl_->vertices_[i];
+  vertex.outcome = VertexOutcome::kPending;
+  vertex.provenance = VertexProvenance::kMeasured;
+  vertex.iterations = 0;
+  vertex.seconds = 0.0;
+  vertex.history.clear();
+  vertex.measured_at_m = VertexEstimate().measured_at_m;
+  vertex.measured_gravity_n.setZero();
+}
+
 const Eigen::Vector3d& AutoCalibrator::measurementPoint_m(int index) const noexcept {
   return impl_->targets_[static_cast<std::size_t>(index)];
 }

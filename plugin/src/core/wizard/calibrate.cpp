@@ -113,7 +113,7 @@ class PromptAnswers {
         return status.check_issue == CheckIssue::kNone;
       case WizardStep::kReview:
         if (!status.review_valid || !status.waiting_for_user) return true;
-        if (!redo_posted_ && (!status.review.failed.empty() || status.review.pending > 0)) {
+        if (!redo_posted_ && offersRedo(status.review)) {
           redo_posted_ = true;
           wizard.post(WizardEvent::kRedoFailed);
         } else {

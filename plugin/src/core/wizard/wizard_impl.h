@@ -362,6 +362,11 @@ struct CalibrationWizard::Impl {
   std::string save_error_;
   bool map_saved_ = false;
   std::string redo_message_;
+  // The measurements the others contradicted (planReview, at the first review), where each is
+  // measured again, and whether the redo has taken them to the calibrator.
+  std::vector<ReviewedMeasurement> reviewed_;
+  bool review_planned_ = false;
+  bool remeasure_sent_ = false;
 };
 
 }  // namespace autograv

@@ -14,6 +14,7 @@
 #include "autograv/estimation/workspace_explorer.h"
 #include "autograv/map/map_io.h"
 #include "autograv/map/map_summary.h"
+#include "autograv/map/measurement_review.h"
 #include "autograv/map/vertex_fill.h"
 #include "core/wizard/wizard_impl.h"
 
@@ -397,7 +398,15 @@ void CalibrationWizard::Impl::service() {
 }
 
 void CalibrationWizard::Impl::buildReview() {
-  WizardReview review = reviewOf(grid_, mirrorCopy(nullptr), restored_);
+  const std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
+  WizardReview review = reviewOf(grid_, vertices, restored_);
+  if (!review_planned_) {
+    // Once, after the pass over the plan: the measurements the others contradict.
+    review_planned_ = true;
+    reviewed_ = planReview(grid_, vertices, workspace_, config_.advanced.parameters.eps_g_n);
+  }
+  review.measure_again = reviewed_;
+  review.measured_again = remeasure_sent_;
   {
     wizard::ScopedLock lock(live_busy_);
     review.lipschitz_n_per_m = live_shared_.lipschitz_n_per_m;
@@ -409,7 +418,14 @@ void CalibrationWizard::Impl::buildReview() {
 
 void CalibrationWizard::Impl::prepareRedo() {
   // An unreachable vertex would hit the same stop again (needsAnotherVisit).
-  const std::vector<int> redo = summarizeVertices(mirrorCopy(nullptr)).to_visit_again;
+  std::vector<int> redo = summarizeVertices(mirrorCopy(nullptr)).to_visit_again;
+  if (!remeasure_sent_) {
+    for (const ReviewedMeasurement& entry : reviewed_) {
+      calibrator_->remeasureAt(entry.first.vertex, entry.again_point_m);
+      redo.push_back(entry.first.vertex);
+    }
+    remeasure_sent_ = true;
+  }
   if (redo.empty()) {
     redo_message_ = "Nothing to redo: every reachable vertex converged.";
     replies_.fetch_or(wizard::kReplyNothingToRedo, std::memory_order_acq_rel);
@@ -466,8 +482,13 @@ void CalibrationWizard::Impl::saveAndPrepareVerify() {
   std::vector<VertexEstimate> vertices = mirrorCopy(nullptr);
   std::shared_ptr<const GravityMap> map;
   try {
+    // Judged again: what still stands out is left out of the fit (measured again or not).
+    std::vector<ReviewedMeasurement> reviewed = reviewed_;
+    concludeReview(grid_, vertices, reviewed, config_.advanced.parameters.eps_g_n);
     fillUnreachableVertices(grid_, vertices);
-    map = std::make_shared<const GravityMap>(grid_, vertices, metadata());
+    MapMetadata map_metadata = metadata();
+    map_metadata.reviewed_measurements = std::move(reviewed);
+    map = std::make_shared<const GravityMap>(grid_, vertices, std::move(map_metadata));
     saveMap(*map, config_.map_path);
   } catch (const Error& error) {
     save_error_ = error.what();

@@ -314,17 +314,38 @@ WizardStatus CalibrationWizard::Impl::status() const {
                 << format("%.0f", row.position_m.z() * 1e3) << ") mm: " << toString(row.outcome)
                 << " after " << row.iterations << " iterations";
       }
+      if (!r.measure_again.empty()) {
+        message << "\n"
+                << r.measure_again.size()
+                << (r.measured_again ? " measured again because the others contradicted them"
+                                     : " to measure again: the others contradict them")
+                << " (one that still stands out is left out of the map):";
+        for (const ReviewedMeasurement& entry : r.measure_again) {
+          message << "\n  vertex #" << entry.first.vertex << " at ("
+                  << format("%.1f", entry.first.point_m.x() * 1e3) << ", "
+                  << format("%.1f", entry.first.point_m.y() * 1e3) << ", "
+                  << format("%.1f", entry.first.point_m.z() * 1e3)
+                  << ") mm: " << format("%.2f", 100.0 * entry.first.residual_rel)
+                  << " % off the others (" << format("%.2f", 100.0 * entry.first.local_rel)
+                  << " % around it)";
+        }
+      }
       if (!redo_message_.empty()) message << "\n" << redo_message_;
       if (!s.servo_warning.empty()) message << "\nWarning: " << s.servo_warning;
       s.waiting_for_user = true;
       if (live.awaiting_service) {
         message << "\nPreparing the redo...";
         s.waiting_for_user = false;
-      } else if (r.failed.empty() && r.pending == 0) {
+      } else if (!offersRedo(r)) {
         s.prompt = "Press Enter to save the map.";
-      } else {
+      } else if (r.measure_again.empty() || r.measured_again) {
         s.prompt = "Press r to redo the " + std::to_string(r.failed.size() + r.pending) +
                    " vertices that did not converge, or Enter to save the map as it is.";
+      } else {
+        s.prompt = "Press r to redo the " + std::to_string(r.failed.size() + r.pending) +
+                   " vertices that did not converge and measure the " +
+                   std::to_string(r.measure_again.size()) +
+                   " contradicted ones again, or Enter to save the map as it is.";
       }
       break;
     }
