@@ -279,6 +279,26 @@ void addFieldModelJson(nlohmann::json& report, const GravityMap& map) {
   report["field_model_scores"] = std::move(scores);
 }
 
+namespace {
+
+const char* describe(ReviewVerdict verdict) {
+  switch (verdict) {
+    case ReviewVerdict::kConfirmed:
+      return "confirmed (a steep field), the first kept";
+    case ReviewVerdict::kReplaced:
+      return "the first was wrong, the second kept";
+    case ReviewVerdict::kLeftOut:
+      return "both contradicted, left out of the fit";
+    case ReviewVerdict::kNotMeasuredAgain:
+      return "not measured again, the vertex kept as it was";
+    case ReviewVerdict::kPending:
+      break;
+  }
+  return "not concluded";
+}
+
+}  // namespace
+
 std::vector<std::string> describeReviewedMeasurements(
     const std::vector<ReviewedMeasurement>& reviewed) {
   std::vector<std::string> lines;
@@ -288,11 +308,13 @@ std::vector<std::string> describeReviewedMeasurements(
     char line[320];
     std::snprintf(line, sizeof line,
                   "vertex %d: %.2f %% off the others at (%.1f, %.1f, %.1f) mm (around it %.2f %%); "
-                  "again at (%.1f, %.1f, %.1f) mm: %.2f %%, %s",
+                  "again at (%.1f, %.1f, %.1f) mm: %.2f %%, %.2f %% from the first: %s",
                   entry.first.vertex, 100.0 * entry.first.residual_rel, first_mm.x(), first_mm.y(),
                   first_mm.z(), 100.0 * entry.first.local_rel, again_mm.x(), again_mm.y(),
                   again_mm.z(), 100.0 * entry.again_residual_rel,
-                  entry.left_out ? "left out of the fit" : "kept");
+                  100.0 * (entry.again_value_n - entry.first.value_n).norm() /
+                      std::max(entry.first.value_n.norm(), 1e-12),
+                  describe(entry.verdict));
     lines.push_back(line);
   }
   return lines;
@@ -302,14 +324,16 @@ void addReviewedJson(nlohmann::json& report, const GravityMap& map) {
   nlohmann::json reviewed = nlohmann::json::array();
   int left_out = 0;
   for (const ReviewedMeasurement& entry : map.metadata().reviewed_measurements) {
-    left_out += entry.left_out ? 1 : 0;
+    left_out += entry.verdict == ReviewVerdict::kLeftOut ? 1 : 0;
     reviewed.push_back({{"vertex", entry.first.vertex},
                         {"point_m", vectorJson(entry.first.point_m)},
                         {"residual_rel", entry.first.residual_rel},
                         {"local_rel", entry.first.local_rel},
                         {"again_point_m", vectorJson(entry.again_point_m)},
                         {"again_residual_rel", entry.again_residual_rel},
-                        {"left_out", entry.left_out}});
+                        {"again_value_n", vectorJson(entry.again_value_n)},
+                        {"value_n", vectorJson(entry.first.value_n)},
+                        {"verdict", toString(entry.verdict)}});
   }
   report["measured_again"] = reviewed.size();
   report["left_out"] = left_out;

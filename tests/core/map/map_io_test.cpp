@@ -738,7 +738,7 @@ GravityMap withLeftOut(const GravityMap& map) {
   reviewed.again_point_m = left.measured_at_m;
   reviewed.again_value_n = left.measured_gravity_n;
   reviewed.again_residual_rel = 0.05;
-  reviewed.left_out = true;
+  reviewed.verdict = ReviewVerdict::kLeftOut;
   metadata.reviewed_measurements = {reviewed};
   return GravityMap(map.grid(), std::move(vertices), std::move(metadata));
 }
@@ -766,7 +766,7 @@ TEST(MapIoTest, AVertexLeftOutAndTheReviewRoundTripBitForBit) {
   EXPECT_EQ(a.again_point_m, b.again_point_m);
   EXPECT_EQ(a.again_value_n, b.again_value_n);
   EXPECT_EQ(a.again_residual_rel, b.again_residual_rel);
-  EXPECT_EQ(a.left_out, b.left_out);
+  EXPECT_EQ(a.verdict, b.verdict);
   saveMap(loaded, folder.file("again.json"));
   EXPECT_EQ(readText(folder.file("reviewed.json")), readText(folder.file("again.json")));
 }
@@ -794,8 +794,8 @@ TEST(MapIoTest, ALeftOutVertexOrAReviewThatAnOlderSchemaCannotHoldIsRefusedByNam
       {"review of a vertex beyond the grid",
        [](json& d) { d["reviewed_measurements"][0]["vertex"] = 125; },
        "field /reviewed_measurements/0/vertex:", "integer"},
-      {"left_out not a boolean", [](json& d) { d["reviewed_measurements"][0]["left_out"] = 1; },
-       "field /reviewed_measurements/0/left_out:", "true or false"},
+      {"unknown verdict", [](json& d) { d["reviewed_measurements"][0]["verdict"] = "kept"; },
+       "field /reviewed_measurements/0/verdict:", "one of confirmed, replaced, left_out"},
   };
   const json valid = json::parse(mapToJson(withLeftOut(makeMap())));
   for (const Corruption& corruption : cases) {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -22,6 +24,26 @@ struct StandingOutMeasurement {
   double local_rel = 0.0;
 };
 
+/// What a calibration's review made of a measurement that stood out, once it was measured again.
+enum class ReviewVerdict : std::uint8_t {
+  kPending,    ///< Not concluded yet (planReview's entries).
+  kConfirmed,  ///< The second measurement agrees with the first: the field is steep there, not
+               ///< contradicted (a delta near its singular pose). The first, nearer the stops,
+               ///< is kept.
+  kReplaced,   ///< The two disagree and the second agrees with the others: the first was wrong
+               ///< (a stop's reaction, a knock). The second is kept.
+  kLeftOut,    ///< The two disagree and the second stands out too: neither is trusted, and the
+               ///< vertex is left out of the fit (VertexOutcome::kLeftOut).
+  kNotMeasuredAgain,  ///< The redo was skipped, or the second hold did not converge: the vertex
+                      ///< keeps what it has (the first measurement, or the failed second hold).
+};
+
+/// Stable lower-case name used in files and reports ("confirmed", "replaced", "left_out",
+/// "not_measured_again", "pending"). Real-time safe.
+const char* toString(ReviewVerdict verdict) noexcept;
+/// Inverse of toString; returns false for an unknown name.
+bool parseReviewVerdict(const std::string& name, ReviewVerdict& verdict) noexcept;
+
 /// A measurement that stood out, measured again, and what became of it: what a map keeps of its
 /// calibration's review (MapMetadata::reviewed_measurements).
 struct ReviewedMeasurement {
@@ -33,9 +55,8 @@ struct ReviewedMeasurement {
   Eigen::Vector3d again_value_n = Eigen::Vector3d::Zero();
   /// |leave-one-out residual| / |value| of the second measurement (0 when it did not converge).
   double again_residual_rel = 0.0;
-  /// The second measurement stood out too: the vertex is left out of the fit
-  /// (VertexOutcome::kLeftOut), its value solved from the others.
-  bool left_out = false;
+  /// What the review made of it.
+  ReviewVerdict verdict = ReviewVerdict::kPending;
 };
 
 /// What judging every measurement against the others found.
@@ -80,10 +101,12 @@ std::vector<ReviewedMeasurement> planReview(const WorkspaceGrid& grid,
                                             const ExploredWorkspace& workspace, double eps_g_n);
 
 /// The second half: judges the measurements again (`eps_g_n` as judgeMeasurements takes it),
-/// completes each entry of `reviewed` with what its vertex measured the second time, and leaves out
-/// of the fit (leaveOut) every vertex of `reviewed` that stands out again. A vertex whose second
-/// hold did not converge keeps that outcome. Throws autograv::Error when `vertices` does not match
-/// `grid`. Not real-time safe.
+/// completes each entry of `reviewed` with what its vertex measured the second time, and gives
+/// its verdict (ReviewVerdict). The two measurements agree when they differ by no more than
+/// kStandOutLocalRatio times the residuals around the first (StandingOut::local_rel), nor than
+/// their repeatability: a steep field is measured alike twice, a stop's reaction or a knock is
+/// not. A confirmed vertex gets its first measurement back; one left out is marked (leaveOut).
+/// Throws autograv::Error when `vertices` does not match `grid`. Not real-time safe.
 void concludeReview(const WorkspaceGrid& grid, std::vector<VertexEstimate>& vertices,
                     std::vector<ReviewedMeasurement>& reviewed, double eps_g_n);
 

@@ -80,7 +80,7 @@ json reviewedToJson(const ReviewedMeasurement& reviewed) {
               {"again_point_m", vectorToJson(reviewed.again_point_m)},
               {"again_value_n", vectorToJson(reviewed.again_value_n)},
               {"again_residual_rel", reviewed.again_residual_rel},
-              {"left_out", reviewed.left_out}};
+              {"verdict", toString(reviewed.verdict)}};
 }
 
 json workspaceToJson(const ExploredWorkspace& workspace) {

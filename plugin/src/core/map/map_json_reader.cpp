@@ -473,7 +473,7 @@ std::vector<ReviewedMeasurement> readReviewed(const DocumentReader& reader, cons
     const json& entry = value[i];
     reader.requireObject(entry, at,
                          {"vertex", "point_m", "value_n", "residual_rel", "local_rel",
-                          "again_point_m", "again_value_n", "again_residual_rel", "left_out"});
+                          "again_point_m", "again_value_n", "again_residual_rel", "verdict"});
     ReviewedMeasurement measurement;
     measurement.first.vertex = reader.integer(entry, at, "vertex", 0, grid.vertexCount() - 1);
     measurement.first.point_m = reader.vector3(entry, at, "point_m", "m");
@@ -485,10 +485,12 @@ std::vector<ReviewedMeasurement> readReviewed(const DocumentReader& reader, cons
     measurement.again_value_n = reader.vector3(entry, at, "again_value_n", "N");
     measurement.again_residual_rel =
         reader.number(entry, at, "again_residual_rel", Range::kNonNegative, "1");
-    if (!entry.at("left_out").is_boolean()) {
-      reader.expected(at + "/left_out", "true or false", entry.at("left_out"));
+    const std::string verdict = reader.string(entry, at, "verdict", true);
+    if (!parseReviewVerdict(verdict, measurement.verdict)) {
+      reader.expected(at + "/verdict",
+                      "one of confirmed, replaced, left_out, not_measured_again, pending",
+                      entry.at("verdict"));
     }
-    measurement.left_out = entry.at("left_out").get<bool>();
     reviewed.push_back(measurement);
   }
   return reviewed;

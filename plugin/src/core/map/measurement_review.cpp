@@ -49,6 +49,34 @@ MeasurementJudgement judgeMeasurements(const WorkspaceGrid& grid,
   return judgement;
 }
 
+const char* toString(ReviewVerdict verdict) noexcept {
+  switch (verdict) {
+    case ReviewVerdict::kPending:
+      return "pending";
+    case ReviewVerdict::kConfirmed:
+      return "confirmed";
+    case ReviewVerdict::kReplaced:
+      return "replaced";
+    case ReviewVerdict::kLeftOut:
+      return "left_out";
+    case ReviewVerdict::kNotMeasuredAgain:
+      return "not_measured_again";
+  }
+  return "pending";
+}
+
+bool parseReviewVerdict(const std::string& name, ReviewVerdict& verdict) noexcept {
+  for (const ReviewVerdict candidate :
+       {ReviewVerdict::kPending, ReviewVerdict::kConfirmed, ReviewVerdict::kReplaced,
+        ReviewVerdict::kLeftOut, ReviewVerdict::kNotMeasuredAgain}) {
+    if (name == toString(candidate)) {
+      verdict = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 Eigen::Vector3d remeasurePoint_m(const ExploredWorkspace& workspace,
                                  const Eigen::Vector3d& point_m) noexcept {
   if (workspace.empty() || workspace.depth_m(point_m) >= kRemeasureDepth_m) return point_m;
@@ -81,16 +109,43 @@ void concludeReview(const WorkspaceGrid& grid, std::vector<VertexEstimate>& vert
     const int index = entry.first.vertex;
     if (index < 0 || index >= grid.vertexCount()) continue;
     VertexEstimate& vertex = vertices[static_cast<std::size_t>(index)];
-    if (vertex.outcome != VertexOutcome::kConverged) continue;
-    entry.again_point_m = vertex.measuredAt_m(grid.vertexPosition(index));
+    const Eigen::Vector3d vertex_m = grid.vertexPosition(index);
+    if (vertex.outcome != VertexOutcome::kConverged) {
+      entry.verdict = ReviewVerdict::kNotMeasuredAgain;  // the second hold failed
+      continue;
+    }
+    entry.again_point_m = vertex.measuredAt_m(vertex_m);
     entry.again_value_n = vertex.measuredGravity_n();
     for (const auto& [judged, residual] : judgement.residuals_rel) {
       if (judged == index) entry.again_residual_rel = residual;
     }
-    entry.left_out =
+    if (entry.again_point_m == entry.first.point_m && entry.again_value_n == entry.first.value_n) {
+      entry.verdict = ReviewVerdict::kNotMeasuredAgain;  // the redo was skipped
+      continue;
+    }
+    const double first_n = entry.first.value_n.norm();
+    const double differ_n = (entry.again_value_n - entry.first.value_n).norm();
+    const bool agree = differ_n <= std::max(kStandOutRepeatability * eps_g_n,
+                                            kStandOutLocalRatio * entry.first.local_rel * first_n);
+    const bool stands_out_again =
         std::any_of(judgement.standing_out.begin(), judgement.standing_out.end(),
                     [index](const StandingOutMeasurement& found) { return found.vertex == index; });
-    if (entry.left_out) leaveOut(vertex, grid.vertexPosition(index));
+    if (agree) {
+      // The field, measured alike twice: the first measurement, nearer the stops, goes back.
+      entry.verdict = ReviewVerdict::kConfirmed;
+      vertex.gravity_n = entry.first.value_n;
+      vertex.measured_at_m = VertexEstimate().measured_at_m;
+      vertex.measured_gravity_n.setZero();
+      if ((entry.first.point_m - vertex_m).norm() > 1e-9) {
+        vertex.measured_at_m = entry.first.point_m;
+        vertex.measured_gravity_n = entry.first.value_n;
+      }
+    } else if (stands_out_again) {
+      entry.verdict = ReviewVerdict::kLeftOut;
+      leaveOut(vertex, vertex_m);
+    } else {
+      entry.verdict = ReviewVerdict::kReplaced;
+    }
   }
 }
 
