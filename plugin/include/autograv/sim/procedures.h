@@ -158,6 +158,7 @@ struct CalibrationRunResult {
   bool stopped = false;                ///< stop_requested was honoured.
   int redo_passes = 0;                 ///< Passes over failed vertices actually run.
   int redone_vertices = 0;             ///< Vertex visits made by those passes.
+  int stop_retreats = 0;  ///< Points moved back from a stop (AutoCalibrator::stopRetreats).
   ServoLoopStats::Summary servo_loop;  ///< What the servo loop did, initialization included.
 };
 
