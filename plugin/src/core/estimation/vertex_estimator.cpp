@@ -510,7 +510,9 @@ void VertexEstimator::beginPush(const Eigen::Vector3d& settled_m) noexcept {
   push_phase_ = PushPhase::kOutward;
   push_base_m_ = settled_m;
   creep_probe_offset_m_ = kPushProbe_m * push_direction_.normalized();
-  // One window pair (kPushSteadyWindows): each push costs device time at a watched point.
+  // One window pair (kPushSteadyWindows), agreeing within kPushWindowTolerance of the probe:
+  // each push costs device time at a watched point, and the test reads tenths of a millimetre.
+  detector_.setWindowTolerance_m(kPushWindowTolerance * kPushProbe_m);
   restartObservation(kPushSteadyWindows);
 }
 
