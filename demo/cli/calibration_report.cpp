@@ -133,6 +133,7 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"saturation_count", result.saturation_count},
       {"redo_passes", result.redo_passes},
       {"redone_vertices", result.redone_vertices},
+      {"stop_retreats", result.stop_retreats},
       {"initial_gravity_n", vectorJson(result.initialization.gravity_n)},
       {"parameters", parametersJson(outcome.parameters)}};
   addFieldErrorJson(report, outcome.field);

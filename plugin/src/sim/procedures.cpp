@@ -350,6 +350,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   result.simulated_seconds = device.time_s() - start_s;
   result.lipschitz_n_per_m = calibrator.lipschitzEstimate_n_per_m();
   result.peak_force_n = calibrator.peakForce_n();
+  result.stop_retreats = calibrator.stopRetreats();
   result.saturation_count = device.saturationCount() - saturations_before;
   result.force_limit_ticks = result.saturation_count;
   result.servo_loop = stats.summary();

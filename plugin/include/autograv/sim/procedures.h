@@ -162,8 +162,9 @@ struct CalibrationRunResult {
   bool stopped = false;                ///< stop_requested was honoured.
   int redo_passes = 0;                 ///< Passes over failed vertices actually run.
   int redone_vertices = 0;             ///< Vertex visits made by those passes.
-  /// The measurements that stood out, measured again, and whether each was left out.
+  /// The measurements that stood out, measured again, and what the review made of each.
   std::vector<ReviewedMeasurement> reviewed_measurements;
+  int stop_retreats = 0;  ///< Points moved back from a stop (AutoCalibrator::stopRetreats).
   ServoLoopStats::Summary servo_loop;  ///< What the servo loop did, initialization included.
 };
 

@@ -90,6 +90,9 @@ struct AutoCalibrator::Impl {
   bool watched_ = false;            // the point lies within kBoundaryWatchDepth_m of the boundary
   double iteration_periods_ = 0.0;  // servo time since the hold's last update (or its start)
   int last_iterations_ = 0;
+  // The direction of the estimator's push test at a watched point: toward every part of the
+  // boundary within kBoundaryWatchDepth_m (VertexEstimator::setOutward). Real-time safe.
+  Eigen::Vector3d pushDirection(const Eigen::Vector3d& point_m) const noexcept;
   // Moves the current point back by kStopRetreat_m along -`direction` from `from_m` and starts
   // the move there.
   void retreat(const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
@@ -105,6 +108,28 @@ void AutoCalibrator::Impl::retreat(const Eigen::Vector3d& from_m, const Eigen::V
   targets_[static_cast<std::size_t>(current_vertex_)] = from_m - kStopRetreat_m * direction;
   gravity_n_ = feedforward_n;
   beginMove(position_m);
+}
+
+Eigen::Vector3d AutoCalibrator::Impl::pushDirection(const Eigen::Vector3d& point_m) const noexcept {
+  // The 26 directions to a cube's faces, edges and corners, each weighted by how near the
+  // boundary lies along it (1 at the point, 0 at kBoundaryWatchDepth_m or beyond). Next to one
+  // face the weights are symmetric about its normal and the sum is the normal; next to an edge
+  // or a corner it leans toward each face within reach, so that the push presses into a floor
+  // even where the nearest face, whose normal outward_ is, is a wall.
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        const Eigen::Vector3d direction = Eigen::Vector3d(dx, dy, dz).normalized();
+        const double clearance_m =
+            workspace_.clearanceAlong_m(point_m, direction, kBoundaryWatchDepth_m);
+        sum += std::max(0.0, 1.0 - clearance_m / kBoundaryWatchDepth_m) * direction;
+      }
+    }
+  }
+  // Where the boundary lies beyond reach along every cube direction, the normal alone.
+  return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : outward_;
 }
 
 AutoCalibrator::Impl::Impl(const WorkspaceGrid& grid, const EstimationParameters& parameters,
@@ -459,7 +484,7 @@ AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
           } else {
             outward_ = point_m - grid_.center_m();
           }
-          estimator_.setOutward(outward_);
+          estimator_.setOutward(outward_, pushDirection(point_m));
         }
       }
       break;
@@ -486,9 +511,13 @@ AutoCalibrator::Status AutoCalibrator::Impl::step(const ServoSample& sample,
       // A stop lies beyond the point, away from the workspace's middle: the pushing steps point
       // outward. Steps that point inward held still come from a steep field, not a stop, and
       // stepping "back" from them would walk out toward the real stops.
+      // At a watched point, a contact found pushing toward the explored boundary (the push
+      // test's, whose direction leans along outward_) is outward by construction, whether the
+      // point lies above or below the grid's centre: a floor and a ceiling both retreat.
       const bool outward_contact =
           estimator_.contactDirection().dot(targets_[static_cast<std::size_t>(current_vertex_)] -
-                                            grid_.center_m()) > 0.0;
+                                            grid_.center_m()) > 0.0 ||
+          (watched_ && estimator_.contactDirection().dot(outward_) > 0.0);
       if (inner == VertexEstimator::Status::kUnreachable && estimator_.stopContact() &&
           outward_contact && stop_retreats_here_ < kMaxStopRetreats) {
         // A stop held the end-effector short of the point: measure it back from the stop.

@@ -128,6 +128,11 @@ void VertexEstimator::start(const Eigen::Vector3d& vertex_m,
   last_previous_n_ = initial_gravity_n;
   stop_contact_ = false;
   outward_.setZero();
+  push_direction_.setZero();
+  push_phase_ = PushPhase::kNone;
+  push_outward_moved_m_.setZero();
+  push_inward_moved_m_.setZero();
+  initial_gravity_n_ = initial_gravity_n;
   creep_count_ = 0;
   creep_probe_ = false;
   creep_probe_offset_m_.setZero();
@@ -327,6 +332,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   }
   // Steady state of iteration j: eq. (12), then gains for j+1 from G_hat_j (eq. 11).
   const Eigen::Vector3d settled_m = detector_.settledPosition_m();
+  if (push_phase_ != PushPhase::kNone) return pushSettled(settled_m);
   if (creep_probe_) {
     // The push test's steady state (kCreepProbe_m): a stop hardly lets the end-effector follow.
     const Eigen::Vector3d direction = creep_probe_offset_m_.normalized();
@@ -483,6 +489,12 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
   const bool halves_agree = swung && (newer_n - older_n).norm() <= kSwingHalf * parameters_.eps_g_n;
   if (small_updates_ >= parameters_.n_g || halves_agree) {
     if (swung) gravity_n_ = (older_n + newer_n) / (2.0 * kSwingHalf);
+    if (parameters_.method == EstimationMethod::kDither && push_direction_.squaredNorm() > 0.0 &&
+        (gravity_n_ - initial_gravity_n_).dot(push_direction_.normalized()) >
+            kPushTrigger * parameters_.eps_g_n) {
+      beginPush(settled_m);  // the stop watch: shown free before its value is taken
+      return Status::kUpdated;
+    }
     finish(VertexOutcome::kConverged);
     return Status::kConverged;
   }
@@ -491,6 +503,62 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     return Status::kIterationCap;
   }
   return Status::kUpdated;
+}
+
+void VertexEstimator::beginPush(const Eigen::Vector3d& settled_m) noexcept {
+  ++push_tests_;
+  push_phase_ = PushPhase::kOutward;
+  push_base_m_ = settled_m;
+  creep_probe_offset_m_ = kPushProbe_m * push_direction_.normalized();
+  // One window pair (kPushSteadyWindows), agreeing within kPushWindowTolerance of the probe:
+  // each push costs device time at a watched point, and the test reads tenths of a millimetre.
+  detector_.setWindowTolerance_m(kPushWindowTolerance * kPushProbe_m);
+  restartObservation(kPushSteadyWindows);
+}
+
+VertexEstimator::Status VertexEstimator::pushSettled(const Eigen::Vector3d& settled_m) noexcept {
+  const Eigen::Vector3d push_m = creep_probe_offset_m_;
+  const Eigen::Vector3d direction = push_direction_.normalized();
+  const Eigen::Vector3d moved_m = settled_m - push_base_m_;
+  bool stop = false;
+  if (push_phase_ == PushPhase::kOutward) {
+    push_outward_moved_m_ = moved_m;
+    const double follow = moved_m.dot(direction) / kPushProbe_m;
+    if (follow < kPushBlockedFollow) {
+      stop = true;
+    } else if (follow < kPushFreeFollow) {
+      // Ambiguous: friction that held part of the push, or a stop that did. The reference.
+      push_phase_ = PushPhase::kInward;
+      creep_probe_offset_m_ = -push_m;
+      restartObservation(kPushSteadyWindows);
+      return Status::kSettling;
+    }
+  } else {
+    push_inward_moved_m_ = moved_m;
+    // Free space mirrors the two pushes; a stop took part of the outward one. A push that
+    // followed partly and went sideways met a stop across part of it (an edge), whatever the
+    // inward push did: a stop deep enough blocks that one too.
+    const Eigen::Vector3d& outward_m = push_outward_moved_m_;
+    const double sideways_m = (outward_m - outward_m.dot(direction) * direction).norm();
+    const double scale_m = std::max(moved_m.norm(), outward_m.norm());
+    stop = (outward_m + moved_m).norm() > kPushAsymmetry * scale_m ||
+           sideways_m > kPushSideways * kPushProbe_m;
+  }
+  push_phase_ = PushPhase::kNone;
+  creep_probe_offset_m_.setZero();
+  if (!stop) {
+    finish(VertexOutcome::kConverged);
+    return Status::kConverged;
+  }
+  stop_contact_ = true;
+  contact_position_m_ = push_base_m_;
+  contact_direction_ = direction;
+  // The stop's reaction may have been in G_hat from the first iteration on: restart from the
+  // estimate the vertex began with (the calibrator's, from converged neighbours).
+  gravity_before_contact_n_ = initial_gravity_n_;
+  gravity_n_ = initial_gravity_n_;
+  finish(VertexOutcome::kUnreachable);
+  return Status::kUnreachable;
 }
 
 const char* toString(VertexEstimator::Status status) noexcept {
