@@ -9,7 +9,9 @@
 #include <Eigen/SVD>
 
 #include "autograv/error.h"
+#include "autograv/sim/actuators.h"
 #include "autograv/sim/friction_measurement.h"
+#include "autograv/sim/simulated_device.h"
 #include "device_checks.h"
 
 namespace autograv::sim {
@@ -312,6 +314,224 @@ TEST(DeltaDeviceTest, BadParametersAreRefusedWithTheirName) {
   refused([](P& p) { p.leg_angles_rad[2] += 0.3; }, "leg_angles_rad must be 120 degrees apart");
   refused([](P& p) { p.joint_max_rad[1] = p.joint_min_rad[1]; }, "joint_min_rad");
   refused([](P& p) { p.friction.stiction[0] = -1.0; }, "friction stiction");
+}
+
+// sim:falcon-can: sim:falcon's delta between a flat floor and a flat ceiling, in a round wall.
+
+// Points on a face of the can: its middle and eight points on two circles about it, the outer
+// 1 mm inside the rim.
+std::vector<Eigen::Vector2d> canFacePoints(double radius_m) {
+  std::vector<Eigen::Vector2d> points{Eigen::Vector2d::Zero()};
+  for (int k = 0; k < 8; ++k) {
+    const double angle = kTwoPi * k / 8.0 + 0.3;
+    const double r = (k % 2 == 0 ? 0.5 * radius_m : radius_m - 1e-3);
+    points.emplace_back(r * std::cos(angle), r * std::sin(angle));
+  }
+  return points;
+}
+
+TEST(FalconCanTest, FloorAndCeilingPushStraightUpAndDownByStiffnessTimesDepth) {
+  const DeltaDevice device(falconCanParameters(), 1);
+  const auto& p = device.parameters();
+  const Eigen::Vector3d at_rest = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& xy : canFacePoints(p.travel_stop_radius_m)) {
+    for (const double depth_m : {0.2e-3, 1e-3, 3e-3}) {
+      const Eigen::Vector3d below(xy.x(), xy.y(), p.travel_stop_floor_m - depth_m);
+      const Eigen::Vector3d up = device.travelStopForce_n(below, at_rest);
+      EXPECT_EQ(up.x(), 0.0) << below.transpose();
+      EXPECT_EQ(up.y(), 0.0) << below.transpose();
+      EXPECT_NEAR(up.z(), p.travel_stop_stiffness_n_per_m * depth_m, 1e-9) << below.transpose();
+      const Eigen::Vector3d above(xy.x(), xy.y(), p.travel_stop_ceiling_m + depth_m);
+      const Eigen::Vector3d down = device.travelStopForce_n(above, at_rest);
+      EXPECT_EQ(down.x(), 0.0) << above.transpose();
+      EXPECT_EQ(down.y(), 0.0) << above.transpose();
+      EXPECT_NEAR(down.z(), -p.travel_stop_stiffness_n_per_m * depth_m, 1e-9) << above.transpose();
+    }
+    // On the face and inside, nothing.
+    EXPECT_EQ(
+        device.travelStopForce_n(Eigen::Vector3d(xy.x(), xy.y(), p.travel_stop_floor_m), at_rest),
+        Eigen::Vector3d::Zero());
+    EXPECT_EQ(device.travelStopForce_n(Eigen::Vector3d(xy.x(), xy.y(), 0.0), at_rest),
+              Eigen::Vector3d::Zero());
+  }
+  // Sliding along the floor drags nothing sideways; sinking into it is damped along the normal.
+  const Eigen::Vector3d on_floor(0.01, -0.02, p.travel_stop_floor_m - 1e-3);
+  const Eigen::Vector3d sliding =
+      device.travelStopForce_n(on_floor, Eigen::Vector3d(0.1, 0.2, 0.0));
+  EXPECT_EQ(sliding.head<2>(), Eigen::Vector2d::Zero());
+  const Eigen::Vector3d sinking =
+      device.travelStopForce_n(on_floor, Eigen::Vector3d(0.0, 0.0, -0.1));
+  EXPECT_NEAR(sinking.z(),
+              p.travel_stop_stiffness_n_per_m * 1e-3 + p.travel_stop_damping_n_s_per_m * 0.1, 1e-9);
+}
+
+TEST(FalconCanTest, RoundWallPushesTowardTheAxisByStiffnessTimesDepth) {
+  const DeltaDevice device(falconCanParameters(), 1);
+  const auto& p = device.parameters();
+  for (int k = 0; k < 12; ++k) {
+    const double angle = kTwoPi * k / 12.0;
+    const Eigen::Vector3d outward(std::cos(angle), std::sin(angle), 0.0);
+    const Eigen::Vector3d beyond =
+        (p.travel_stop_radius_m + 2e-3) * outward + Eigen::Vector3d(0.0, 0.0, 0.01);
+    const Eigen::Vector3d force = device.travelStopForce_n(beyond, Eigen::Vector3d::Zero());
+    EXPECT_LT((force + p.travel_stop_stiffness_n_per_m * 2e-3 * outward).norm(), 1e-9)
+        << beyond.transpose();
+  }
+}
+
+TEST(FalconCanTest, StopStiffnessIsTheParameterWithADefaultOf3000NPerM) {
+  // The default lies in the 1,000-5,000 N/m of desktop devices' bumpers and stops (the source is
+  // beside falconCanParameters).
+  EXPECT_EQ(falconCanParameters().travel_stop_stiffness_n_per_m, 3000.0);
+  for (const double stiffness : {1000.0, 3000.0, 5000.0}) {
+    DeltaParameters parameters = falconCanParameters();
+    parameters.travel_stop_stiffness_n_per_m = stiffness;
+    const DeltaDevice device(parameters, 1);
+    const Eigen::Vector3d shallow(0.01, 0.0, parameters.travel_stop_floor_m - 0.5e-3);
+    const Eigen::Vector3d deep(0.01, 0.0, parameters.travel_stop_floor_m - 2.5e-3);
+    const double slope = (device.travelStopForce_n(deep, Eigen::Vector3d::Zero()).z() -
+                          device.travelStopForce_n(shallow, Eigen::Vector3d::Zero()).z()) /
+                         2e-3;
+    EXPECT_NEAR(slope, stiffness, 1e-6 * stiffness);
+  }
+}
+
+TEST(FalconCanTest, HeldWithGravityCancelledAPushDownSinksByPushOverStiffnessEverywhereOnTheFloor) {
+  // The dynamics, not just the stop's formula: gravity cancelled at the true position and 4 N
+  // down, at typical friction, at points across the floor. The grip sinks by 4 N / k to the same
+  // height wherever it is on the floor (a slanted or rounded floor would not).
+  const DeltaParameters parameters = falconCanParameters();
+  const double push_n = 4.0;
+  for (const Eigen::Vector2d& xy : canFacePoints(0.6 * parameters.travel_stop_radius_m)) {
+    DeltaDevice device = testing::openCalibrated<DeltaDevice>(parameters, 3);
+    const Eigen::Vector3d start(xy.x(), xy.y(), parameters.travel_stop_floor_m);
+    testing::restWithGravityCancelled(device, start);
+    for (int ms = 0; ms < 1500; ++ms) {
+      ASSERT_TRUE(device.setForce(device.trueGravity(device.truePosition_m()) +
+                                  Eigen::Vector3d(0.0, 0.0, -push_n)));
+      device.advance(kServo_s);
+    }
+    EXPECT_TRUE(device.endStopHit());
+    const Eigen::Vector3d end = device.truePosition_m();
+    const double depth_m = parameters.travel_stop_floor_m - end.z();
+    // Friction at the grip (under 0.1 N) is under 3 % of the push.
+    EXPECT_NEAR(depth_m, push_n / parameters.travel_stop_stiffness_n_per_m,
+                0.03 * push_n / parameters.travel_stop_stiffness_n_per_m)
+        << start.transpose();
+    // Sideways it moves by a fraction of the sink: each arm's friction, met at the grip through
+    // J^-T, is not along the grip's motion (0.25-0.37 mm measured here, at seed 3).
+    EXPECT_LT((end.head<2>() - xy).norm(), 0.5 * depth_m) << start.transpose();
+  }
+}
+
+TEST(FalconCanTest, ReleasedWithZeroForceFallsOntoTheFloorWithTheArmsClearOfTheirStops) {
+  DeltaDevice device = testing::openCalibrated<DeltaDevice>(falconCanParameters(), 7);
+  device.setForce(Eigen::Vector3d::Zero());
+  device.advance(2.0);
+  EXPECT_TRUE(device.endStopHit());
+  const auto& p = device.parameters();
+  // Resting on the floor, sunk by about |G_z| / k (1 N against 3,000 N/m: a third of a mm).
+  EXPECT_LT(device.truePosition_m().z(), p.travel_stop_floor_m);
+  EXPECT_GT(device.truePosition_m().z(), p.travel_stop_floor_m - 1e-3);
+  const Eigen::Vector3d& theta = device.jointAngles_rad();
+  EXPECT_TRUE(
+      ((theta.array() > p.joint_min_rad.array()) && (theta.array() < p.joint_max_rad.array()))
+          .all());
+}
+
+TEST(FalconCanTest, ReachesInsideTheCanAndNotBeyondItsFloorCeilingOrWall) {
+  const DeltaDevice can(falconCanParameters(), 1);
+  const DeltaDevice falcon(falconParameters(), 1);
+  const auto& p = can.parameters();
+  const double r = p.travel_stop_radius_m;
+  // Inside, on a grid through the whole can (its faces 0.5 mm in): reachable.
+  int inside = 0;
+  for (const Eigen::Vector3d& point : cubePoints(2.0 * r - 1e-3, 9)) {
+    if (point.head<2>().norm() > r - 0.5e-3) continue;
+    ++inside;
+    EXPECT_TRUE(can.isReachable(point)) << point.transpose();
+  }
+  EXPECT_GT(inside, 400);
+  // 1 mm beyond the floor, the ceiling or the wall: not reachable, though the mechanism reaches
+  // there with its arms clear of their stops (sim:falcon does): the can cuts, not the arms.
+  for (const Eigen::Vector2d& xy : canFacePoints(r)) {
+    for (const Eigen::Vector3d& beyond :
+         {Eigen::Vector3d(xy.x(), xy.y(), p.travel_stop_floor_m - 1e-3),
+          Eigen::Vector3d(xy.x(), xy.y(), p.travel_stop_ceiling_m + 1e-3)}) {
+      EXPECT_FALSE(can.isReachable(beyond)) << beyond.transpose();
+      EXPECT_TRUE(falcon.isReachable(beyond)) << beyond.transpose();
+    }
+  }
+  for (int k = 0; k < 12; ++k) {
+    const double angle = kTwoPi * k / 12.0;
+    for (const double z : {p.travel_stop_floor_m + 1e-3, 0.0, p.travel_stop_ceiling_m - 1e-3}) {
+      const Eigen::Vector3d beyond((r + 1e-3) * std::cos(angle), (r + 1e-3) * std::sin(angle), z);
+      EXPECT_FALSE(can.isReachable(beyond)) << beyond.transpose();
+      EXPECT_TRUE(falcon.isReachable(beyond)) << beyond.transpose();
+    }
+  }
+  // The workspace sphere it specifies is the one inscribed in the can.
+  EXPECT_EQ(can.specifications().workspace_radius_m, r);
+  EXPECT_EQ(-p.travel_stop_floor_m, r);
+  EXPECT_EQ(p.travel_stop_ceiling_m, r);
+}
+
+TEST(FalconCanTest, FieldAndMassInsideAreSimFalcons) {
+  const DeltaDevice can(falconCanParameters(), 1);
+  const DeltaDevice falcon(falconParameters(), 1);
+  for (const Eigen::Vector3d& point : cubePoints(0.089, 7)) {
+    if (!can.isReachable(point)) continue;
+    EXPECT_EQ(can.trueGravity(point), falcon.trueGravity(point)) << point.transpose();
+    EXPECT_EQ(can.trueApparentMass(point), falcon.trueApparentMass(point)) << point.transpose();
+  }
+  // The named devices too, unit for unit: the same motors' gains, so the same holding force.
+  for (const int number : {1, 2, 5}) {
+    const SimulatedUnit unit{number, ActuatorTolerance::kHigh};
+    const auto named_can = makeSimulatedDevice("sim:falcon-can", 4, FrictionLevel::kHigh, unit);
+    const auto named_falcon = makeSimulatedDevice("sim:falcon", 4, FrictionLevel::kHigh, unit);
+    for (const Eigen::Vector3d& point :
+         {Eigen::Vector3d(0.0, 0.0, -0.044), Eigen::Vector3d(-0.03, 0.02, 0.044)}) {
+      EXPECT_EQ(named_can->trueGravity(point), named_falcon->trueGravity(point)) << number;
+    }
+  }
+}
+
+TEST(FalconCanTest, KeepsSimFalconsFrictionActuatorsDacEncodersAndDelay) {
+  for (const FrictionLevel level :
+       {FrictionLevel::kNone, FrictionLevel::kTypical, FrictionLevel::kHigh}) {
+    const DeltaParameters can = falconCanParameters(level);
+    const DeltaParameters falcon = falconParameters(level);
+    EXPECT_EQ(can.friction.stiction, falcon.friction.stiction);
+    EXPECT_EQ(can.friction.coulomb, falcon.friction.coulomb);
+    EXPECT_EQ(can.friction.viscous, falcon.friction.viscous);
+    EXPECT_EQ(can.driver.motor_limit, falcon.driver.motor_limit);
+    EXPECT_EQ(can.driver.dac_bits, falcon.driver.dac_bits);
+    EXPECT_EQ(can.driver.transport_delay_s, falcon.driver.transport_delay_s);
+    EXPECT_EQ(can.driver.noise_sigma_counts, falcon.driver.noise_sigma_counts);
+    EXPECT_EQ(can.joint_counts_per_rev, falcon.joint_counts_per_rev);
+    EXPECT_EQ(can.specifications.max_linear_force_n, falcon.specifications.max_linear_force_n);
+    EXPECT_EQ(can.grip_mass_kg, falcon.grip_mass_kg);
+    EXPECT_EQ(can.travel_stop_damping_n_s_per_m, falcon.travel_stop_damping_n_s_per_m);
+    EXPECT_EQ(can.travel_stop_shape, TravelStopShape::kCylinder);
+    EXPECT_EQ(falcon.travel_stop_shape, TravelStopShape::kBox);
+  }
+  for (const ActuatorTolerance tolerance :
+       {ActuatorTolerance::kTypical, ActuatorTolerance::kHigh}) {
+    EXPECT_EQ(actuatorGainBound("sim:falcon-can", tolerance),
+              actuatorGainBound("sim:falcon", tolerance));
+    const SimulatedUnit unit{3, tolerance};
+    EXPECT_EQ(actuatorGains("sim:falcon-can", unit), actuatorGains("sim:falcon", unit));
+  }
+}
+
+TEST(FalconCanTest, BadCylinderParametersAreRefusedWithTheirName) {
+  using P = DeltaParameters;
+  const testing::RefusalCheck<DeltaDevice, P> refused(falconCanParameters(), "sim delta device");
+  refused([](P& p) { p.travel_stop_radius_m = 0.0; }, "travel_stop_radius_m");
+  refused([](P& p) { p.travel_stop_floor_m = 0.01; }, "travel_stop_floor_m");
+  refused([](P& p) { p.travel_stop_ceiling_m = -0.01; }, "travel_stop_floor_m");
+  // 90 mm out is beyond the arms' stops.
+  refused([](P& p) { p.travel_stop_radius_m = 0.09; }, "the cylinder of travel stops");
 }
 
 }  // namespace

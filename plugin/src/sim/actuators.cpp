@@ -19,6 +19,12 @@ struct ChainTolerances {
   double transmission = 0.0;
 };
 
+/// The model whose motors a test device carries: "sim:falcon-can" is sim:falcon's delta with
+/// other travel stops, so its unit N is sim:falcon's unit N, the same gains.
+std::string actuatorModel(const std::string& model) {
+  return model == "sim:falcon-can" ? std::string("sim:falcon") : model;
+}
+
 // Bounds of uniform draws, the published tolerances of each part (docs/simulator_sources.md):
 // - Torque constant: motor makers publish their catalogue data within +/-10 % (Beckhoff AM8100
 //   "Technical data"; HIWIN torque motors, assembly instructions section 8.1), and permanent
@@ -36,7 +42,8 @@ struct ChainTolerances {
 //   +/-1 % for the Falcon's 14.25 mm capstan and thicker cable.
 ChainTolerances typicalTolerances(const std::string& model) {
   if (model == "sim:omni") return {0.05, 0.02, 0.005};
-  if (model == "sim:falcon") return {0.10, 0.05, 0.01};
+  // sim:falcon-can: the same delta and motors.
+  if (model == "sim:falcon" || model == "sim:falcon-can") return {0.10, 0.05, 0.01};
   // The test devices share the Omega-like mechanism and its actuators.
   if (model == "sim:omega" || model == "sim:swirl-cube" || model == "sim:swirl-ellipsoid") {
     return {0.05, 0.01, 0.005};
@@ -112,7 +119,7 @@ Eigen::Vector3d actuatorGains(const std::string& model, const SimulatedUnit& uni
     throw Error("simulated unit " + std::to_string(unit.number) + ": units are numbered from 1");
   }
   const double scale = levelScale(unit.actuators);
-  Random random(unitSeed(model, unit.number));
+  Random random(unitSeed(actuatorModel(model), unit.number));
   Eigen::Vector3d gains;
   for (int motor = 0; motor < 3; ++motor) {
     double gain = 1.0;

@@ -26,6 +26,49 @@ constexpr double kSingularDeterminant = 1e-6;
 // Smallest singular-value ratio of J accepted over the workspace sphere at construction.
 constexpr double kMaxJacobianCondition = 20.0;
 
+/// Adds the force of the grip's travel stops at `offset_m` from the workspace centre to
+/// `force_n`; `velocity()` gives the grip's velocity, asked for only on contact. True on contact.
+template <class Velocity>
+bool pushTravelStops(const DeltaParameters& p, const Eigen::Vector3d& offset_m,
+                     const Velocity& velocity, Eigen::Vector3d& force_n) noexcept {
+  Eigen::Vector3d grip_velocity;
+  bool touching = false;
+  if (p.travel_stop_shape == TravelStopShape::kCylinder) {
+    // The round wall pushes along the horizontal normal through the axis...
+    const double radius_m = std::hypot(offset_m.x(), offset_m.y());
+    const double beyond_wall_m = radius_m - p.travel_stop_radius_m;
+    if (beyond_wall_m > 0.0) {
+      grip_velocity = velocity();
+      touching = true;
+      const Eigen::Vector3d normal(offset_m.x() / radius_m, offset_m.y() / radius_m, 0.0);
+      force_n -= (p.travel_stop_stiffness_n_per_m * beyond_wall_m +
+                  p.travel_stop_damping_n_s_per_m * normal.dot(grip_velocity)) *
+                 normal;
+    }
+    // ...and the floor and the ceiling straight up and down, whatever x and y.
+    const double beyond_m =
+        offset_m.z() - std::clamp(offset_m.z(), p.travel_stop_floor_m, p.travel_stop_ceiling_m);
+    if (beyond_m != 0.0) {
+      if (!touching) grip_velocity = velocity();
+      touching = true;
+      force_n.z() -= p.travel_stop_stiffness_n_per_m * beyond_m +
+                     p.travel_stop_damping_n_s_per_m * grip_velocity.z();
+    }
+    return touching;
+  }
+  if (!(p.travel_stop_half_width_m > 0.0)) return false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double beyond_m = offset_m[axis] - std::clamp(offset_m[axis], -p.travel_stop_half_width_m,
+                                                        p.travel_stop_half_width_m);
+    if (beyond_m == 0.0) continue;
+    if (!touching) grip_velocity = velocity();
+    touching = true;
+    force_n[axis] -= p.travel_stop_stiffness_n_per_m * beyond_m +
+                     p.travel_stop_damping_n_s_per_m * grip_velocity[axis];
+  }
+  return touching;
+}
+
 }  // namespace
 
 DeltaParameters falconParameters(FrictionLevel friction) {
@@ -67,6 +110,39 @@ DeltaParameters falconParameters(FrictionLevel friction) {
   return parameters;
 }
 
+DeltaParameters falconCanParameters(FrictionLevel friction) {
+  DeltaParameters parameters = falconParameters(friction);
+  parameters.specifications.model_name = "sim:falcon-can";
+  parameters.specifications.manufacturer = "autograv simulation (test device, not a real model)";
+  parameters.specifications.serial_number = "SIM-TEST-0001";
+  // A can 90 mm across and 90 mm high about the centre, inside the published 4-inch cube, which
+  // the mechanism reaches with every arm clear of its stops: the floor, the ceiling and the wall
+  // are what the grip meets moving down, up or out, never an arm stop. Each flat face is a disc
+  // of 64 cm^2 across the whole workspace, where sim:falcon's gravity is 0.6-1.25 N. A test
+  // device's shape, not a measured one.
+  parameters.travel_stop_shape = TravelStopShape::kCylinder;
+  parameters.travel_stop_half_width_m = 0.0;
+  parameters.travel_stop_radius_m = 0.045;
+  parameters.travel_stop_floor_m = -0.045;
+  parameters.travel_stop_ceiling_m = 0.045;
+  // ASSUMED, 3,000 N/m at the grip: a stop on a desktop device (a rubber bumper, a plastic stop,
+  // a base plate) is felt through the mechanism in series with it. A rubber pad alone is stiff:
+  // Shore 50A rubber has E of about 2.5 MPa (A. N. Gent, "On the relation between indentation
+  // hardness and Young's modulus", Trans. IRI 34, 1958), so a pad 10 mm across and 5 mm thick is
+  // E A / t = 39 N/mm. The structure in series is what yields: 1.02 N/mm at the PHANToM Omni's
+  // tip along its weakest axis (SensAble's datasheet), 14.5 N/mm at the omega.3's (Force
+  // Dimension's), which with the pad make 1.0 to 10.5 N/mm. 3 N/mm lies in that band, toward the
+  // low-cost end the Falcon belongs to, and 1.5 times the model devices' 2 N/mm stops: a hold
+  // resting on this floor sinks less into it, the harder case for telling it from a converged
+  // one. The damping stays sim:falcon's 5 N s/m (assumed there).
+  parameters.travel_stop_stiffness_n_per_m = 3000.0;
+  // The sphere inscribed in the can: every direction reaches it. The explorer probes up to 1.75
+  // times it, beyond the can's rim (64 mm from the centre); the scoring's bounds (1.05 times it
+  // for coverage) hold the whole can.
+  parameters.specifications.workspace_radius_m = 0.045;
+  return parameters;
+}
+
 DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
     : SimulatedDriver(parameters.specifications, parameters.driver, seed), parameters_(parameters) {
   const auto& p = parameters;
@@ -77,6 +153,15 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
   check.nonNegative(p.travel_stop_half_width_m, "travel_stop_half_width_m");
   check.positive(p.travel_stop_stiffness_n_per_m, "travel_stop_stiffness_n_per_m");
   check.nonNegative(p.travel_stop_damping_n_s_per_m, "travel_stop_damping_n_s_per_m");
+  if (p.travel_stop_shape == TravelStopShape::kCylinder) {
+    check.positive(p.travel_stop_radius_m, "travel_stop_radius_m");
+    if (!(p.travel_stop_floor_m < 0.0) || !(p.travel_stop_ceiling_m > 0.0) ||
+        !std::isfinite(p.travel_stop_floor_m) || !std::isfinite(p.travel_stop_ceiling_m)) {
+      check.fail(
+          "travel_stop_floor_m must be below the workspace centre and travel_stop_ceiling_m "
+          "above it");
+    }
+  }
   check.positive(p.center_distance_m, "center_distance_m");
   check.finite(p.leg_angles_rad, "leg_angles_rad");
   check.nonNegative(p.platform_mass_kg, "platform_mass_kg");
@@ -140,6 +225,29 @@ DeltaDevice::DeltaDevice(const DeltaParameters& parameters, std::uint64_t seed)
           check.fail("the workspace sphere (radius " + std::to_string(radius_m * 1000.0) +
                      " mm around the centre) leaves the mechanism's reach, its arm stops or its "
                      "well-conditioned region; change the geometry or shrink workspace_radius_m");
+        }
+      }
+    }
+  }
+  // A can of travel stops must lie within the arms' stops, so that its faces are what the grip
+  // meets: its rims at the floor, halfway and at the ceiling, and the middle of each flat face.
+  if (p.travel_stop_shape == TravelStopShape::kCylinder) {
+    for (const double height_m :
+         {p.travel_stop_floor_m, 0.5 * (p.travel_stop_floor_m + p.travel_stop_ceiling_m),
+          p.travel_stop_ceiling_m}) {
+      for (int step = 0; step <= 24; ++step) {
+        const double angle = kTwoPi * step / 24.0;
+        // step 24: the face's middle.
+        const double radius_m = step < 24 ? p.travel_stop_radius_m : 0.0;
+        const Eigen::Vector3d point(radius_m * std::cos(angle), radius_m * std::sin(angle),
+                                    height_m);
+        Eigen::Vector3d theta;
+        if (!inverseKinematics(point, theta) || (theta.array() < p.joint_min_rad.array()).any() ||
+            (theta.array() > p.joint_max_rad.array()).any()) {
+          check.fail(
+              "the cylinder of travel stops (travel_stop_radius_m, travel_stop_floor_m, "
+              "travel_stop_ceiling_m) leaves the mechanism's reach or its arm stops; make it "
+              "smaller");
         }
       }
     }
@@ -345,23 +453,12 @@ void DeltaDevice::integrateStep(const Eigen::Vector3d& motor_command,
   const Eigen::Vector3d& thetad = thetad_rad_per_s_;
   const Eigen::Matrix3d jacobian_t = at.jacobian.transpose();
 
-  // The grip's travel stops push back on each face of their box and drag on the grip's speed.
+  // The grip's travel stops push back on each face they stand on and drag on the grip's speed.
   Eigen::Vector3d grip_force_n = external_force_n;
-  if (p.travel_stop_half_width_m > 0.0) {
-    const Eigen::Vector3d offset_m = at.tip_m - home_tip_m_ - workspaceCenter_m();
-    Eigen::Vector3d grip_velocity;
-    bool touching = false;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double beyond_m =
-          offset_m[axis] -
-          std::clamp(offset_m[axis], -p.travel_stop_half_width_m, p.travel_stop_half_width_m);
-      if (beyond_m == 0.0) continue;
-      if (!touching) grip_velocity = at.jacobian * thetad;
-      touching = true;
-      grip_force_n[axis] -= p.travel_stop_stiffness_n_per_m * beyond_m +
-                            p.travel_stop_damping_n_s_per_m * grip_velocity[axis];
-    }
-    if (touching) end_stop_hit_ = true;
+  const auto grip_velocity = [&at, &thetad]() -> Eigen::Vector3d { return at.jacobian * thetad; };
+  if (pushTravelStops(p, at.tip_m - home_tip_m_ - workspaceCenter_m(), grip_velocity,
+                      grip_force_n)) {
+    end_stop_hit_ = true;
   }
 
   // The motors' torques (saturated, quantized and delayed by the driver) and the hand's force on
@@ -439,11 +536,26 @@ void DeltaDevice::resetMechanism(const Eigen::Vector3d& position_m) {
   velocity_m_per_s_.setZero();
 }
 
+Eigen::Vector3d DeltaDevice::travelStopForce_n(
+    const Eigen::Vector3d& position_m, const Eigen::Vector3d& velocity_m_per_s) const noexcept {
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  pushTravelStops(
+      parameters_, position_m - workspaceCenter_m(),
+      [&velocity_m_per_s]() -> Eigen::Vector3d { return velocity_m_per_s; }, force_n);
+  return force_n;
+}
+
 bool DeltaDevice::isReachable(const Eigen::Vector3d& position_m) const noexcept {
   Eigen::Vector3d theta_rad;
-  const double half_cube_m = specifications().workspace_radius_m;  // the cube's inscribed sphere
-  return (position_m - workspaceCenter_m()).cwiseAbs().maxCoeff() <= half_cube_m &&
-         inverseKinematics(position_m, theta_rad) &&
+  const auto& p = parameters_;
+  const Eigen::Vector3d offset_m = position_m - workspaceCenter_m();
+  const bool inside_stops =
+      p.travel_stop_shape == TravelStopShape::kCylinder
+          ? std::hypot(offset_m.x(), offset_m.y()) <= p.travel_stop_radius_m &&
+                offset_m.z() >= p.travel_stop_floor_m && offset_m.z() <= p.travel_stop_ceiling_m
+          // The published cube, whose inscribed sphere the specifications give.
+          : offset_m.cwiseAbs().maxCoeff() <= specifications().workspace_radius_m;
+  return inside_stops && inverseKinematics(position_m, theta_rad) &&
          (theta_rad.array() >= parameters_.joint_min_rad.array()).all() &&
          (theta_rad.array() <= parameters_.joint_max_rad.array()).all();
 }

@@ -14,7 +14,9 @@ namespace autograv::sim {
 
 std::vector<std::string> simulatedDeviceNames() { return {"sim:omega", "sim:omni", "sim:falcon"}; }
 
-std::vector<std::string> testDeviceNames() { return {"sim:swirl-cube", "sim:swirl-ellipsoid"}; }
+std::vector<std::string> testDeviceNames() {
+  return {"sim:swirl-cube", "sim:swirl-ellipsoid", "sim:falcon-can"};
+}
 
 namespace {
 
@@ -54,6 +56,9 @@ std::unique_ptr<SimulatedDevice> makeSimulatedDevice(const std::string& name, st
   if (name == "sim:swirl-ellipsoid") {
     return std::make_unique<PointMassDevice>(ofUnit(swirlEllipsoidParameters(friction), name, unit),
                                              seed);
+  }
+  if (name == "sim:falcon-can") {
+    return std::make_unique<DeltaDevice>(ofUnit(falconCanParameters(friction), name, unit), seed);
   }
   std::string valid;
   for (const auto& known : simulatedDeviceNames()) valid += (valid.empty() ? "" : ", ") + known;

@@ -40,8 +40,10 @@ double actuatorGainBound(const std::string& model, ActuatorTolerance tolerance);
 
 /// Each motor's delivered torque (or force) per commanded one for `unit` of `model`: 1 +/- at
 /// most actuatorGainBound, drawn from the model's name and the unit's number alone (never from a
-/// noise seed), so the same unit is the same hardware in every run. All ones at kIdeal. Throws
-/// autograv::Error for an unknown model or a unit number below 1.
+/// noise seed), so the same unit is the same hardware in every run. All ones at kIdeal. A test
+/// device built on a model's mechanism and motors ("sim:falcon-can" on "sim:falcon") draws as
+/// that model does: its unit N has the model's unit N's gains. Throws autograv::Error for an
+/// unknown model or a unit number below 1.
 Eigen::Vector3d actuatorGains(const std::string& model, const SimulatedUnit& unit);
 
 }  // namespace autograv::sim

@@ -10,6 +10,18 @@
 
 namespace autograv::sim {
 
+/// The shape of a delta's grip travel stops about the workspace centre.
+enum class TravelStopShape : std::uint8_t {
+  /// A wall on each face of a cube of half-width travel_stop_half_width_m (the "sim:falcon"
+  /// preset: its published 4-inch cube).
+  kBox,
+  /// A vertical cylinder (a can): a flat floor and a flat ceiling across gravity at
+  /// travel_stop_floor_m and travel_stop_ceiling_m and a round wall of radius
+  /// travel_stop_radius_m about the vertical through the centre (the "sim:falcon-can" test
+  /// device).
+  kCylinder,
+};
+
 /// Parameters of DeltaDevice. Defaults are the "sim:falcon" preset (falconParameters()).
 ///
 /// Geometry (CHAI3D frame: x toward the operator, y right, z up). The delta's axis is horizontal
@@ -88,11 +100,31 @@ struct DeltaParameters {
   double travel_stop_half_width_m = 0.0;
   double travel_stop_stiffness_n_per_m = 2000.0;  ///< Unit: [N/m]
   double travel_stop_damping_n_s_per_m = 5.0;     ///< Unit: [N s/m]
+  /// Where the travel stops stand: the box above (travel_stop_half_width_m; 0: none), or a
+  /// vertical cylinder whose floor and ceiling are flat across gravity. Both push along the
+  /// normal of the face the grip presses into (stiffness times the depth, plus the damping times
+  /// the grip's speed along that normal) and nothing along it: no friction on the face.
+  TravelStopShape travel_stop_shape = TravelStopShape::kBox;
+  /// kCylinder: radius of the round wall about the vertical through the workspace centre.
+  /// Unit: [m]
+  double travel_stop_radius_m = 0.045;
+  /// kCylinder: height of the flat floor relative to the workspace centre (negative). Unit: [m]
+  double travel_stop_floor_m = -0.045;
+  /// kCylinder: height of the flat ceiling relative to the workspace centre (positive). Unit: [m]
+  double travel_stop_ceiling_m = 0.045;
 };
 
 /// The "sim:falcon" preset: a Novint-Falcon-like delta (8.9 N, 4-inch cube, > 400 dpi) with
 /// joint friction at `friction` (see falconParameters in the .cpp for the levels).
 DeltaParameters falconParameters(FrictionLevel friction = FrictionLevel::kTypical);
+
+/// The "sim:falcon-can" test device: sim:falcon's mechanism, friction, actuators, DAC, encoders
+/// and delay (falconParameters(friction)) with its grip's travel stops a vertical cylinder of
+/// 45 mm radius between a flat floor and a flat ceiling 45 mm below and above the centre, at
+/// 3,000 N/m: a flat face across gravity, on which a hold resting on the stop looks converged, as
+/// on a device with a base plate or a link landing on a bumper. Inside the can its field is
+/// sim:falcon's. Not a model of a real device.
+DeltaParameters falconCanParameters(FrictionLevel friction = FrictionLevel::kTypical);
 
 /// A delta parallel mechanism (three actuated upper arms at 120 degrees, parallelogram forearms)
 /// with joint-space dynamics in the actuated angles theta, the standard reduced model
@@ -136,11 +168,18 @@ class DeltaDevice final : public SimulatedDriver {
   /// True, unquantized end-effector velocity. Unit: [m/s]
   Eigen::Vector3d trueVelocity_m_per_s() const noexcept override { return velocity_m_per_s_; }
   Eigen::Vector3d workspaceCenter_m() const noexcept override { return Eigen::Vector3d::Zero(); }
-  /// Inside the published 4-inch cube, where the legs close with every arm clear of its stops.
-  /// The cube is what bounds a real Falcon (its parallelograms' ball joints); those limits are
-  /// not modelled here (see above), so the mechanism itself would reach further across the axis.
-  /// Real-time safe.
+  /// Inside the published 4-inch cube (kBox) or inside the cylinder of travel stops (kCylinder),
+  /// where the legs close with every arm clear of its stops. The cube is what bounds a real
+  /// Falcon (its parallelograms' ball joints); those limits are not modelled here (see above), so
+  /// the mechanism itself would reach further across the axis. Real-time safe.
   bool isReachable(const Eigen::Vector3d& position_m) const noexcept override;
+  /// The force the grip's travel stops put on it at `position_m` (relative to the workspace
+  /// centre, as truePosition_m()) moving at `velocity_m_per_s`: zero inside them; beyond a face,
+  /// along its inward normal, stiffness times the depth beyond the face plus damping times the
+  /// velocity out through it (a drag either way while in contact). What integrateStep adds to the
+  /// hand's force. Real-time safe. Unit: [N]
+  Eigen::Vector3d travelStopForce_n(const Eigen::Vector3d& position_m,
+                                    const Eigen::Vector3d& velocity_m_per_s) const noexcept;
 
   // The model, for tests and reports. All real-time safe.
   /// Grip position relative to the workspace centre; false where the legs cannot close (out of

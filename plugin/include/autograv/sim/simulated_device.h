@@ -103,8 +103,9 @@ class SimulatedDevice : public HapticDevice {
 /// "sim:falcon"}.
 std::vector<std::string> simulatedDeviceNames();
 /// The test devices makeSimulatedDevice builds too, made to break what the models above satisfy
-/// by construction (a conservative field, a round workspace): {"sim:swirl-cube",
-/// "sim:swirl-ellipsoid"} (swirlCubeParameters, swirlEllipsoidParameters). Not models of real
+/// by construction (a conservative field, a round workspace, rounded stops): {"sim:swirl-cube",
+/// "sim:swirl-ellipsoid", "sim:falcon-can"} (swirlCubeParameters, swirlEllipsoidParameters,
+/// falconCanParameters: sim:falcon's delta between a flat floor and ceiling). Not models of real
 /// devices.
 std::vector<std::string> testDeviceNames();
 
