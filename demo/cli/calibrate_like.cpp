@@ -47,6 +47,10 @@ nlohmann::json transferReportJson(const TransferResult& result) {
   report["check_points"] = result.prior.check_points;
   report["check_mean_rel"] = result.prior.check_mean_rel;
   report["check_max_rel"] = result.prior.check_max_rel;
+  report["check_errors_rel"] = result.check_errors_rel;
+  report["check_first_max_rel"] = result.first_check_max_rel;
+  report["check_points_remeasured"] = result.remeasured_points;
+  report["remeasure_seconds"] = result.remeasure_seconds;
   report["seconds_above_continuous_force"] = result.seconds_above_continuous_force;
   report["peak_force_n"] = result.peak_force_n;
   if (!result.accepted) report["refusal"] = result.refusal;
@@ -107,6 +111,13 @@ void printTransfer(const TransferResult& result) {
     std::printf("%-34s %d points: mean %.2f %%, largest %.2f %% of |G|\n",
                 "check (points not fitted)", prior.check_points, 100.0 * prior.check_mean_rel,
                 100.0 * prior.check_max_rel);
+    if (result.remeasured_points > 0) {
+      std::printf(
+          "%-34s %d standing out past the line measured again (%.1f s): largest %.2f %% "
+          "at first\n",
+          "", result.remeasured_points, result.remeasure_seconds,
+          100.0 * result.first_check_max_rel);
+    }
   }
 }
 

@@ -1,10 +1,14 @@
 // `autograv calibrate --like` and `wizard --like`, the real binary on sim:omega: unit 2 corrected
-// from unit 1's whole calibration, the map library finding that prior by model, a refused prior
-// saving nothing, and options that cannot go with --like refused before anything runs.
+// from unit 1's whole calibration, the map library finding that prior by model, a prior refused
+// before the device moves and one refused after it measured saving nothing, and options that cannot
+// go with --like refused before anything runs.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -87,13 +91,47 @@ TEST_F(CalibrateLikeCommandTest, TheWizardFindsTheModelsMapInTheLibrary) {
   EXPECT_LT(readJson(report)["field_error_p90_rel"].get<double>(), 0.004);
 }
 
-TEST_F(CalibrateLikeCommandTest, AMapOfAnotherModelIsRefusedAndNothingIsSaved) {
+TEST_F(CalibrateLikeCommandTest, AMapOfAnotherModelIsRefusedBeforeTheDeviceMovesAndNothingIsSaved) {
   const fs::path out = dir_ / "falcon.json";
   const auto run = runCommand(kBinary + " calibrate --device sim:falcon --like " + prior_ +
                               " --out " + out.string());
   EXPECT_NE(run.exit_code, 0);
   EXPECT_NE(run.output.find("another model"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CalibrateLikeCommandTest, ACorrectionRefusedAfterMeasuringSavesNothingAndReportsWhy) {
+  // Unit 1's map with every value off by its own random 8 %: the device moves and measures,
+  // and no smooth correction explains what it measured.
+  const GravityMap prior = loadMap(prior_);
+  std::vector<VertexEstimate> vertices = prior.vertices();
+  std::mt19937 random(5);
+  std::normal_distribution<double> normal(0.0, 0.08 / std::sqrt(3.0));
+  for (VertexEstimate& vertex : vertices) {
+    const double size_n = vertex.gravity_n.norm();
+    const Eigen::Vector3d noise_n(normal(random), normal(random), normal(random));
+    vertex.gravity_n += size_n * noise_n;
+    if (vertex.measuredOffVertex()) vertex.measured_gravity_n += size_n * noise_n;
+  }
+  const fs::path scrambled = dir_ / "scrambled.json";
+  saveMap(GravityMap(prior.grid(), vertices, prior.metadata()), scrambled.string());
+  const fs::path out = dir_ / "refused.json";
+  const fs::path report = dir_ / "refused.report.json";
+  const auto run =
+      runCommand(kBinary + " calibrate --device sim:omega --unit 2 --like " + scrambled.string() +
+                 " --out " + out.string() + " --report " + report.string());
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("refused"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("whole calibration"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+  // The report is written all the same: what was measured, and why it was refused.
+  ASSERT_TRUE(fs::exists(report)) << run.output;
+  const nlohmann::json json = readJson(report);
+  EXPECT_FALSE(json["accepted"].get<bool>());
+  EXPECT_GT(json["points_converged"].get<int>(), 0);
+  EXPECT_NE(json["refusal"].get<std::string>().find("more than a correction explains"),
+            std::string::npos);
+  EXPECT_FALSE(json.contains("field_error_p90_rel"));
 }
 
 TEST_F(CalibrateLikeCommandTest, OptionsThatCannotGoWithLikeAreRefused) {

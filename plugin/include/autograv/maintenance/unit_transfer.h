@@ -79,6 +79,15 @@ struct TransferOptions {
   /// of every model meet theirs within 1.5 %; a Falcon whose motors stray twice as far missed by
   /// 6.9 %, with a map 1.4 points worse at p90 than a whole calibration.
   double max_check_error_rel = 0.03;
+  /// A check point stands out when its error exceeds the median of the other check points' by
+  /// more than this many of their robust standard deviations (1.4826 times their median
+  /// absolute deviation), and by more than that median itself ...
+  double stand_out_mads = 3.0;
+  /// ... and by more than this fraction of |G|: about the measurements' own scatter, below which
+  /// no point stands out however alike the others are. A check point past max_check_error_rel
+  /// that stands out is measured again, where it was, before it can refuse the unit; one past
+  /// the line that does not stand out refuses at once.
+  double stand_out_min_rel = 0.005;
   /// ... and the chosen correction must predict its own fit points from the others within this
   /// (mean leave-one-out): a correction that does not explain the measurements is no correction.
   double max_fit_error_rel = 0.03;
@@ -114,6 +123,17 @@ struct TransferResult {
   /// This unit's measurement at each of points_m. Unit: [N]
   std::vector<Eigen::Vector3d> measured_n;
   std::vector<bool> is_check;  ///< Per point: a check point.
+  /// Per check point, in the order of points_m: |corrected map - measurement| / |G|, after any
+  /// point measured again.
+  std::vector<double> check_errors_rel;
+  /// The largest check error before any point was measured again: prior.check_max_rel when
+  /// none was.
+  double first_check_max_rel = 0.0;
+  /// Check points measured again because they stood out past the line (points_m, measured_n
+  /// and estimates hold the new measurement).
+  int remeasured_points = 0;
+  /// Servo time spent measuring check points again, included in `seconds`. Unit: [s]
+  double remeasure_seconds = 0.0;
   /// Per point: the inner loop's record there (iterations, seconds held, history).
   std::vector<VertexEstimate> estimates;
 };
@@ -128,6 +148,13 @@ void checkTransferPrior(const GravityMap& prior, const std::string& device_model
 /// the grid indices of the vertices measured there. Not real-time safe.
 std::vector<int> spreadMeasuredVertices(const GravityMap& prior, int count);
 
+/// Per value of `errors_rel`, whether it stands out from the others: it exceeds their median by
+/// more than `mads` times their robust standard deviation (1.4826 times their median absolute
+/// deviation), by more than `min_rel`, and by more than that median itself (at least twice what
+/// the others show). With fewer than three values there is nothing to judge
+/// one against, and every value stands out. Not real-time safe.
+std::vector<bool> standingOut(const std::vector<double>& errors_rel, double mads, double min_rel);
+
 /// Makes this unit's map from `prior`, the map of another unit of the same model: probes the
 /// stops along a few of the prior's own directions (refused when they lie elsewhere), measures
 /// the field at the prior's own measurement points, spread farthest first, in batches
@@ -136,11 +163,13 @@ std::vector<int> spreadMeasuredVertices(const GravityMap& prior, int count);
 /// each batch and keeps the one with the smallest leave-one-out error (a simpler one unless
 /// beaten by 5 %), stops once that error is within enough_rel or another batch would pass
 /// time_budget_s, corrects every value of the prior, and judges the corrected map on the check
-/// points (every check_every-th point, never fitted). The device must be open and homed, its
-/// end-effector at rest inside the workspace (the prior's compensation holds it); `ticks` paces
-/// the loop. Throws autograv::Error as checkTransferPrior does, and when the device stops
-/// answering; returns a refused result, with no map, when the workspace, the fit or the check
-/// disagree. Not real-time safe (runs the servo loop itself).
+/// points (every check_every-th point, never fitted); a check point past max_check_error_rel
+/// that stands out from the others (standingOut) is measured again before it can refuse the
+/// unit. The device must be open and homed, its end-effector at rest inside the workspace (the
+/// prior's compensation holds it); `ticks` paces the loop. Throws autograv::Error as
+/// checkTransferPrior does, and when the device stops answering; returns a refused result, with no
+/// map, when the workspace, the fit or the check disagree. Not real-time safe (runs the servo loop
+/// itself).
 TransferResult transferMap(HapticDevice& device, TickSource& ticks, const GravityMap& prior,
                            const TransferOptions& options);
 
