@@ -1,6 +1,7 @@
 #include "autograv/estimation/auto_calibrator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include "allocation_counter.h"
 #include "autograv/error.h"
 #include "autograv/map/measurement_plan.h"
+#include "autograv/map/measurement_review.h"
 #include "ideal_point_mass.h"
 #include "probed_workspaces.h"
 
@@ -117,6 +119,61 @@ TEST(AutoCalibratorTest, APointAStopHoldsDuringItsHoldIsMovedBackAndMeasuredClea
         << "vertex " << i << ": the stop's reaction taken for gravity";
   }
   EXPECT_GE(measured, 6);
+}
+
+TEST(AutoCalibratorTest, AMeasurementAKnockSpoiledIsMeasuredAgainAndReplacedByTheSecond) {
+  // A hand knocks the arm (a push of 15 % of |G| sideways and up) through vertex 13's first hold
+  // only: its measurement stands out of the 27, is measured again where it was
+  // (remeasureAt), and the second measurement, within eps_G of the truth, replaces the first.
+  Fixture f;
+  const int knocked = 13;
+  const Eigen::Vector3d knock_n = 0.15 * 2.1 * Eigen::Vector3d(0.6, 0.0, 0.8);
+  f.device.position_m = f.grid.center_m();
+  f.calibrator.start(f.device.position_m, 0.8 * f.device.gravity(f.device.position_m));
+  bool first_visit = true;
+  AutoCalibrator::Status status = AutoCalibrator::Status::kIdle;
+  for (long tick = 0; tick < 2'000'000 && status != AutoCalibrator::Status::kFinished; ++tick) {
+    Eigen::Vector3d force;
+    status = f.calibrator.step(f.device.sample(), force);
+    const bool holding = f.calibrator.currentVertex() == knocked &&
+                         f.calibrator.state() == AutoCalibrator::Status::kEstimating;
+    f.device.advance(holding && first_visit ? Eigen::Vector3d(force + knock_n) : force, kPeriod);
+    if (status == AutoCalibrator::Status::kVertexFinished &&
+        f.calibrator.lastFinishedVertex() == knocked) {
+      first_visit = false;
+    }
+  }
+  ASSERT_EQ(status, AutoCalibrator::Status::kFinished);
+  {
+    const Eigen::Vector3d first_n = f.calibrator.vertices()[knocked].gravity_n;
+    const Eigen::Vector3d truth_first_n = f.device.gravity(f.grid.vertexPosition(knocked));
+    ASSERT_GT((first_n - truth_first_n).norm(), 0.2)
+        << first_n.transpose() << " / " << truth_first_n.transpose() << " outcome "
+        << toString(f.calibrator.vertices()[knocked].outcome);
+  }
+  std::vector<ReviewedMeasurement> reviewed =
+      planReview(f.grid, f.calibrator.vertices(), ExploredWorkspace(), f.parameters.eps_g_n);
+  ASSERT_EQ(reviewed.size(), 1u);
+  EXPECT_EQ(reviewed.front().first.vertex, knocked);
+  EXPECT_GT(reviewed.front().first.residual_rel, 0.1);
+  f.calibrator.remeasureAt(knocked, reviewed.front().again_point_m);
+  EXPECT_EQ(f.calibrator.vertices()[knocked].outcome, VertexOutcome::kPending);
+  f.calibrator.visitOnly({knocked});
+  f.calibrator.start(f.device.position_m, f.device.gravity(f.device.position_m));
+  EXPECT_EQ(f.run(2'000'000), AutoCalibrator::Status::kFinished);
+  std::vector<VertexEstimate> vertices = f.calibrator.vertices();
+  concludeReview(f.grid, vertices, reviewed, f.parameters.eps_g_n);
+  EXPECT_EQ(reviewed.front().verdict, ReviewVerdict::kReplaced);
+  const Eigen::Vector3d truth_n = f.device.gravity(f.grid.vertexPosition(knocked));
+  EXPECT_EQ(vertices[knocked].outcome, VertexOutcome::kConverged);
+  EXPECT_LT((vertices[knocked].gravity_n - truth_n).norm(), f.parameters.eps_g_n);
+}
+
+TEST(AutoCalibratorTest, RemeasureAtRefusesAVertexOutsideTheGridOrAPointThatIsNotFinite) {
+  Fixture f;
+  EXPECT_THROW(f.calibrator.remeasureAt(27, f.grid.center_m()), Error);
+  EXPECT_THROW(f.calibrator.remeasureAt(-1, f.grid.center_m()), Error);
+  EXPECT_THROW(f.calibrator.remeasureAt(3, Eigen::Vector3d(0.0, std::nan(""), 0.0)), Error);
 }
 
 TEST(AutoCalibratorTest, MovesAccelerateWithTheRoomBeyondTheirTarget) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -155,6 +156,9 @@ inline constexpr double kStandOutSpreads = 6.0;
 inline constexpr double kStandOutLocalRatio = 5.0;
 /// Measurements around a candidate whose residuals make its local scale.
 inline constexpr int kStandOutNeighbours = 6;
+/// The measurements with the largest residuals that findStandingOut compares with the others,
+/// each judged with it left out of the fit (one leave-one-out each), per measurement found.
+inline constexpr std::size_t kStandOutCandidates = 3;
 /// Most measurements chooseFieldModel sets aside, and the calibration's review finds standing
 /// out, as a share of all (at least one): where more stand out, something no re-measure fixes is
 /// wrong (a device that drifts, a wrong model), and every measurement is kept.
@@ -167,14 +171,14 @@ inline constexpr int kStandOutMinMeasurements = 12;
 inline constexpr double kStandOutRepeatability = 2.0;
 
 /// The measurements that the others contradict under the fit with `curl_weight` (kStandOutSpreads,
-/// kStandOutLocalRatio), at most `most`, the most contradicted first; a residual below
-/// `floor_n`, the measurements' own repeatability, never stands out (kStandOutRepeatability
-/// eps_G for a calibration's: a hold converges when its updates fall below eps_G, so two holds
-/// of one point differ by that much). Each one found is set aside
-/// before the next is looked for, so that it does not make its neighbours look contradicted too.
-/// Empty for fewer than kStandOutMinMeasurements measurements, or where they determine no fit.
-/// Not real-time safe: one leave-one-out per measurement found and per candidate looked at.
-/// Units: [m], [N]
+/// kStandOutLocalRatio; both judged with the candidate left out of the fit, so that its error does
+/// not hide among the residuals it inflates), at most `most`, the most contradicted first; a
+/// residual below `floor_n`, the measurements' own repeatability, never stands out
+/// (kStandOutRepeatability eps_G for a calibration's: a hold converges when its updates fall below
+/// eps_G, so two holds of one point differ by that much). Each one found is set aside before the
+/// next is looked for, so that it does not make its neighbours look contradicted too. Empty for
+/// fewer than kStandOutMinMeasurements measurements, or where they determine no fit. Not real-time
+/// safe: one leave-one-out per measurement found and per candidate looked at. Units: [m], [N]
 std::vector<StandingOut> findStandingOut(const std::vector<Eigen::Vector3d>& points_m,
                                          const std::vector<Eigen::Vector3d>& values_n,
                                          double curl_weight, int most, double floor_n);

@@ -173,12 +173,18 @@ std::vector<Eigen::Vector3d> subset(const std::vector<Eigen::Vector3d>& all,
   return chosen;
 }
 
-/// The median residual of the kStandOutNeighbours measurements of `active` nearest measurement
-/// `candidate` (one of them), with the candidate left out of the fit: what the field around it
-/// leaves to a measurement that agrees.
-double localResidual(const std::vector<Eigen::Vector3d>& points_m,
-                     const std::vector<Eigen::Vector3d>& values_n, double curl_weight,
-                     const std::vector<int>& active, int candidate) {
+/// How measurement `candidate` (one of `active`) compares with the others, judged with it left
+/// out of the fit: so that a large error, which bends the fit toward itself and so inflates the
+/// others' residuals, does not hide among them.
+struct Comparison {
+  double median_rel = 0.0;  ///< Median residual of the others.
+  double spread_rel = 0.0;  ///< 1.4826 times their median absolute deviation.
+  double local_rel = 0.0;   ///< Median residual of the kStandOutNeighbours nearest the candidate.
+};
+
+Comparison compareWithTheOthers(const std::vector<Eigen::Vector3d>& points_m,
+                                const std::vector<Eigen::Vector3d>& values_n, double curl_weight,
+                                const std::vector<int>& active, int candidate) {
   std::vector<int> others;
   for (const int k : active) {
     if (k != candidate) others.push_back(k);
@@ -187,6 +193,13 @@ double localResidual(const std::vector<Eigen::Vector3d>& points_m,
   const std::vector<Eigen::Vector3d> others_n = subset(values_n, others);
   const std::vector<double> residuals =
       relativeResiduals(leaveOneOutResiduals_n(others_m, others_n, curl_weight), others_n);
+  Comparison comparison;
+  comparison.median_rel = medianOf(residuals);
+  std::vector<double> deviations;
+  for (const double residual : residuals) {
+    deviations.push_back(std::abs(residual - comparison.median_rel));
+  }
+  comparison.spread_rel = 1.4826 * medianOf(deviations);
   const Eigen::Vector3d& at_m = points_m[static_cast<std::size_t>(candidate)];
   std::vector<std::pair<double, double>> by_distance;  // distance [m], residual
   for (std::size_t k = 0; k < others_m.size(); ++k) {
@@ -197,7 +210,8 @@ double localResidual(const std::vector<Eigen::Vector3d>& points_m,
                     by_distance.end());
   std::vector<double> nearest;
   for (std::size_t k = 0; k < count; ++k) nearest.push_back(by_distance[k].second);
-  return medianOf(nearest);
+  comparison.local_rel = medianOf(nearest);
+  return comparison;
 }
 
 FieldModelScore scoreOf(FieldModel model, double curl_weight,
@@ -345,30 +359,28 @@ std::vector<StandingOut> findStandingOut(const std::vector<Eigen::Vector3d>& poi
       const std::vector<Eigen::Vector3d> active_n = subset(values_n, active);
       const std::vector<double> residuals = relativeResiduals(
           leaveOneOutResiduals_n(subset(points_m, active), active_n, curl_weight), active_n);
-      const double median_rel = medianOf(residuals);
-      std::vector<double> deviations;
-      for (const double residual : residuals) deviations.push_back(std::abs(residual - median_rel));
-      const double looked_at_rel = median_rel + kStandOutSpreads * 1.4826 * medianOf(deviations);
-      std::vector<std::size_t> candidates;  // positions in `active`
-      for (std::size_t k = 0; k < residuals.size(); ++k) {
-        const double value_n = values_n[static_cast<std::size_t>(active[k])].norm();
-        if (residuals[k] > looked_at_rel && residuals[k] * value_n > floor_n) {
-          candidates.push_back(k);
-        }
-      }
-      std::sort(candidates.begin(), candidates.end(),
+      std::vector<std::size_t> order(residuals.size());  // positions in `active`, largest first
+      for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::sort(order.begin(), order.end(),
                 [&](std::size_t a, std::size_t b) { return residuals[a] > residuals[b]; });
       bool more = false;
-      for (const std::size_t k : candidates) {
+      for (std::size_t rank = 0; rank < order.size() && rank < kStandOutCandidates; ++rank) {
+        const std::size_t k = order[rank];
         const int index = active[k];
-        double local_rel = 0.0;
+        if (!(residuals[k] * values_n[static_cast<std::size_t>(index)].norm() > floor_n)) {
+          continue;  // within the measurements' repeatability
+        }
+        Comparison others;
         try {
-          local_rel = localResidual(points_m, values_n, curl_weight, active, index);
+          others = compareWithTheOthers(points_m, values_n, curl_weight, active, index);
         } catch (const Error&) {
           continue;  // without it the others determine no fit: it is needed, not contradicted
         }
-        if (residuals[k] < kStandOutLocalRatio * std::max(local_rel, median_rel)) continue;
-        found.push_back(StandingOut{index, residuals[k], local_rel});
+        if (residuals[k] <= others.median_rel + kStandOutSpreads * others.spread_rel ||
+            residuals[k] < kStandOutLocalRatio * std::max(others.local_rel, others.median_rel)) {
+          continue;
+        }
+        found.push_back(StandingOut{index, residuals[k], others.local_rel});
         active.erase(active.begin() + static_cast<std::ptrdiff_t>(k));
         more = true;
         break;
