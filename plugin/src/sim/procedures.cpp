@@ -308,8 +308,7 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
         // The measurements judged against one another, once, after the plan (and in the same
         // pass as the failed vertices, as the wizard's Review does).
         reviewed = true;
-        result.reviewed_measurements =
-            planReview(grid, vertices, result.workspace, parameters.eps_g_n);
+        result.reviewed_measurements = planReview(grid, vertices, parameters.eps_g_n);
         for (const ReviewedMeasurement& entry : result.reviewed_measurements) {
           calibrator.remeasureAt(entry.first.vertex, entry.again_point_m);
           failed.push_back(entry.first.vertex);

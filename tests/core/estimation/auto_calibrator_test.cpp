@@ -152,7 +152,7 @@ TEST(AutoCalibratorTest, AMeasurementAKnockSpoiledIsMeasuredAgainAndReplacedByTh
         << toString(f.calibrator.vertices()[knocked].outcome);
   }
   std::vector<ReviewedMeasurement> reviewed =
-      planReview(f.grid, f.calibrator.vertices(), ExploredWorkspace(), f.parameters.eps_g_n);
+      planReview(f.grid, f.calibrator.vertices(), f.parameters.eps_g_n);
   ASSERT_EQ(reviewed.size(), 1u);
   EXPECT_EQ(reviewed.front().first.vertex, knocked);
   EXPECT_GT(reviewed.front().first.residual_rel, 0.1);

@@ -559,27 +559,52 @@ TEST(FieldModelChoiceTest, OneMeasurementAStopHeldDoesNotChooseTheModel) {
   // clean measurements choose (with every measurement counted, it chose the componentwise fit
   // for both fields).
   const std::vector<Eigen::Vector3d> points = scatteredPoints(120, 0.05, 21);
+  // The measurement nearest the middle, among others that agree among themselves.
+  int held_index = 0;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    if (points[k].cwiseAbs().maxCoeff() <
+        points[static_cast<std::size_t>(held_index)].cwiseAbs().maxCoeff()) {
+      held_index = static_cast<int>(k);
+    }
+  }
   for (auto field : {&curvedPotentialField, &curledField}) {
     std::vector<Eigen::Vector3d> values = valuesAt(points, field);
     const FieldModelChoice clean = chooseFieldModel(points, values, kFloor_n);
     EXPECT_TRUE(clean.set_aside.empty());
-    values[17] *= 0.8;
+    values[static_cast<std::size_t>(held_index)] *= 0.8;
     const FieldModelChoice held = chooseFieldModel(points, values, kFloor_n);
     EXPECT_EQ(held.model, clean.model);
-    EXPECT_EQ(held.set_aside, std::vector<int>{17});
+    EXPECT_EQ(held.set_aside, std::vector<int>{held_index});
   }
 }
 
 TEST(FieldModelChoiceTest, StandingOutFindsEachContradictedMeasurementAndNoneOfTheirNeighbours) {
+  // Two measurements well inside the scatter (where the others surround them and agree among
+  // themselves): one 15 % long, one knocked 5 % sideways.
   const std::vector<Eigen::Vector3d> points = scatteredPoints(120, 0.05, 22);
   std::vector<Eigen::Vector3d> values = valuesAt(points, curvedPotentialField);
   EXPECT_TRUE(findStandingOut(points, values, 0.0, 6, kFloor_n).empty());
-  values[3] *= 1.15;
-  values[40] += Eigen::Vector3d(0.05, 0.0, 0.0);  // 5 % sideways: a knock
+  std::vector<int> by_depth(points.size());
+  for (std::size_t k = 0; k < by_depth.size(); ++k) by_depth[k] = static_cast<int>(k);
+  std::sort(by_depth.begin(), by_depth.end(), [&](int a, int b) {
+    return points[static_cast<std::size_t>(a)].cwiseAbs().maxCoeff() <
+           points[static_cast<std::size_t>(b)].cwiseAbs().maxCoeff();
+  });
+  const int longer = by_depth[0];
+  int knocked = by_depth[1];
+  for (std::size_t k = 1; k < by_depth.size(); ++k) {
+    knocked = by_depth[k];
+    if ((points[static_cast<std::size_t>(knocked)] - points[static_cast<std::size_t>(longer)])
+            .norm() > 0.02) {
+      break;
+    }
+  }
+  values[static_cast<std::size_t>(longer)] *= 1.15;
+  values[static_cast<std::size_t>(knocked)] += Eigen::Vector3d(0.05, 0.0, 0.0);
   std::vector<StandingOut> found = findStandingOut(points, values, 0.0, 6, kFloor_n);
   ASSERT_EQ(found.size(), 2u);
-  EXPECT_EQ(found[0].index, 3);  // the most contradicted first
-  EXPECT_EQ(found[1].index, 40);
+  EXPECT_EQ(found[0].index, longer);  // the most contradicted first
+  EXPECT_EQ(found[1].index, knocked);
   for (const StandingOut& one : found) {
     EXPECT_GT(one.residual_rel, kStandOutLocalRatio * one.local_rel);
   }

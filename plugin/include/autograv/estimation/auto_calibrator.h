@@ -159,8 +159,8 @@ class AutoCalibrator {
   /// Call after restore() and before start(). Throws autograv::Error when the plan does not
   /// match the grid. Not real-time safe.
   void setPlan(const MeasurementPlan& plan);
-  /// Measures vertex `index` again at `point_m` (a point inside the explored workspace:
-  /// remeasurePoint_m) on the next visit: its estimate is set back to pending. Visit it with
+  /// Measures vertex `index` again at `point_m` (a point inside the explored workspace, e.g.
+  /// where it was measured: planReview) on the next visit: its estimate is set back to pending. Visit it with
   /// visitOnly() or visitInOrder(). Throws autograv::Error on an index out of range or a
   /// non-finite point. Not real-time safe. Unit: [m]
   void remeasureAt(int index, const Eigen::Vector3d& point_m);

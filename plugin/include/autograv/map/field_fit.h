@@ -154,6 +154,14 @@ inline constexpr double kStandOutSpreads = 6.0;
 /// around it, judged without it: a field that steepens near a stop leaves large residuals at
 /// every measurement of its region, a stop's reaction or a slip at one.
 inline constexpr double kStandOutLocalRatio = 5.0;
+/// ... and when the measurements around it agree among themselves: their residuals (the median
+/// of the kStandOutNeighbours nearest) within this many times the median of all, or within the
+/// repeatability. Where they do not, the field bends faster there than the measurements follow,
+/// and one more disagreement is no evidence against a measurement: sim:falcon's points by its -x
+/// stop, 3.7-12 times the median around them, were each measured again alike (5 of them, 27-48 s
+/// of device time for nothing), while a hold resting on a ceiling stood 20 % off among
+/// neighbours at the median.
+inline constexpr double kStandOutQuietRatio = 3.0;
 /// Measurements around a candidate whose residuals make its local scale.
 inline constexpr int kStandOutNeighbours = 6;
 /// The measurements with the largest residuals that findStandingOut compares with the others,

@@ -7,7 +7,6 @@
 
 #include <Eigen/Core>
 
-#include "autograv/map/explored_workspace.h"
 #include "autograv/map/field_fit.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/types/vertex_estimate.h"
@@ -79,26 +78,19 @@ struct MeasurementJudgement {
 MeasurementJudgement judgeMeasurements(const WorkspaceGrid& grid,
                                        const std::vector<VertexEstimate>& vertices, double eps_g_n);
 
-/// How deep inside the explored workspace a measurement that stood out is measured again when
-/// it was closer to the boundary: the margin the points kept before they came to
-/// kBoundaryMargin_m, at which no calibration of the simulated devices measured a stop's
-/// reaction. Unit: [m]
-inline constexpr double kRemeasureDepth_m = 0.004;
-
-/// Where a measurement made at `point_m` that stood out is measured again: kRemeasureDepth_m
-/// inside `workspace` along its ray from the centre, or `point_m` itself when it lies deeper or
-/// no workspace was explored (the same hold again: a slip, a knock, is not repeated). Unit: [m]
-Eigen::Vector3d remeasurePoint_m(const ExploredWorkspace& workspace,
-                                 const Eigen::Vector3d& point_m) noexcept;
-
 /// The first half of a calibration's review, after its pass over the plan: the measurements of
-/// `vertices` that stand out (judgeMeasurements), each with the point it is to be measured at
-/// again (remeasurePoint_m in `workspace`); `eps_g_n` as judgeMeasurements takes it. Measure them
-/// there (AutoCalibrator::remeasureAt) in the pass that redoes the failed vertices, then call
-/// concludeReview. Not real-time safe.
+/// `vertices` that stand out (judgeMeasurements; `eps_g_n` as it takes it), each to be measured
+/// again where it was (again_point_m). There a knock or a slip is not repeated and the field is;
+/// a stop that held the first hold is met by the second's stop watch (VertexEstimator's push
+/// test: the second hold starts from what the neighbours predict, so the stop's reaction moves
+/// its estimate toward the stop), which moves the point back from it. Measuring further inside
+/// instead mistook a steep field for a contradiction: sim:falcon's points by its -x stop, 2.5 mm
+/// further in, read 7-14 % apart, and the map lost its steep band (field p99 6.0-7.2 % against
+/// 5.7-5.9 %). Measure them (AutoCalibrator::remeasureAt) in the pass that redoes the failed
+/// vertices, then call concludeReview. Not real-time safe.
 std::vector<ReviewedMeasurement> planReview(const WorkspaceGrid& grid,
                                             const std::vector<VertexEstimate>& vertices,
-                                            const ExploredWorkspace& workspace, double eps_g_n);
+                                            double eps_g_n);
 
 /// The second half: judges the measurements again (`eps_g_n` as judgeMeasurements takes it),
 /// completes each entry of `reviewed` with what its vertex measured the second time, and gives

@@ -376,8 +376,13 @@ std::vector<StandingOut> findStandingOut(const std::vector<Eigen::Vector3d>& poi
         } catch (const Error&) {
           continue;  // without it the others determine no fit: it is needed, not contradicted
         }
+        const double value_n = values_n[static_cast<std::size_t>(index)].norm();
+        const bool quiet_around =
+            others.local_rel * value_n <=
+            std::max(kStandOutQuietRatio * others.median_rel * value_n, floor_n);
         if (residuals[k] <= others.median_rel + kStandOutSpreads * others.spread_rel ||
-            residuals[k] < kStandOutLocalRatio * std::max(others.local_rel, others.median_rel)) {
+            residuals[k] < kStandOutLocalRatio * std::max(others.local_rel, others.median_rel) ||
+            !quiet_around) {
           continue;
         }
         found.push_back(StandingOut{index, residuals[k], others.local_rel});

@@ -77,21 +77,15 @@ bool parseReviewVerdict(const std::string& name, ReviewVerdict& verdict) noexcep
   return false;
 }
 
-Eigen::Vector3d remeasurePoint_m(const ExploredWorkspace& workspace,
-                                 const Eigen::Vector3d& point_m) noexcept {
-  if (workspace.empty() || workspace.depth_m(point_m) >= kRemeasureDepth_m) return point_m;
-  return workspace.pullInside(point_m, kRemeasureDepth_m);
-}
-
 std::vector<ReviewedMeasurement> planReview(const WorkspaceGrid& grid,
                                             const std::vector<VertexEstimate>& vertices,
-                                            const ExploredWorkspace& workspace, double eps_g_n) {
+                                            double eps_g_n) {
   std::vector<ReviewedMeasurement> reviewed;
   for (const StandingOutMeasurement& found :
        judgeMeasurements(grid, vertices, eps_g_n).standing_out) {
     ReviewedMeasurement entry;
     entry.first = found;
-    entry.again_point_m = remeasurePoint_m(workspace, found.point_m);
+    entry.again_point_m = found.point_m;
     reviewed.push_back(entry);
   }
   return reviewed;

@@ -403,7 +403,7 @@ void CalibrationWizard::Impl::buildReview() {
   if (!review_planned_) {
     // Once, after the pass over the plan: the measurements the others contradict.
     review_planned_ = true;
-    reviewed_ = planReview(grid_, vertices, workspace_, config_.advanced.parameters.eps_g_n);
+    reviewed_ = planReview(grid_, vertices, config_.advanced.parameters.eps_g_n);
   }
   review.measure_again = reviewed_;
   review.measured_again = remeasure_sent_;
