@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -15,6 +14,7 @@
 
 #include "autograv/map/map_io.h"
 #include "run_command.h"
+#include "scaled_map.h"
 #include "scratch_folder.h"
 
 namespace autograv {
@@ -103,18 +103,8 @@ TEST_F(CalibrateLikeCommandTest, AMapOfAnotherModelIsRefusedBeforeTheDeviceMoves
 TEST_F(CalibrateLikeCommandTest, ACorrectionRefusedAfterMeasuringSavesNothingAndReportsWhy) {
   // Unit 1's map with every value off by its own random 8 %: the device moves and measures,
   // and no smooth correction explains what it measured.
-  const GravityMap prior = loadMap(prior_);
-  std::vector<VertexEstimate> vertices = prior.vertices();
-  std::mt19937 random(5);
-  std::normal_distribution<double> normal(0.0, 0.08 / std::sqrt(3.0));
-  for (VertexEstimate& vertex : vertices) {
-    const double size_n = vertex.gravity_n.norm();
-    const Eigen::Vector3d noise_n(normal(random), normal(random), normal(random));
-    vertex.gravity_n += size_n * noise_n;
-    if (vertex.measuredOffVertex()) vertex.measured_gravity_n += size_n * noise_n;
-  }
   const fs::path scrambled = dir_ / "scrambled.json";
-  saveMap(GravityMap(prior.grid(), vertices, prior.metadata()), scrambled.string());
+  saveMap(testing::scrambledMap(loadMap(prior_), 0.08, 5), scrambled.string());
   const fs::path out = dir_ / "refused.json";
   const fs::path report = dir_ / "refused.report.json";
   const auto run =

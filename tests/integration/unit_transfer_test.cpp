@@ -9,7 +9,6 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -23,6 +22,7 @@
 #include "autograv/sim/procedures.h"
 #include "autograv/sim/simulated_device.h"
 #include "field_map.h"
+#include "scaled_map.h"
 #include "sim/experiments.h"
 
 namespace autograv {
@@ -140,16 +140,7 @@ TEST_F(UnitTransferTest, TheChosenCorrectionIsTheOneThatPredictsLeftOutPointsBes
 TEST_F(UnitTransferTest, APriorTheCorrectionCannotExplainIsRefusedOnItsFitAndNoMapIsMade) {
   // The prior with every value off by its own random 8 %: no smooth correction explains it (a
   // bent link, a map of another device relabelled).
-  std::vector<VertexEstimate> vertices = prior_->vertices();
-  std::mt19937 random(5);
-  std::normal_distribution<double> normal(0.0, 0.08 / std::sqrt(3.0));
-  for (VertexEstimate& vertex : vertices) {
-    const double size_n = vertex.gravity_n.norm();
-    const Eigen::Vector3d noise_n(normal(random), normal(random), normal(random));
-    vertex.gravity_n += size_n * noise_n;
-    if (vertex.measuredOffVertex()) vertex.measured_gravity_n += size_n * noise_n;
-  }
-  const GravityMap scrambled(prior_->grid(), vertices, prior_->metadata());
+  const GravityMap scrambled = testing::scrambledMap(*prior_, 0.08, 5);
   auto device = unitAtCentre(2);
   const TransferResult result = transfer(*device, scrambled);
   EXPECT_FALSE(result.accepted);

@@ -160,9 +160,9 @@ class AutoCalibrator {
   /// match the grid. Not real-time safe.
   void setPlan(const MeasurementPlan& plan);
   /// Measures vertex `index` again at `point_m` (a point inside the explored workspace, e.g.
-  /// where it was measured: planReview) on the next visit: its estimate is set back to pending. Visit it with
-  /// visitOnly() or visitInOrder(). Throws autograv::Error on an index out of range or a
-  /// non-finite point. Not real-time safe. Unit: [m]
+  /// where it was measured: planReview) on the next visit: its estimate is set back to pending.
+  /// Visit it with visitOnly() or visitInOrder(). Throws autograv::Error on an index out of range
+  /// or a non-finite point. Not real-time safe. Unit: [m]
   void remeasureAt(int index, const Eigen::Vector3d& point_m);
   /// Where vertex `index` is measured: the vertex, or the plan's point. Real-time safe. Unit: [m]
   const Eigen::Vector3d& measurementPoint_m(int index) const noexcept;
