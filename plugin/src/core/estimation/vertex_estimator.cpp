@@ -276,6 +276,18 @@ void VertexEstimator::finish(VertexOutcome outcome) noexcept {
   finished_ = true;
 }
 
+VertexEstimator::Status VertexEstimator::endAgainstStop(
+    const Eigen::Vector3d& contact_m, const Eigen::Vector3d& direction,
+    const Eigen::Vector3d& gravity_before_n) noexcept {
+  stop_contact_ = true;
+  contact_position_m_ = contact_m;
+  contact_direction_ = direction;
+  gravity_before_contact_n_ = gravity_before_n;
+  gravity_n_ = gravity_before_n;  // the stop's reaction is no part of G
+  finish(VertexOutcome::kUnreachable);
+  return Status::kUnreachable;
+}
+
 VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
                                               Eigen::Vector3d& force_n) noexcept {
   if (finished_) {
@@ -340,14 +352,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
     creep_probe_ = false;
     creep_probe_offset_m_.setZero();
     if (moved_m < kCreepFollow * kCreepProbe_m) {
-      stop_contact_ = true;
-      contact_position_m_ = creep_probe_base_m_;
-      contact_direction_ = direction;
-      gravity_before_contact_n_ = creep_start_gravity_n_;
-      gravity_n_ = creep_start_gravity_n_;  // the stop's reaction is no part of G
-      estimate_.gravity_n = gravity_n_;
-      finish(VertexOutcome::kUnreachable);
-      return Status::kUnreachable;
+      return endAgainstStop(creep_probe_base_m_, direction, creep_start_gravity_n_);
     }
     creep_count_ = 0;  // free space (friction): iterate on from here
     restartObservation(requiredSteadyCount(false));
@@ -449,14 +454,7 @@ VertexEstimator::Status VertexEstimator::step(const ServoSample& sample,
                        (!overshoot || relaxation_ <= kMinRelaxation);
   stalled_updates_ = stalled ? stalled_updates_ + 1 : 0;
   if (held_still) {
-    stop_contact_ = true;
-    contact_position_m_ = settled_m;
-    contact_direction_ = raw_update_n / update_n;
-    gravity_before_contact_n_ = last_previous_n_;
-    gravity_n_ = last_previous_n_;  // the stop's reaction is no part of G
-    estimate_.gravity_n = gravity_n_;
-    finish(VertexOutcome::kUnreachable);
-    return Status::kUnreachable;
+    return endAgainstStop(settled_m, raw_update_n / update_n, last_previous_n_);
   }
   last_update_n_ = update_n;
   last_raw_update_n_ = raw_update_n;
@@ -550,15 +548,9 @@ VertexEstimator::Status VertexEstimator::pushSettled(const Eigen::Vector3d& sett
     finish(VertexOutcome::kConverged);
     return Status::kConverged;
   }
-  stop_contact_ = true;
-  contact_position_m_ = push_base_m_;
-  contact_direction_ = direction;
   // The stop's reaction may have been in G_hat from the first iteration on: restart from the
   // estimate the vertex began with (the calibrator's, from converged neighbours).
-  gravity_before_contact_n_ = initial_gravity_n_;
-  gravity_n_ = initial_gravity_n_;
-  finish(VertexOutcome::kUnreachable);
-  return Status::kUnreachable;
+  return endAgainstStop(push_base_m_, direction, initial_gravity_n_);
 }
 
 const char* toString(VertexEstimator::Status status) noexcept {

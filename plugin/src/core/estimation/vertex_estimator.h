@@ -255,6 +255,10 @@ class VertexEstimator {
   /// A new steady-state observation: detector and dither phase from zero.
   void restartObservation(int required_steady) noexcept;
   void finish(VertexOutcome outcome) noexcept;
+  // Ends the vertex against a stop that held the end-effector at `contact_m`, pushing along
+  // `direction` (into the stop), with G_hat back at `gravity_before_n` (before its reaction).
+  Status endAgainstStop(const Eigen::Vector3d& contact_m, const Eigen::Vector3d& direction,
+                        const Eigen::Vector3d& gravity_before_n) noexcept;
   Eigen::Vector3d ditherForce_n(double cell) const noexcept;
   Eigen::Vector3d ditherImpulse_ns(double from, double to) const noexcept;
   // The waveform an exact loop would send now; `payback_n` is what late or early ticks owe it.
