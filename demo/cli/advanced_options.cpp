@@ -152,6 +152,9 @@ void AdvancedOptions::declareOptions(CLI::App& program) {
   addSimulatedUnitOptions(program, s.unit);
   file(program.get_option("--unit"), kSimulatedDeviceSection);
   file(program.get_option("--actuators"), kSimulatedDeviceSection);
+  for (const char* name : {"--session", "--thermal", "--motor-start-c", "--ambient-c"}) {
+    file(program.get_option(name), kSimulatedDeviceSection);
+  }
   addSimulatedLoadOptions(program, s.load);
   file(program.get_option("--payload-g"), kSimulatedDeviceSection);
   file(program.get_option("--tilt-deg"), kSimulatedDeviceSection);

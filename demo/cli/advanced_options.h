@@ -31,10 +31,11 @@ namespace autograv::cli {
 struct SimulationKnobs {
   std::uint64_t seed = 1;  ///< --seed: the device's noise (and verify's points, --truth's device).
   sim::FrictionLevel friction = sim::FrictionLevel::kTypical;  ///< --friction
-  sim::SimulatedUnit unit;                                     ///< --unit, --actuators
-  SimulatedLoad load;                                          ///< --payload-g, --tilt-deg
-  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;    ///< --servo-timing
-  std::optional<std::uint64_t> servo_timing_seed;              ///< --servo-timing-seed
+  /// --unit, --actuators, --session, --thermal, --ambient-c, --motor-start-c
+  sim::SimulatedUnit unit;
+  SimulatedLoad load;                                        ///< --payload-g, --tilt-deg
+  sim::ServoTiming servo_timing = sim::ServoTiming::kExact;  ///< --servo-timing
+  std::optional<std::uint64_t> servo_timing_seed;            ///< --servo-timing-seed
 };
 
 /// The estimation parameters given on the command line (paper Secs. II-III), in SI units; each
@@ -79,8 +80,9 @@ EstimationParameters estimationParameters(const EstimationKnobs& knobs,
 
 /// The names of the options, in groups, for AdvancedOptions::accept.
 namespace knob {
-inline const std::vector<std::string> kSimulatedDevice = {"--seed", "--friction", "--unit",
-                                                          "--actuators"};
+inline const std::vector<std::string> kSimulatedDevice = {
+    "--seed",    "--friction", "--unit",          "--actuators",
+    "--session", "--thermal",  "--motor-start-c", "--ambient-c"};
 inline const std::vector<std::string> kSimulatedLoad = {"--payload-g", "--tilt-deg"};
 inline const std::vector<std::string> kServoTiming = {"--servo-timing"};
 inline const std::vector<std::string> kServoTimingSeed = {"--servo-timing-seed"};

@@ -49,6 +49,14 @@ void printCalibrationOutcome(const CalibrationOutcome& outcome,
   std::printf("%-34s unit %d, %s: each motor delivers %.3f / %.3f / %.3f of its command\n",
               "device actuators", outcome.unit.number, sim::toString(outcome.unit.actuators),
               outcome.actuator_gains.x(), outcome.actuator_gains.y(), outcome.actuator_gains.z());
+  if (outcome.motors_at_end) {
+    const Eigen::Vector3d& motors = *outcome.motors_at_end;
+    std::printf(
+        "%-34s room %.1f C; at the end: hottest winding %.1f C, housing %.1f C, lowest "
+        "gain factor %.4f\n",
+        "motor temperatures (thermal on)", outcome.unit.thermal.ambient_c, motors.x(), motors.y(),
+        motors.z());
+  }
   printAgreement("leave-one-out (no ground truth)", describeAgreement(map, outcome.agreement));
   std::printf("%-34s %.2f %% of mean |G| = %.3f N\n", "RMS residual at 1000 points",
               100.0 * accuracy.rms_residual_rel, accuracy.mean_true_norm_n);
@@ -96,6 +104,8 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
       {"unit", outcome.unit.number},
       {"actuators", sim::toString(outcome.unit.actuators)},
       {"actuator_gains", vectorJson(outcome.actuator_gains)},
+      {"session", outcome.unit.session},
+      {"thermal", outcome.unit.thermal.enabled},
       {"breakaway_force_n", outcome.device_friction.breakaway_force_n},
       {"coulomb_force_n", outcome.device_friction.coulomb_force_n},
       {"map", outcome.map_path},
@@ -143,6 +153,12 @@ nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,
   report["servo_timing"] = sim::toString(outcome.servo_timing);
   report["servo_timing_seed"] = outcome.servo_timing_seed;
   report["servo_loop"] = servoLoopJson(outcome.servo_timing, result.servo_loop);
+  if (outcome.motors_at_end) {
+    report["ambient_c"] = outcome.unit.thermal.ambient_c;
+    report["hottest_winding_c"] = outcome.motors_at_end->x();
+    report["hottest_housing_c"] = outcome.motors_at_end->y();
+    report["lowest_gain_factor"] = outcome.motors_at_end->z();
+  }
   return report;
 }
 

@@ -3,6 +3,7 @@
 // What `autograv calibrate` shows of a finished calibration: the summary lines and the JSON report.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -34,6 +35,10 @@ struct CalibrationOutcome {
   sim::SimulatedUnit unit{};                   ///< Which unit of the model, its actuators.
   /// Each motor's delivered per commanded torque on that unit (ground truth, for the report).
   Eigen::Vector3d actuator_gains = Eigen::Vector3d::Ones();
+  /// With motors that warm (unit.thermal): the hottest winding and housing when the map was
+  /// saved, and the motors' lowest gain factor then (ground truth, for the report).
+  /// Units: [degC], [degC], [-]
+  std::optional<Eigen::Vector3d> motors_at_end = std::nullopt;
 };
 
 /// Prints the summary lines of the run `result` that made `map`, on standard output.

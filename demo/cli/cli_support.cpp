@@ -65,6 +65,35 @@ void addSimulatedUnitOptions(CLI::App& command, sim::SimulatedUnit& unit) {
       sim::actuatorToleranceNames(),
       "Simulated devices: how far each motor's gain strays from nominal: ideal, typical "
       "(published tolerances) or high (twice them)");
+  command
+      .add_option("--session", unit.session,
+                  "Simulated devices: the session, each homed again within the model's "
+                  "repeatability (1: the homing the published maps were made in)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  CLI::Option* thermal = command.add_option_function<std::string>(
+      "--thermal", [&unit](const std::string& on) { unit.thermal.enabled = on == "on"; },
+      "Simulated devices: motors that warm as they hold forces (on), or never (off: the "
+      "devices of 0.3, bit for bit)");
+  thermal->check(CLI::IsMember({"on", "off"}))->default_str("off");
+  CLI::Option* start =
+      command
+          .add_option("--motor-start-c", unit.thermal.start_c,
+                      "Simulated devices with --thermal on: the motors' temperature at the start "
+                      "(default: the room's) [C]")
+          ->check(CLI::Range(-20.0, 100.0))
+          ->needs(thermal);
+  command
+      .add_option_function<double>(
+          "--ambient-c",
+          [&unit, start](double ambient_c) {
+            unit.thermal.ambient_c = ambient_c;
+            if (start->count() == 0) unit.thermal.start_c = ambient_c;
+          },
+          "Simulated devices with --thermal on: the room's temperature [C]")
+      ->check(CLI::Range(-20.0, 60.0))
+      ->default_str("22")
+      ->needs(thermal);
 }
 
 void applySimulatedLoad(const DeviceHandle& device, const SimulatedLoad& load) {

@@ -191,6 +191,11 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
   outcome.unit = simulation.unit;
   outcome.actuator_gains = sim::actuatorGains(specs.model_name, simulation.unit);
   outcome.wall_s = wall_s;
+  if (const sim::MotorThermalModel* motors = device->motorThermal()) {
+    outcome.motors_at_end =
+        Eigen::Vector3d(motors->winding_c().maxCoeff(), motors->housing_c().maxCoeff(),
+                        motors->gainFactor().minCoeff());
+  }
   outcome.workspace_coverage = workspace_coverage;
   outcome.accuracy = sim::measureAccuracy(map, *device, 1000, simulation.seed);
   // The device's friction, measured on a fresh copy (same seed and level) so that the

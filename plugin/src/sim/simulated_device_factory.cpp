@@ -6,6 +6,7 @@
 #include "autograv/error.h"
 #include "autograv/sim/actuators.h"
 #include "autograv/sim/delta_device.h"
+#include "autograv/sim/motor_thermal.h"
 #include "autograv/sim/point_mass_device.h"
 #include "autograv/sim/serial_arm_device.h"
 #include "autograv/sim/simulated_device.h"
@@ -25,6 +26,9 @@ namespace {
 template <typename Parameters>
 Parameters ofUnit(Parameters parameters, const std::string& name, const SimulatedUnit& unit) {
   parameters.driver.actuator_gain = actuatorGains(name, unit);
+  parameters.driver.homing_offset_counts = homingOffsetCounts(name, unit.number, unit.session);
+  parameters.driver.thermal = unit.thermal;
+  if (unit.thermal.enabled) parameters.driver.motor_thermal = motorThermalParameters(name);
   std::string& serial = parameters.specifications.serial_number;
   const std::size_t dash = serial.rfind('-');
   if (dash != std::string::npos) {

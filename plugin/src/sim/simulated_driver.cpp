@@ -132,7 +132,10 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
       velocity_(parameters.velocity_window_s, parameters.velocity_time_constant_s),
       motor_limit_(parameters.motor_limit),
       dac_step_(Eigen::Vector3d::Zero()),
-      actuator_gain_(parameters.actuator_gain) {
+      actuator_gain_(parameters.actuator_gain),
+      thermal_enabled_(parameters.thermal.enabled),
+      homing_offset_counts_(parameters.homing_offset_counts),
+      homing_offset_(!parameters.homing_offset_counts.isZero(0.0)) {
   validateSpecifications(specifications_);
   const std::string name = specifications_.model_name;
   if (!finitePositive(parameters.internal_rate_hz) || parameters.internal_rate_hz < 1000.0) {
@@ -176,6 +179,20 @@ SimulatedDriver::SimulatedDriver(DeviceSpecifications specifications,
       (parameters.actuator_gain.array() > 2.0).any()) {
     throw Error(name + ": actuator_gain must lie in [0.5, 2] on every motor");
   }
+  if (!parameters.homing_offset_counts.allFinite()) {
+    throw Error(name + ": homing_offset_counts must be finite");
+  }
+  if (thermal_enabled_) {
+    // Each motor's share of its range at the continuous rating is the device's: the rated
+    // command heats a motor to its rated rise.
+    const double share =
+        continuousForceRating_n(specifications_) / specifications_.max_linear_force_n;
+    if (!parameters.motor_limit.allFinite()) {
+      throw Error(name + ": motors that warm need a finite motor_limit (their rated current)");
+    }
+    thermal_ = MotorThermalModel(parameters.motor_thermal, parameters.motor_limit * share,
+                                 parameters.thermal);
+  }
   // Start the noise in its stationary distribution so that the first samples are typical.
   for (int axis = 0; axis < 3; ++axis)
     noise_counts_[axis] = noise_sigma_counts_ * random_.gaussian();
@@ -212,7 +229,8 @@ void SimulatedDriver::sampleEncoders() noexcept {
   for (int axis = 0; axis < 3; ++axis) {
     noise_counts_[axis] = decay * noise_counts_[axis] + drive * random_.gaussian();
   }
-  measured_position_m_ = readEncoders(noise_counts_);
+  measured_position_m_ = readEncoders(
+      homing_offset_ ? Eigen::Vector3d(noise_counts_ + homing_offset_counts_) : noise_counts_);
   if (!calibrated_) measured_position_m_ += uncalibrated_offset_m_;
   velocity_.update(time_s(), measured_position_m_);
   last_sample_step_ = steps_;
@@ -320,7 +338,8 @@ void SimulatedDriver::advance(double dt_s) noexcept {
     }
     // A tilted base turns the mechanism's gravity: one more external force on the end-effector.
     // Each motor delivers its command times its own gain.
-    integrateStep(actuator_gain_.cwiseProduct(active_motor_command_),
+    if (thermal_enabled_) thermal_.step(step_s_, active_motor_command_);
+    integrateStep(deliveredGains().cwiseProduct(active_motor_command_),
                   tilted_ ? Eigen::Vector3d(hand_n + tiltForce_n()) : hand_n, step_s_);
     ++steps_;
     // Commands due now act from here on (and show in appliedForce_n from this time).
@@ -389,7 +408,7 @@ Eigen::Vector3d SimulatedDriver::loadedGravity_n(
 Eigen::Vector3d SimulatedDriver::commandDelivering_n(
     const Eigen::Matrix3d& motor_per_force, const Eigen::Vector3d& delivered_n) const noexcept {
   const Eigen::Vector3d motor = motor_per_force * delivered_n;
-  return motor_per_force.inverse() * motor.cwiseQuotient(actuator_gain_);
+  return motor_per_force.inverse() * motor.cwiseQuotient(deliveredGains());
 }
 
 Eigen::Vector3d SimulatedDriver::tiltForce_n() const noexcept {

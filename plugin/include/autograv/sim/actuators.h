@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "autograv/sim/motor_thermal.h"
+
 namespace autograv::sim {
 
 /// How far a simulated unit's actuators stray from nominal. A motor delivers its command times a
@@ -23,14 +25,21 @@ std::vector<std::string> actuatorToleranceNames();
 /// Inverse of toString. Throws autograv::Error listing the valid names for any other text.
 ActuatorTolerance parseActuatorTolerance(const std::string& name);
 
-/// The unit a simulated device stands for: its number and how far its actuators stray. The same
-/// unit has the same actuators whatever seed draws its sensor noise and its servo loop's timing.
+/// The unit a simulated device stands for (its number and how far its actuators stray), and the
+/// session and room it is used in. The same unit has the same actuators, and the same session the
+/// same homing, whatever seed draws its sensor noise and its servo loop's timing.
 struct SimulatedUnit {
   /// Which physical unit of the model (1, 2, ...). Unit 1 is the one every published figure is
   /// measured on.
   int number = 1;
   /// How far its actuators stray from nominal.
   ActuatorTolerance actuators = ActuatorTolerance::kTypical;
+  /// The session (1, 2, ...): each one homes the unit again, within its model's repeatability
+  /// (homingOffsetCounts); session 1 is the homing every published map was made in.
+  int session = 1;
+  /// Whether its motors warm as they hold forces, the room, and where the motors start
+  /// (MotorThermalModel). Off by default: the devices of autograv 0.3, bit for bit.
+  ThermalConditions thermal;
 };
 
 /// Largest relative gain error of one actuator chain of `model` ("sim:omni", "sim:falcon",

@@ -12,6 +12,7 @@
 #include "autograv/device/tick_source.h"
 #include "autograv/sim/actuators.h"
 #include "autograv/sim/friction.h"
+#include "autograv/sim/motor_thermal.h"
 #include "autograv/sim/servo_timing_model.h"
 #include "autograv/sim/simulated_hand.h"
 
@@ -97,6 +98,12 @@ class SimulatedDevice : public HapticDevice {
   /// device's frame): trueGravity() is the untilted field rotated by that angle. 0 levels it.
   /// Throws autograv::Error for a non-finite angle. Not real-time safe. Unit: [rad]
   virtual void setTilt_rad(double tilt_rad) = 0;
+  /// The motors' temperatures and what they make of each motor's gain, when they warm
+  /// (SimulatedUnit::thermal); null when they do not. Ground truth: for reports and studies,
+  /// never for an estimator. Real-time safe.
+  virtual const MotorThermalModel* motorThermal() const noexcept { return nullptr; }
+  /// The same, to set the motors' or the room's temperature (a study of a warm device).
+  virtual MotorThermalModel* motorThermal() noexcept { return nullptr; }
 };
 
 /// The simulated models of real devices makeSimulatedDevice builds: {"sim:omega", "sim:omni",

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "autograv/device/device_specifications.h"
+#include "autograv/sim/motor_thermal.h"
 #include "autograv/sim/simulated_device.h"
 #include "autograv/sim/simulated_hand.h"
 
@@ -87,6 +88,16 @@ struct DriverParameters {
   /// and its transmission ratio against nominal (actuatorGains). The driver computes commands
   /// from the nominal model, as a real one does; all ones is an ideal unit.
   Eigen::Vector3d actuator_gain = Eigen::Vector3d::Ones();
+  /// Whether the motors warm (MotorThermalModel), the room and where they start. Disabled: each
+  /// motor delivers actuator_gain at every moment.
+  ThermalConditions thermal;
+  /// The motors' thermal figures (used when thermal.enabled). Their heat at the continuous force
+  /// rating (continuousForceRating_n, each motor at that share of motor_limit) reaches the rated
+  /// rise.
+  MotorThermalParameters motor_thermal;
+  /// Where this session's homing landed against the one the map was made in: added to each
+  /// encoder's reading before quantization (homingOffsetCounts). Unit: [encoder counts]
+  Eigen::Vector3d homing_offset_counts = Eigen::Vector3d::Zero();
 };
 
 /// The driver side shared by the simulated devices: open/close, homing, encoder sampling with
@@ -132,11 +143,26 @@ class SimulatedDriver : public SimulatedDevice {
   /// The Cartesian force the motors now deliver: the commands now acting (saturated, quantized,
   /// delayed) times each motor's gain, at the current pose. Real-time safe. Unit: [N]
   Eigen::Vector3d appliedForce_n() const noexcept override {
-    return motorToCartesian(actuator_gain_.cwiseProduct(active_motor_command_));
+    return motorToCartesian(deliveredGains().cwiseProduct(active_motor_command_));
   }
-  /// Each motor's delivered torque (or force) per commanded one (DriverParameters::actuator_gain):
-  /// ground truth, for reports; an estimator never sees it. Real-time safe.
+  /// Each motor's delivered torque (or force) per commanded one at the reference temperature
+  /// (DriverParameters::actuator_gain): ground truth, for reports; an estimator never sees it.
+  /// Real-time safe.
   const Eigen::Vector3d& actuatorGains() const noexcept { return actuator_gain_; }
+  /// The same now, at the motors' temperatures (actuatorGains() when they do not warm).
+  /// Real-time safe.
+  Eigen::Vector3d deliveredGains() const noexcept {
+    return thermal_enabled_ ? Eigen::Vector3d(actuator_gain_.cwiseProduct(thermal_.gainFactor()))
+                            : actuator_gain_;
+  }
+  /// Real-time safe.
+  const MotorThermalModel* motorThermal() const noexcept override {
+    return thermal_enabled_ ? &thermal_ : nullptr;
+  }
+  /// Real-time safe.
+  MotorThermalModel* motorThermal() noexcept override {
+    return thermal_enabled_ ? &thermal_ : nullptr;
+  }
   /// The motor commands now acting, in the mechanism's actuator units. Real-time safe.
   const Eigen::Vector3d& activeMotorCommand() const noexcept { return active_motor_command_; }
   /// Real-time safe.
@@ -246,6 +272,10 @@ class SimulatedDriver : public SimulatedDevice {
   int pending_count_ = 0;
   Eigen::Vector3d active_motor_command_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d actuator_gain_ = Eigen::Vector3d::Ones();
+  bool thermal_enabled_ = false;
+  MotorThermalModel thermal_;
+  Eigen::Vector3d homing_offset_counts_ = Eigen::Vector3d::Zero();
+  bool homing_offset_ = false;
   std::uint64_t saturation_count_ = 0;
   std::uint64_t last_sample_step_ = 0;
   bool has_sample_ = false;
