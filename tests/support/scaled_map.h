@@ -6,19 +6,13 @@
 #include <random>
 #include <vector>
 
+#include "autograv/maintenance/retare.h"
 #include "autograv/map/gravity_map.h"
 
 namespace autograv::testing {
 
 /// `map` with every value it holds (at the vertices and where measured off them) times `factor`.
-inline GravityMap scaledMap(const GravityMap& map, double factor) {
-  std::vector<VertexEstimate> vertices = map.vertices();
-  for (VertexEstimate& vertex : vertices) {
-    vertex.gravity_n *= factor;
-    vertex.measured_gravity_n *= factor;
-  }
-  return GravityMap(map.grid(), vertices, map.metadata());
-}
+using autograv::scaledMap;
 
 /// `map` with every value off by its own random relative error, `spread` in magnitude on
 /// average (the same draw where a vertex was measured off its position), drawn from `seed`.

@@ -53,4 +53,9 @@ RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap
 /// Not real-time safe. Unit: [N]
 GravityMap shiftedMap(const GravityMap& map, const Eigen::Vector3d& shift_n);
 
+/// `map` with every vertex's estimate, and every measurement made off a vertex, times `factor`
+/// (histories kept as measured): what motors that all deliver 1 / factor of their torque per
+/// command need. Not real-time safe.
+GravityMap scaledMap(const GravityMap& map, double factor);
+
 }  // namespace autograv

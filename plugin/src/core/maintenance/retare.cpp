@@ -8,14 +8,29 @@
 
 namespace autograv {
 
-GravityMap shiftedMap(const GravityMap& map, const Eigen::Vector3d& shift_n) {
+namespace {
+
+/// `map` with every value the lookup is made from (a map's off-vertex measurements feed its fit
+/// too) taken to factor * value + shift_n.
+GravityMap affineMap(const GravityMap& map, double factor, const Eigen::Vector3d& shift_n) {
   std::vector<VertexEstimate> vertices = map.vertices();
-  // Every value the lookup is made from: a map's off-vertex measurements feed its fit too.
   for (VertexEstimate& vertex : vertices) {
-    vertex.gravity_n += shift_n;
-    if (vertex.measuredOffVertex()) vertex.measured_gravity_n += shift_n;
+    vertex.gravity_n = factor * vertex.gravity_n + shift_n;
+    if (vertex.measuredOffVertex()) {
+      vertex.measured_gravity_n = factor * vertex.measured_gravity_n + shift_n;
+    }
   }
   return GravityMap(map.grid(), std::move(vertices), map.metadata());
+}
+
+}  // namespace
+
+GravityMap shiftedMap(const GravityMap& map, const Eigen::Vector3d& shift_n) {
+  return affineMap(map, 1.0, shift_n);
+}
+
+GravityMap scaledMap(const GravityMap& map, double factor) {
+  return affineMap(map, factor, Eigen::Vector3d::Zero());
 }
 
 RetareResult retareMap(HapticDevice& device, TickSource& ticks, const GravityMap& map,
