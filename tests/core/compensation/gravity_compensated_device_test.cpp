@@ -114,6 +114,7 @@ TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
       [](CompensationOptions& o) { o.outside_margin_m = NAN; },
       [](CompensationOptions& o) { o.frozen_window_s = -0.1; },
       [](CompensationOptions& o) { o.frozen_hand_stiffness_n_per_m = INFINITY; },
+      [](CompensationOptions& o) { o.motor_time_constant_s = 0.0; },
   };
   for (const auto& spoil : spoilers) {
     CompensationOptions options;
@@ -121,6 +122,27 @@ TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
     EXPECT_THROW(GravityCompensatedDevice(fake, options), Error);
   }
   EXPECT_THROW(FixedPeriodServoClock(0.0), Error);
+}
+
+TEST(GravityCompensatedDeviceTest, ThermalLoadIsTheSquaredForceOverTheRatingOverTheMotorsTime) {
+  CompensationOptions options = optionsWithRamp(0);
+  options.motor_time_constant_s = 1.0;
+  Fixture f(options);
+  const Eigen::Vector3d force(0.0, 0.6, 0.8);  // 1 N against the fake's 2 N rating (8 N / 4)
+  EXPECT_TRUE(f.device.setForce(force));
+  EXPECT_EQ(f.device.thermalLoad(), 0.0) << "no rating is known before open()";
+  ASSERT_TRUE(f.device.open());
+  const auto run = [&f, &force](int ticks) {
+    for (int tick = 0; tick < ticks; ++tick) f.device.setForce(force);
+  };
+  run(1001);  // the first tick counts for nothing; then one time constant
+  EXPECT_NEAR(f.device.thermalLoad(), 0.25 * (1.0 - std::exp(-1.0)), 0.002);
+  run(9000);
+  EXPECT_NEAR(f.device.thermalLoad(), 0.25, 0.001);
+  // Forces that never reach the motors heat nothing: the load falls as a motor cools.
+  f.fake->set_force_result = false;
+  run(1001);
+  EXPECT_NEAR(f.device.thermalLoad(), 0.25 * std::exp(-1.0), 0.002);
 }
 
 // --- Compensation -----------------------------------------------------------------------------

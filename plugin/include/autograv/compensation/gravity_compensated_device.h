@@ -60,6 +60,10 @@ struct CompensationOptions {
   double frozen_filter_time_constant_s = 0.015;
   /// Whether compensation starts enabled (it still ramps in).
   bool enabled = true;
+  /// Thermal time constant of the device's motors, over which thermalLoad() averages the heat
+  /// of the forces sent. The default is a small DC motor's (maxon RE 25: 612 s); a larger motor
+  /// heats more slowly. Unit: [s]
+  double motor_time_constant_s = 612.0;
 };
 
 /// The drop-in wrapper: a HapticDevice that forwards every call to an inner device and, in
@@ -202,6 +206,15 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   std::uint64_t outsideMapTickCount() const noexcept;
   /// The encoder resolution the frozen-driver check has learned so far. Unit: [m]
   double positionResolution_m() const noexcept;
+  /// How hard the forces sent work the motors: the square of the force sent over the device's
+  /// continuous force rating (continuousForceRating_n), averaged over
+  /// CompensationOptions::motor_time_constant_s. A motor's heat goes with the square of its
+  /// force, and the rating is the force whose heat brings it to its largest allowed
+  /// temperature: near 1 for minutes, the motors run near that temperature (and hold less
+  /// torque per command, so gravity compensation weakens); above 1, hotter than rated. Forces
+  /// the device never delivered (a failed write, a fault's zero) count as zero. 0 until the
+  /// first tick after open(). Any thread; real-time safe.
+  double thermalLoad() const noexcept;
   /// True once a fade (a map fading in or out, compensation ramping) made no real progress:
   /// kStalledFadeTicks ticks passed within less than kStalledFadeSpan_s of options().clock, a
   /// loop faster than 50 kHz. That is a loop in simulated time with the default

@@ -44,6 +44,7 @@ struct CompensationStatus {
   std::atomic<std::uint64_t> clamp_count{0};
   std::atomic<std::uint64_t> tick_count{0};
   std::atomic<bool> fade_stalled{false};
+  std::atomic<double> thermal_load{0.0};  ///< GravityCompensatedDevice::thermalLoad.
 
   static_assert(std::atomic<double>::is_always_lock_free,
                 "the servo path needs a lock-free compensation level");

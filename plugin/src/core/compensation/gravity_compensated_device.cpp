@@ -1,11 +1,13 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
 #include <utility>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
 #include "autograv/map/gravity_map.h"
 #include "core/compensation/compensation_status.h"
@@ -40,8 +42,23 @@ struct GravityCompensatedDevice::Impl {
   FadeStallWatch stall_watch;
   ServoPositionCache reading;
   FrozenDriverDetector frozen;
+  /// The device's continuous force rating, read at open() (0: unknown, no thermal load).
+  double continuous_force_n = 0.0;
+  /// The squared force sent at the last tick, which acts until this one. Unit: [N^2]
+  double last_force_n2 = 0.0;
+  double thermal_load = 0.0;
   // Shared status: the servo thread writes, anyone reads.
   CompensationStatus status;
+
+  /// Averages the last tick's squared force, over the rating's, across `time_constant_s`: a
+  /// first-order low-pass, as a motor's temperature follows its heat. Real-time safe.
+  void updateThermalLoad(double dt_s, double time_constant_s) noexcept {
+    if (!(continuous_force_n > 0.0)) return;
+    const double share = std::min(1.0, dt_s / time_constant_s);
+    thermal_load +=
+        share * (last_force_n2 / (continuous_force_n * continuous_force_n) - thermal_load);
+    status.thermal_load.store(thermal_load, std::memory_order_relaxed);
+  }
 };
 
 const char* toString(ServoFault fault) noexcept {
@@ -74,6 +91,8 @@ GravityCompensatedDevice::GravityCompensatedDevice(std::shared_ptr<HapticDevice>
         options.frozen_hand_stiffness_n_per_m, "a stiffness >= 0 in N/m");
   check(nonNegative(options.frozen_filter_time_constant_s), "frozen_filter_time_constant_s",
         options.frozen_filter_time_constant_s, "a time >= 0 in seconds");
+  check(std::isfinite(options.motor_time_constant_s) && options.motor_time_constant_s > 0.0,
+        "motor_time_constant_s", options.motor_time_constant_s, "a positive time in seconds");
   if (!options_.clock) options_.clock = std::make_shared<SteadyServoClock>();
   impl_ = std::make_unique<Impl>(options_);
 }
@@ -85,6 +104,10 @@ GravityCompensatedDevice::~GravityCompensatedDevice() = default;
 bool GravityCompensatedDevice::open() {
   const bool ok = inner().open();
   resetServoState();
+  const double max_force_n = inner().specifications().max_linear_force_n;
+  impl_->continuous_force_n = ok && std::isfinite(max_force_n) && max_force_n > 0.0
+                                  ? continuousForceRating_n(inner().specifications())
+                                  : 0.0;
   return ok;
 }
 
@@ -107,6 +130,7 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   s.reading.claimForCallingThread();
   CompensationStatus::increment(s.status.tick_count);
   const double dt_s = s.timer.tick();
+  s.updateThermalLoad(dt_s, options_.motor_time_constant_s);
   // Out of line only when there is something to do: a new publication or a fade in progress.
   if (s.maps.needsAdvance(s.handoff)) s.maps.advance(s.handoff, dt_s, options_.ramp_duration_s);
 
@@ -160,18 +184,21 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   }
   if (clamped) CompensationStatus::increment(s.status.clamp_count);
   if (!inner().setForce(commanded_n)) {
+    s.last_force_n2 = 0.0;
     // The force did not reach the actuators: whatever they do now, restart the ramp so that the
     // compensation does not arrive as a step when writes work again.
     s.status.level.store(0.0, std::memory_order_relaxed);
     s.status.countTick(ServoFault::kWriteFailed);
     return false;
   }
+  s.last_force_n2 = commanded_n.squaredNorm();
   s.status.countTick(ServoFault::kNone);
   return true;
 }
 
 bool GravityCompensatedDevice::fault(ServoFault kind) noexcept {
   inner().setForce(Eigen::Vector3d::Zero());
+  impl_->last_force_n2 = 0.0;
   impl_->status.level.store(0.0, std::memory_order_relaxed);
   // A frozen driver stays caught while its readings stay frozen; any other fault restarts the
   // tracking, since the readings in between were not usable.
@@ -279,6 +306,10 @@ std::uint64_t GravityCompensatedDevice::outsideMapTickCount() const noexcept {
 
 bool GravityCompensatedDevice::fadeStalled() const noexcept {
   return impl_->status.fade_stalled.load(std::memory_order_relaxed);
+}
+
+double GravityCompensatedDevice::thermalLoad() const noexcept {
+  return impl_->status.thermal_load.load(std::memory_order_relaxed);
 }
 
 double GravityCompensatedDevice::positionResolution_m() const noexcept {
