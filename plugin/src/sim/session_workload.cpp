@@ -9,6 +9,7 @@
 #include "autograv/compensation/gravity_compensated_device.h"
 #include "autograv/device/device_specifications.h"
 #include "autograv/error.h"
+#include "autograv/maintenance/retare.h"
 #include "autograv/sim/simulated_driver.h"
 
 namespace autograv::sim {
@@ -138,6 +139,19 @@ class ScriptedSession {
   std::uint64_t contacts_ = 0;
 };
 
+/// The factor s that minimises the sum of |s G_hat - G|^2 over the map's reachable vertices.
+double bestScale(const GravityMap& map, const SimulatedDevice& device) {
+  double cross = 0.0, own = 0.0;
+  for (int i = 0; i < map.grid().vertexCount(); ++i) {
+    const Eigen::Vector3d at_m = map.grid().vertexPosition(i);
+    if (!device.isReachable(at_m)) continue;
+    const Eigen::Vector3d mapped_n = map.gravityAt(at_m);
+    cross += mapped_n.dot(device.trueGravity(at_m));
+    own += mapped_n.squaredNorm();
+  }
+  return own > 0.0 ? cross / own : 1.0;
+}
+
 /// The 90th percentile of `values` (0 when empty); reorders them.
 double percentile90(std::vector<double>& values) {
   if (values.empty()) return 0.0;
@@ -175,6 +189,9 @@ SessionWorkloadResult runSessionWorkload(
     SessionSample sample;
     sample.minute = elapsed_s / 60.0;
     sample.field = measureFieldError(*map, device, options.field_samples, options.seed);
+    sample.best_scale = bestScale(*map, device);
+    sample.rescaled_field = measureFieldError(scaledMap(*map, sample.best_scale), device,
+                                              options.field_samples, options.seed);
     sample.path_p90_rel = percentile90(path_errors);
     path_errors.clear();
     if (const MotorThermalModel* thermal = device.motorThermal()) {
@@ -183,6 +200,7 @@ SessionWorkloadResult runSessionWorkload(
       sample.lowest_gain_factor = thermal->gainFactor().minCoeff();
       sample.highest_gain_factor = thermal->gainFactor().maxCoeff();
     }
+    sample.thermal_load = decorated.thermalLoad();
     sample.seconds_above_continuous_force = result.seconds_above_continuous_force;
     result.samples.push_back(sample);
     if (on_sample) on_sample(sample);

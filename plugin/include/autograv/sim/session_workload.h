@@ -42,6 +42,11 @@ struct SessionSample {
   double minute = 0.0;  ///< Device time since the session started. Unit: [min]
   /// The map against the device's field at this moment (its motors' temperatures included).
   FieldErrorReport field;
+  /// The one factor that brings the map closest to the device's field now (least squares over
+  /// the map's reachable vertices), and the map's field error once scaled by it: what a
+  /// correction of the motors' common gain alone, known exactly, would leave.
+  double best_scale = 1.0;
+  FieldErrorReport rescaled_field;
   /// 90th percentile of |G_hat - G| / |G| at the stylus, every 10 ms since the last score:
   /// what the hand felt along its path (0 at the start).
   double path_p90_rel = 0.0;
@@ -52,6 +57,8 @@ struct SessionSample {
   double hottest_housing_c = kReferenceAmbient_c;
   double lowest_gain_factor = 1.0;
   double highest_gain_factor = 1.0;
+  /// What the decorator reports of the motors' load (GravityCompensatedDevice::thermalLoad).
+  double thermal_load = 0.0;
   /// Servo time above the device's continuous force rating so far. Unit: [s]
   double seconds_above_continuous_force = 0.0;
 };
