@@ -5,6 +5,7 @@
 
 #include "autograv/error.h"
 #include "autograv/sim/simulated_driver.h"
+#include "sim/unit_seed.h"
 
 namespace autograv::sim {
 
@@ -67,20 +68,6 @@ double levelScale(ActuatorTolerance tolerance) noexcept {
   return 1.0;
 }
 
-/// A seed from the model's name and the unit's number alone (FNV-1a over both).
-std::uint64_t unitSeed(const std::string& model, int number) noexcept {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  const auto mix = [&hash](unsigned char byte) {
-    hash ^= byte;
-    hash *= 0x100000001b3ULL;
-  };
-  for (const char c : model) mix(static_cast<unsigned char>(c));
-  for (int shift = 0; shift < 32; shift += 8) {
-    mix(static_cast<unsigned char>((static_cast<unsigned>(number) >> shift) & 0xffU));
-  }
-  return hash;
-}
-
 }  // namespace
 
 const char* toString(ActuatorTolerance tolerance) noexcept {
@@ -119,7 +106,7 @@ Eigen::Vector3d actuatorGains(const std::string& model, const SimulatedUnit& uni
     throw Error("simulated unit " + std::to_string(unit.number) + ": units are numbered from 1");
   }
   const double scale = levelScale(unit.actuators);
-  Random random(unitSeed(actuatorModel(model), unit.number));
+  Random random(unitSeed(actuatorModel(model), {unit.number}));
   Eigen::Vector3d gains;
   for (int motor = 0; motor < 3; ++motor) {
     double gain = 1.0;

@@ -5,6 +5,7 @@
 
 #include "autograv/error.h"
 #include "autograv/sim/simulated_driver.h"
+#include "sim/unit_seed.h"
 
 namespace autograv::sim {
 
@@ -20,23 +21,6 @@ std::string motorModel(const std::string& model) {
 [[noreturn]] void refuseModel(const std::string& model, const char* what) {
   throw Error(std::string("no ") + what + " for '" + model +
               "'; known models: sim:omega, sim:omni, sim:falcon");
-}
-
-/// FNV-1a over the model's name, the unit and the session: the same session of the same unit
-/// homes to the same place in every run, whatever the noise seed.
-std::uint64_t sessionSeed(const std::string& model, int unit_number, int session) noexcept {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  const auto mix = [&hash](unsigned char byte) {
-    hash ^= byte;
-    hash *= 0x100000001b3ULL;
-  };
-  for (const char c : model) mix(static_cast<unsigned char>(c));
-  for (const int value : {unit_number, session}) {
-    for (int shift = 0; shift < 32; shift += 8) {
-      mix(static_cast<unsigned char>((static_cast<unsigned>(value) >> shift) & 0xffU));
-    }
-  }
-  return hash ^ 0x686f6d696e67ULL;  // "homing": not the actuator gains' stream
 }
 
 bool finitePositive(double value) noexcept { return std::isfinite(value) && value > 0.0; }
@@ -192,7 +176,8 @@ Eigen::Vector3d homingOffsetCounts(const std::string& model, int unit_number, in
                 std::to_string(unit_number) + ", session " + std::to_string(session) + ")");
   }
   if (session == 1) return Eigen::Vector3d::Zero();
-  Random random(sessionSeed(motorModel(model), unit_number, session));
+  // "homing" mixed in: not the actuator gains' stream of the same unit.
+  Random random(unitSeed(motorModel(model), {unit_number, session}) ^ 0x686f6d696e67ULL);
   Eigen::Vector3d offset;
   for (int joint = 0; joint < 3; ++joint) offset[joint] = bound * (2.0 * random.uniform() - 1.0);
   return offset;
