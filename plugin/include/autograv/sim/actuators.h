@@ -39,7 +39,7 @@ struct SimulatedUnit {
   int session = 1;
   /// Whether its motors warm as they hold forces, the room, and where the motors start
   /// (MotorThermalModel). Off by default: the devices of autograv 0.3, bit for bit.
-  ThermalConditions thermal;
+  ThermalConditions thermal = {};
 };
 
 /// Largest relative gain error of one actuator chain of `model` ("sim:omni", "sim:falcon",

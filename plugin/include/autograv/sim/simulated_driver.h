@@ -90,11 +90,11 @@ struct DriverParameters {
   Eigen::Vector3d actuator_gain = Eigen::Vector3d::Ones();
   /// Whether the motors warm (MotorThermalModel), the room and where they start. Disabled: each
   /// motor delivers actuator_gain at every moment.
-  ThermalConditions thermal;
+  ThermalConditions thermal = {};
   /// The motors' thermal figures (used when thermal.enabled). Their heat at the continuous force
   /// rating (continuousForceRating_n, each motor at that share of motor_limit) reaches the rated
   /// rise.
-  MotorThermalParameters motor_thermal;
+  MotorThermalParameters motor_thermal = {};
   /// Where this session's homing landed against the one the map was made in: added to each
   /// encoder's reading before quantization (homingOffsetCounts). Unit: [encoder counts]
   Eigen::Vector3d homing_offset_counts = Eigen::Vector3d::Zero();
