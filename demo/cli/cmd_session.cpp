@@ -61,10 +61,10 @@ void runSessionCommand(const SessionCommandOptions& options, const AdvancedOptio
   std::vector<sim::SessionWorkloadResult> runs;
   std::vector<std::string> names;
   std::vector<sim::SimulatedUnit> units = {simulation.unit};
-  names.push_back(simulation.unit.thermal.enabled ? "motors that warm" : "motors that never warm");
+  names.push_back(simulation.unit.thermal.enabled ? "warming" : "never warming");
   if (options.baseline && (simulation.unit.thermal.enabled || simulation.unit.session != 1)) {
     units.push_back({simulation.unit.number, simulation.unit.actuators, 1, {}});
-    names.push_back("the same unit, never warming, homed as the map's session");
+    names.push_back("never warming, session 1");
   }
   nlohmann::json report = {{"device", options.device},
                            {"map", options.map_path},

@@ -1,6 +1,8 @@
 // What `autograv session` writes: its JSON report and its curves.
 #include "session_report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "autograv/error.h"
@@ -20,6 +22,10 @@ nlohmann::json sessionJson(const sim::SessionWorkloadResult& result,
     nlohmann::json row = {
         {"minute", sample.minute},
         {"path_p90_rel", sample.path_p90_rel},
+        {"best_scale", sample.best_scale},
+        {"rescaled_field_error_p90_rel", sample.rescaled_field.p90_rel},
+        {"rescaled_field_error_p99_rel", sample.rescaled_field.p99_rel},
+        {"thermal_load", sample.thermal_load},
         {"hottest_winding_c", sample.hottest_winding_c},
         {"hottest_housing_c", sample.hottest_housing_c},
         {"lowest_gain_factor", sample.lowest_gain_factor},
@@ -43,29 +49,49 @@ nlohmann::json sessionJson(const sim::SessionWorkloadResult& result,
 void plotSessions(const std::string& path, const std::vector<sim::SessionWorkloadResult>& runs,
                   const std::vector<std::string>& names, const std::string& device) {
 #ifdef AUTOGRAV_HAVE_VIZ
+  // At most 13 points along the session: sixty-one categorical labels would overlap.
+  const std::size_t count = runs.front().samples.size();
+  const std::size_t every = std::max<std::size_t>(1, (count + 11) / 12);
+  std::vector<std::size_t> shown;
   std::vector<std::string> minutes;
-  for (const sim::SessionSample& sample : runs.front().samples) {
-    minutes.push_back(std::to_string(static_cast<int>(sample.minute + 0.5)));
+  for (std::size_t i = 0; i < count; i += every) {
+    shown.push_back(i);
+    minutes.push_back(std::to_string(static_cast<int>(runs.front().samples[i].minute + 0.5)));
   }
-  const auto panel = [&](const std::string& title, auto&& value) {
+  // One colour per session; dashed, the same session's map scaled by the one gain that fits it
+  // best (what a correction of the motors' common gain, known exactly, would leave).
+  const auto panel = [&](const std::string& title, auto&& value, auto&& rescaled) {
     viz::SweepPanel result{title, {}};
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      viz::SweepSeries series{names[r], {}, static_cast<int>(r), r > 0};
-      for (const sim::SessionSample& sample : runs[r].samples)
+      viz::SweepSeries series{names[r], {}, static_cast<int>(r), false};
+      viz::SweepSeries corrected{
+          names[r] + ", one common gain corrected", {}, static_cast<int>(r), true};
+      for (const sim::SessionSample& sample : runs[r].samples) {
         series.values.push_back(value(sample));
+        corrected.values.push_back(rescaled(sample));
+      }
       result.series.push_back(series);
+      if (!std::isnan(corrected.values.back())) result.series.push_back(corrected);
     }
     return result;
   };
+  const auto none = [](const sim::SessionSample&) { return std::nan(""); };
   viz::PlotOptions plot;
-  plot.title = "A map in use: " + device + ", field error and motor temperature over the session";
+  plot.title = "A map in use: " + device + ", field error and motors over the session";
   viz::writePng(
       viz::renderSweepPlot(
           minutes, "minute of the session",
-          {panel("field p90 [% of |G|]", [](const auto& s) { return 100 * s.field.p90_rel; }),
-           panel("field p99 [% of |G|]", [](const auto& s) { return 100 * s.field.p99_rel; }),
-           panel("hottest winding [C]", [](const auto& s) { return s.hottest_winding_c; }),
-           panel("lowest motor gain factor", [](const auto& s) { return s.lowest_gain_factor; })},
+          {panel(
+               "field p90 [% of |G|]", [](const auto& s) { return 100 * s.field.p90_rel; },
+               [](const auto& s) { return 100 * s.rescaled_field.p90_rel; }),
+           panel(
+               "field p99 [% of |G|]", [](const auto& s) { return 100 * s.field.p99_rel; },
+               [](const auto& s) { return 100 * s.rescaled_field.p99_rel; }),
+           panel(
+               "hottest winding [C]", [](const auto& s) { return s.hottest_winding_c; }, none),
+           panel(
+               "thermal load the decorator reports", [](const auto& s) { return s.thermal_load; },
+               none)},
           plot),
       path);
   std::printf("\nwrote %s\n", path.c_str());
