@@ -51,7 +51,7 @@ void plotSessions(const std::string& path, const std::vector<sim::SessionWorkloa
 #ifdef AUTOGRAV_HAVE_VIZ
   // At most 13 points along the session: sixty-one categorical labels would overlap.
   const std::size_t count = runs.front().samples.size();
-  const std::size_t every = std::max<std::size_t>(1, (count + 11) / 12);
+  const std::size_t every = std::max<std::size_t>(1, (count + 10) / 12);
   std::vector<std::size_t> shown;
   std::vector<std::string> minutes;
   for (std::size_t i = 0; i < count; i += every) {
@@ -64,9 +64,9 @@ void plotSessions(const std::string& path, const std::vector<sim::SessionWorkloa
     viz::SweepPanel result{title, {}};
     for (std::size_t r = 0; r < runs.size(); ++r) {
       viz::SweepSeries series{names[r], {}, static_cast<int>(r), false};
-      viz::SweepSeries corrected{
-          names[r] + ", one common gain corrected", {}, static_cast<int>(r), true};
-      for (const sim::SessionSample& sample : runs[r].samples) {
+      viz::SweepSeries corrected{names[r] + ", one gain fitted", {}, static_cast<int>(r), true};
+      for (const std::size_t i : shown) {
+        const sim::SessionSample& sample = runs[r].samples[std::min(i, runs[r].samples.size() - 1)];
         series.values.push_back(value(sample));
         corrected.values.push_back(rescaled(sample));
       }
