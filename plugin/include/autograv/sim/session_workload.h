@@ -43,19 +43,21 @@ struct SessionSample {
   /// The map against the device's field at this moment (its motors' temperatures included).
   FieldErrorReport field;
   /// The one factor that brings the map closest to the device's field now (least squares over
-  /// the map's reachable vertices), and the map's field error once scaled by it: what a
-  /// correction of the motors' common gain alone, known exactly, would leave.
+  /// the map's reachable vertices).
   double best_scale = 1.0;
+  /// The map's field error once scaled by best_scale: what a correction of the motors' common
+  /// gain alone, known exactly, would leave.
   FieldErrorReport rescaled_field;
   /// 90th percentile of |G_hat - G| / |G| at the stylus, every 10 ms since the last score:
   /// what the hand felt along its path (0 at the start).
   double path_p90_rel = 0.0;
-  /// Hottest winding and housing, and the motors' lowest and highest gain factor against the
-  /// reference temperature (the room's at the start when the motors do not warm: 22 C, 1).
-  /// Units: [degC], [degC], [-], [-]
+  /// Hottest winding (22 C throughout when the motors do not warm). Unit: [degC]
   double hottest_winding_c = kReferenceAmbient_c;
+  /// Hottest housing, where the magnets are. Unit: [degC]
   double hottest_housing_c = kReferenceAmbient_c;
+  /// The motors' lowest torque per command against the reference temperature (1 there).
   double lowest_gain_factor = 1.0;
+  /// The motors' highest torque per command against the reference temperature.
   double highest_gain_factor = 1.0;
   /// What the decorator reports of the motors' load (GravityCompensatedDevice::thermalLoad).
   double thermal_load = 0.0;
