@@ -33,7 +33,6 @@ const char* toString(MotorDrive drive) noexcept {
 
 MotorThermalParameters motorThermalParameters(const std::string& model) {
   const std::string motors = motorModel(model);
-  MotorThermalParameters parameters;
   if (motors == "sim:omni" || motors == "sim:omega") {
     // A 25 mm precision coreless DC motor with NdFeB magnets, the class of both devices' motors:
     // maxon's RE 25 catalogue page (graphite brushes, 20 W), thermal data: 3.1 K/W winding to
@@ -44,14 +43,9 @@ MotorThermalParameters motorThermalParameters(const std::string& model) {
     // reversible coefficient, -0.11 to -0.13 %/K). Both amplifiers drive a current (ASSUMED:
     // precision devices close a current loop, as the omega's published electronics and the
     // Omni's PCI/FireWire amplifiers do; neither publishes its schematic).
-    parameters.winding_to_housing_k_per_w = 3.1;
-    parameters.housing_to_ambient_k_per_w = 14.0;
-    parameters.winding_time_constant_s = 12.5;
-    parameters.housing_time_constant_s = 612.0;
-    parameters.rated_winding_rise_k = 100.0;
-    parameters.magnet_coefficient_per_k = -0.0012;
-    parameters.drive = MotorDrive::kCurrent;
-    return parameters;
+    // K/W winding-housing and housing-ambient, s winding and motor, K rise, 1/K magnet and
+    // copper, drive: the fields in MotorThermalParameters' order.
+    return {3.1, 14.0, 12.5, 612.0, 100.0, -0.0012, 0.00393, MotorDrive::kCurrent};
   }
   if (motors == "sim:falcon") {
     // A low-cost iron-core brushed motor with ferrite magnets. Published for that class (Philips/
@@ -62,15 +56,7 @@ MotorThermalParameters motorThermalParameters(const std::string& model) {
     // winding time constant (an iron-core rotor holds more heat than a coreless winding), an 80 K
     // largest rise (insulation class E, 120 C, at 40 C ambient), and a voltage drive: a low-cost
     // H-bridge without current sensing, so the rising resistance lowers the current too.
-    parameters.winding_to_housing_k_per_w = 30.0;
-    parameters.housing_to_ambient_k_per_w = 45.0;
-    parameters.winding_time_constant_s = 60.0;
-    parameters.housing_time_constant_s = 1800.0;
-    parameters.rated_winding_rise_k = 80.0;
-    parameters.magnet_coefficient_per_k = -0.002;
-    parameters.resistance_coefficient_per_k = 0.004;
-    parameters.drive = MotorDrive::kVoltage;
-    return parameters;
+    return {30.0, 45.0, 60.0, 1800.0, 80.0, -0.002, 0.004, MotorDrive::kVoltage};
   }
   refuseModel(model, "motor thermal figures");
 }

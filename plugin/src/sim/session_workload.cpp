@@ -45,7 +45,7 @@ class ScriptedSession {
  public:
   ScriptedSession(SimulatedDevice& device, const SessionWorkloadOptions& options)
       : device_(device), options_(options), random_(options.seed ^ 0x73657373696f6eULL) {
-    startCarry(0.0);
+    startCarry();
   }
 
   /// Moves the script on to `now_s` and returns the force the scene adds now. Unit: [N]
@@ -75,7 +75,7 @@ class ScriptedSession {
         if (now_s >= phase_end_s_) startFloat(now_s);
         break;
       case Phase::kFloat:
-        if (now_s >= phase_end_s_) startCarry(now_s);
+        if (now_s >= phase_end_s_) startCarry();
         break;
     }
     if (phase_ != Phase::kContact) return Eigen::Vector3d::Zero();
@@ -114,7 +114,7 @@ class ScriptedSession {
     return centre;
   }
 
-  void startCarry(double /*now_s*/) {
+  void startCarry() {
     SimulatedHand& hand = device_.hand();
     hand.grab(device_.truePosition_m());
     hand.moveTo(reachablePlace(), options_.hand_speed_m_per_s);

@@ -42,8 +42,8 @@ struct GravityCompensatedDevice::Impl {
   FadeStallWatch stall_watch;
   ServoPositionCache reading;
   FrozenDriverDetector frozen;
-  /// The device's continuous force rating, read at open() (0: unknown, no thermal load).
-  double continuous_force_n = 0.0;
+  /// 1 / (continuous force rating)^2, read at open() (0: unknown, no thermal load). Unit: [1/N^2]
+  double inverse_rating_n2 = 0.0;
   /// The squared force sent at the last tick, which acts until this one. Unit: [N^2]
   double last_force_n2 = 0.0;
   double thermal_load = 0.0;
@@ -53,10 +53,9 @@ struct GravityCompensatedDevice::Impl {
   /// Averages the last tick's squared force, over the rating's, across `time_constant_s`: a
   /// first-order low-pass, as a motor's temperature follows its heat. Real-time safe.
   void updateThermalLoad(double dt_s, double time_constant_s) noexcept {
-    if (!(continuous_force_n > 0.0)) return;
+    if (!(inverse_rating_n2 > 0.0)) return;
     const double share = std::min(1.0, dt_s / time_constant_s);
-    thermal_load +=
-        share * (last_force_n2 / (continuous_force_n * continuous_force_n) - thermal_load);
+    thermal_load += share * (last_force_n2 * inverse_rating_n2 - thermal_load);
     status.thermal_load.store(thermal_load, std::memory_order_relaxed);
   }
 };
@@ -105,9 +104,12 @@ bool GravityCompensatedDevice::open() {
   const bool ok = inner().open();
   resetServoState();
   const double max_force_n = inner().specifications().max_linear_force_n;
-  impl_->continuous_force_n = ok && std::isfinite(max_force_n) && max_force_n > 0.0
-                                  ? continuousForceRating_n(inner().specifications())
-                                  : 0.0;
+  if (ok && std::isfinite(max_force_n) && max_force_n > 0.0) {
+    const double rating_n = continuousForceRating_n(inner().specifications());
+    impl_->inverse_rating_n2 = rating_n > 0.0 ? 1.0 / (rating_n * rating_n) : 0.0;
+  } else {
+    impl_->inverse_rating_n2 = 0.0;
+  }
   return ok;
 }
 
