@@ -12,6 +12,7 @@
 #include "autograv/estimation/pd_design.h"
 #include "autograv/map/map_summary.h"
 #include "autograv/map/measurement_review.h"
+#include "autograv/map/thermal_drift.h"
 #include "autograv/map/vertex_fill.h"
 #include "autograv/sim/paper_frame.h"
 #include "core/estimation/vertex_estimator.h"
@@ -276,6 +277,8 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   double next_progress_s = device.time_s();
   AutoCalibrator::Status status = AutoCalibrator::Status::kMoving;
   bool reviewed = false;  // planReview ran
+  std::vector<DriftReference> drift_references;
+  std::vector<int> drift_vertices;  // theirs, measured after the others in the same pass
   while (device.time_s() - start_s < options.timeout_s) {
     if (options.stop_requested != nullptr && options.stop_requested->load()) {
       result.stopped = true;
@@ -313,19 +316,26 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
           calibrator.remeasureAt(entry.first.vertex, entry.again_point_m);
           failed.push_back(entry.first.vertex);
         }
+        // A few of the first points again, last, to see what the motors' warming did.
+        drift_references = planThermalDriftCheck(grid, vertices, failed);
+        for (const DriftReference& reference : drift_references) {
+          calibrator.remeasureAt(reference.vertex, reference.point_m);
+          drift_vertices.push_back(reference.vertex);
+        }
       }
-      if (!failed.empty()) {
+      if (!failed.empty() || !drift_vertices.empty()) {
         // Between ticks, as the wizard's redo: from where the end-effector is, with the last
         // vertex's estimate to start from.
         ++result.redo_passes;
-        result.redone_vertices += static_cast<int>(failed.size());
+        result.redone_vertices += static_cast<int>(failed.size() + drift_vertices.size());
         const int last = calibrator.lastFinishedVertex();
         const bool last_converged = last >= 0 && vertices[static_cast<std::size_t>(last)].outcome ==
                                                      VertexOutcome::kConverged;
         const Eigen::Vector3d estimate_n = last_converged
                                                ? vertices[static_cast<std::size_t>(last)].gravity_n
                                                : result.initialization.gravity_n;
-        calibrator.visitOnly(failed);
+        calibrator.visitOnly(failed, drift_vertices);
+        drift_vertices.clear();
         const ServoSample here = readServoSample(device);
         calibrator.start(here.valid ? here.position_m : grid.center_m(), estimate_n);
         status = AutoCalibrator::Status::kMoving;
@@ -344,6 +354,8 @@ CalibrationRunResult runSimulatedCalibration(SimulatedDevice& device,
   result.vertices = calibrator.vertices();
   if (!result.stopped && status == AutoCalibrator::Status::kFinished) {
     concludeReview(grid, result.vertices, result.reviewed_measurements, parameters.eps_g_n);
+    result.thermal_drift =
+        concludeThermalDrift(grid, result.vertices, drift_references, parameters.eps_g_n);
   }
   fillUnreachableVertices(grid, result.vertices);
   result.simulated_seconds = device.time_s() - start_s;

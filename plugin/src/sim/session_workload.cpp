@@ -173,6 +173,7 @@ SessionWorkloadResult runSessionWorkload(
                             options.seed);
   CompensationOptions compensation;
   compensation.clock = std::make_shared<ServoTimingClock>(ticks.timingModel());
+  compensation.correct_thermal_drift = options.thermal_correction;
   // The decorator drives the device it is given; this one is owned by the caller.
   GravityCompensatedDevice decorated(std::shared_ptr<HapticDevice>(&device, [](HapticDevice*) {}),
                                      compensation);
@@ -185,12 +186,18 @@ SessionWorkloadResult runSessionWorkload(
   std::vector<double> path_errors;
   path_errors.reserve(static_cast<std::size_t>(options.sample_period_s / kPathSamplePeriod_s) + 8);
 
+  // The factor the decorator scales the map by at a thermal load.
+  const auto correction = [&](double load) {
+    return options.thermal_correction ? thermalScale(map->metadata().thermal_drift, load) : 1.0;
+  };
   const auto score = [&](double elapsed_s) {
     SessionSample sample;
     sample.minute = elapsed_s / 60.0;
-    sample.field = measureFieldError(*map, device, options.field_samples, options.seed);
-    sample.best_scale = bestScale(*map, device);
-    sample.rescaled_field = measureFieldError(scaledMap(*map, sample.best_scale), device,
+    sample.thermal_scale = correction(decorated.thermalLoad());
+    const GravityMap in_use = scaledMap(*map, sample.thermal_scale);
+    sample.field = measureFieldError(in_use, device, options.field_samples, options.seed);
+    sample.best_scale = bestScale(in_use, device);
+    sample.rescaled_field = measureFieldError(scaledMap(in_use, sample.best_scale), device,
                                               options.field_samples, options.seed);
     sample.path_p90_rel = percentile90(path_errors);
     path_errors.clear();
@@ -231,7 +238,8 @@ SessionWorkloadResult runSessionWorkload(
       next_path_s += kPathSamplePeriod_s;
       const Eigen::Vector3d at_m = device.truePosition_m();
       const Eigen::Vector3d truth_n = device.trueGravity(at_m);
-      path_errors.push_back((map->gravityAt(at_m) - truth_n).norm() / truth_n.norm());
+      const double in_use = correction(decorated.thermalLoad());
+      path_errors.push_back((in_use * map->gravityAt(at_m) - truth_n).norm() / truth_n.norm());
     }
   }
   result.force_limit_ticks = decorated.clampCount() + device.saturationCount();

@@ -145,6 +145,44 @@ TEST(GravityCompensatedDeviceTest, ThermalLoadIsTheSquaredForceOverTheRatingOver
   EXPECT_NEAR(f.device.thermalLoad(), 0.25 * std::exp(-1.0), 0.002);
 }
 
+TEST(GravityCompensatedDeviceTest, AMapsThermalCorrectionGivesBackWhatWarmMotorsLose) {
+  CompensationOptions options = optionsWithRamp(0);
+  options.motor_time_constant_s = 1.0;
+  Fixture f(options);
+  ASSERT_TRUE(f.device.open());
+  const Eigen::Vector3d gravity(0.0, 0.0, -1.0);  // half the fake's 2 N rating
+  MapMetadata metadata;
+  metadata.device_model = "fake:recording";
+  metadata.created_utc = "2026-12-07T22:00:00Z";
+  metadata.thermal_drift.gain_loss_per_load = 0.3;
+  metadata.thermal_drift.points = 3;
+  f.device.publishMap(testing::fieldMap(
+      WorkspaceGrid(Eigen::Vector3d::Zero(), 0.1, 3),
+      [&](const Eigen::Vector3d&) -> Eigen::Vector3d { return gravity; }, std::move(metadata)));
+  const Eigen::Vector3d none = Eigen::Vector3d::Zero();
+  f.device.setForce(none);
+  EXPECT_EQ(f.fake->last_force, gravity) << "cold motors: the map as it is";
+  for (int tick = 0; tick < 10000; ++tick) f.device.setForce(none);
+  // Ten time constants: the load settles where the force it sends holds it,
+  // L (1 - 0.3 L)^2 = |G|^2 / 4, about 0.305.
+  const double load = f.device.thermalLoad();
+  EXPECT_NEAR(load * std::pow(1.0 - 0.3 * load, 2), 0.25, 1e-3);
+  EXPECT_NEAR(f.fake->last_force.z(), gravity.z() / (1.0 - 0.3 * load), 1e-9);
+  EXPECT_GT(f.fake->last_force.norm(), 1.09 * gravity.norm()) << "9 % less torque at 0.3 load";
+}
+
+TEST(GravityCompensatedDeviceTest, AMapWithoutAThermalCorrectionSendsItsValuesWhateverTheLoad) {
+  CompensationOptions options = optionsWithRamp(0);
+  options.motor_time_constant_s = 0.1;
+  Fixture f(options);
+  ASSERT_TRUE(f.device.open());
+  const Eigen::Vector3d offset(0.0, 0.0, -1.6);
+  f.device.publishMap(makeMap(offset));
+  for (int tick = 0; tick < 2000; ++tick) f.device.setForce(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(f.device.thermalLoad(), 0.64, 1e-3);
+  EXPECT_EQ(f.fake->last_force, offset);
+}
+
 // --- Compensation -----------------------------------------------------------------------------
 
 TEST(GravityCompensatedDeviceTest, AddsTheInterpolatedGravityAtTheLatestPosition) {

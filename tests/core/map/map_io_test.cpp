@@ -188,7 +188,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"unknown provenance", [](json& d) { d["vertices"][4]["provenance"] = "guessed"; },
        "field /vertices/4/provenance:", "one of measured, filled"},
       {"missing provenance", [](json& d) { d["vertices"][4].erase("provenance"); },
-       "field /vertices/4/provenance:", "missing (required by schema version 7)"},
+       "field /vertices/4/provenance:", "missing (required by schema version 8)"},
       {"centre 2-D",
        [](json& d) {
          d["grid"]["center_m"] = json::array({0.0, 0.0});
@@ -214,7 +214,7 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
       {"millimetres", [](json& d) { d["units"]["length"] = "mm"; },
        "field /units/length:", "\"m\""},
       {"newer schema", [](json& d) { d["schema_version"] = kMapSchemaVersion + 1; },
-       "field /schema_version:", "reads schema versions 1 to 7 only"},
+       "field /schema_version:", "reads schema versions 1 to 8 only"},
       {"unknown field model", [](json& d) { d["field_model"]["name"] = "spline"; },
        "field /field_model/name:", "\"conservative\", \"componentwise\", \"corrected\""},
       {"a request, not a model", [](json& d) { d["field_model"]["name"] = "choose"; },
@@ -233,8 +233,38 @@ TEST(MapIoTest, EveryCorruptedFieldIsNamed) {
        "field /field_model/scores/0/loo_mean_rel:", "missing"},
       {"no field model in schema 7", [](json& d) { d.erase("field_model"); },
        "field /field_model:", "missing"},
-      {"interpolant in schema 7", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
-       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 7"},
+      {"interpolant in schema 8", [](json& d) { d["grid"]["lookup_interpolant"] = "conservative"; },
+       "field /grid/lookup_interpolant:", "unexpected field (not part of schema version 8"},
+      {"a thermal drift beyond its bound",
+       [](json& d) {
+         d["thermal_drift"] = json{{"gain_loss_per_load", 1.5},
+                                   {"gain_loss_standard_error", 0.1},
+                                   {"points", 3},
+                                   {"first_load", 0.01},
+                                   {"again_load", 0.1},
+                                   {"drift_rel", 0.02}};
+       },
+       "field /thermal_drift/gain_loss_per_load:", "a loss of torque per unit load in [0, 1"},
+      {"a thermal drift without its points",
+       [](json& d) {
+         d["thermal_drift"] = json{{"gain_loss_per_load", 0.1},
+                                   {"gain_loss_standard_error", 0.1},
+                                   {"first_load", 0.01},
+                                   {"again_load", 0.1},
+                                   {"drift_rel", 0.02}};
+       },
+       "field /thermal_drift/points:", "missing"},
+      {"a thermal drift in schema 7",
+       [](json& d) {
+         d["schema_version"] = 7;
+         d["thermal_drift"] = json{{"gain_loss_per_load", 0.1},
+                                   {"gain_loss_standard_error", 0.1},
+                                   {"points", 3},
+                                   {"first_load", 0.01},
+                                   {"again_load", 0.1},
+                                   {"drift_rel", 0.02}};
+       },
+       "field /thermal_drift:", "unexpected field (not part of schema version 7"},
       {"interpolant in schema 5",
        [](json& d) {
          d["schema_version"] = 5;
@@ -599,12 +629,39 @@ void expectSamePrior(const MapPrior& a, const MapPrior& b) {
   EXPECT_EQ(a.workspace_difference_m, b.workspace_difference_m);
 }
 
+TEST(MapIoTest, ThermalDriftRoundTripsBitForBitAndAMapWithoutOneHasNone) {
+  const testing::ScratchFolder folder("map-io");
+  const GravityMap plain = makeMap();
+  saveMap(plain, folder.file("plain.json"));
+  EXPECT_FALSE(json::parse(readText(folder.file("plain.json"))).contains("thermal_drift"));
+  EXPECT_EQ(loadMap(folder.file("plain.json")).metadata().thermal_drift.points, 0);
+
+  MapMetadata metadata = plain.metadata();
+  metadata.thermal_drift.gain_loss_per_load = 0.1 + 0.2;
+  metadata.thermal_drift.gain_loss_standard_error = 0.031;
+  metadata.thermal_drift.points = 3;
+  metadata.thermal_drift.first_load = 0.004;
+  metadata.thermal_drift.again_load = 0.121;
+  metadata.thermal_drift.drift_rel = -0.0;
+  const GravityMap warmed(plain.grid(), plain.vertices(), metadata);
+  saveMap(warmed, folder.file("warmed.json"));
+  const GravityMap loaded = loadMap(folder.file("warmed.json"));
+  const ThermalDrift& drift = loaded.metadata().thermal_drift;
+  EXPECT_EQ(drift.gain_loss_per_load, 0.1 + 0.2);
+  EXPECT_EQ(drift.gain_loss_standard_error, 0.031);
+  EXPECT_EQ(drift.points, 3);
+  EXPECT_EQ(drift.first_load, 0.004);
+  EXPECT_EQ(drift.again_load, 0.121);
+  saveMap(loaded, folder.file("again.json"));
+  EXPECT_EQ(readText(folder.file("warmed.json")), readText(folder.file("again.json")));
+}
+
 TEST(MapIoTest, PriorRoundTripsBitForBit) {
   const testing::ScratchFolder folder("map-io");
   const GravityMap original = withPrior(makeMap(), makePrior());
   saveMap(original, folder.file("corrected.json"));
   const json document = json::parse(readText(folder.file("corrected.json")));
-  EXPECT_EQ(document.at("schema_version"), 7);
+  EXPECT_EQ(document.at("schema_version"), kMapSchemaVersion);
   const json& prior = document.at("prior");
   EXPECT_EQ(prior.at("gain").size(), 3u);
   EXPECT_EQ(prior.at("gain").at(1), json::array({0.1 + 0.2, 0.987, -0.0}));  // row-major
@@ -682,7 +739,7 @@ TEST(MapIoTest, EveryCorruptedPriorFieldIsNamed) {
        [](json& d) { d["prior"]["workspace_difference_m"] = "3 mm"; },
        "field /prior/workspace_difference_m:", ">= 0 (unit: m)"},
       {"missing serial", [](json& d) { d["prior"].erase("device_serial"); },
-       "field /prior/device_serial:", "missing (required by schema version 7)"},
+       "field /prior/device_serial:", "missing (required by schema version 8)"},
       {"misspelt member", [](json& d) { d["prior"]["gains"] = 1; },
        "field /prior/gains:", "unexpected field"},
       {"not an object", [](json& d) { d["prior"] = "maps/a.json"; },

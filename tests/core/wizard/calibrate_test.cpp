@@ -69,18 +69,25 @@ TEST(CalibrateTest, CalibratesADeviceOfItsOwnToASavedMapInOneCall) {
   EXPECT_GT(result.status.force.peak_n, 0.5);
   EXPECT_EQ(result.status.force.limit_n, device->specifications().max_linear_force_n);
   // The progress: the steps in order, the long ones seen (a step shorter than a frame, as Save,
-  // may pass between two), the last one Done.
+  // may pass between two), the last one Done. Review goes back to the calibration once, for the
+  // redo (here: the first points measured again to see the motors warm).
   ASSERT_FALSE(lines.empty());
   EXPECT_NE(lines.back().find("[8/8] Done"), std::string::npos) << lines.back();
   int last_step = 0;
+  int redos = 0;
   std::vector<int> seen;
   for (const std::string& line : lines) {
     ASSERT_EQ(line.rfind("[", 0), 0u) << line;
     const int step = line[1] - '0';
-    EXPECT_GE(step, last_step) << line;
+    if (step == 5 && last_step == 6) {
+      ++redos;
+    } else {
+      EXPECT_GE(step, last_step) << line;
+    }
     if (step != last_step) seen.push_back(step);
     last_step = step;
   }
+  EXPECT_LE(redos, 1);
   for (const int step : {2, 4, 5, 8}) {
     EXPECT_NE(std::find(seen.begin(), seen.end(), step), seen.end()) << "step " << step;
   }

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/device/forwarding_device.h"
 #include "autograv/device/haptic_device.h"
 #include "autograv/device/servo_clock.h"
@@ -61,14 +62,20 @@ struct CompensationOptions {
   /// Whether compensation starts enabled (it still ramps in).
   bool enabled = true;
   /// Thermal time constant of the device's motors, over which thermalLoad() averages the heat
-  /// of the forces sent. The default is a small DC motor's (maxon RE 25: 612 s); a larger motor
-  /// heats more slowly. Unit: [s]
-  double motor_time_constant_s = 612.0;
+  /// of the forces sent. The default is a small DC motor's (kDefaultMotorTimeConstant_s); a
+  /// larger motor heats more slowly. The calibration counts its load with the same default.
+  /// Unit: [s]
+  double motor_time_constant_s = kDefaultMotorTimeConstant_s;
+  /// Whether the compensation follows the motors' warming by the map's thermal correction
+  /// (MapMetadata::thermal_drift at thermalLoad()). Off sends the map as measured, cold.
+  bool correct_thermal_drift = true;
 };
 
 /// The drop-in wrapper: a HapticDevice that forwards every call to an inner device and, in
 /// setForce(F), sends F + G_hat(X), G_hat being the trilinear interpolation of the published
-/// gravity map at the latest position X.
+/// gravity map at the latest position X, scaled by the map's thermal correction at the motors'
+/// present load (thermalScale of MapMetadata::thermal_drift at thermalLoad(): motors that warm
+/// give less torque per command, and the calibration measured how much less).
 ///
 /// Ownership: the inner device is held by std::shared_ptr, so the wrapper can never outlive it
 /// (CHAI3D shares devices the same way, cGenericHapticDevicePtr). Maps are shared too: the
@@ -210,10 +217,12 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   /// continuous force rating (continuousForceRating_n), averaged over
   /// CompensationOptions::motor_time_constant_s. A motor's heat goes with the square of its
   /// force, and the rating is the force whose heat brings it to its largest allowed
-  /// temperature: near 1 for minutes, the motors run near that temperature (and hold less
-  /// torque per command, so gravity compensation weakens); above 1, hotter than rated. Forces
-  /// the device never delivered (a failed write, a fault's zero) count as zero. 0 until the
-  /// first tick after open(). Any thread; real-time safe.
+  /// temperature: near 1 for minutes, the motors run near that temperature; above 1, hotter
+  /// than rated. A warm motor holds less torque per command: the map's thermal correction
+  /// (MapMetadata::thermal_drift) scales the compensation by this load. Forces the device never
+  /// delivered (a failed write, a fault's zero) count as zero. Starts at 0, motors at room
+  /// temperature, and is kept across close() and open(), as the motors keep their heat.
+  /// Any thread; real-time safe.
   double thermalLoad() const noexcept;
   /// True once a fade (a map fading in or out, compensation ramping) made no real progress:
   /// kStalledFadeTicks ticks passed within less than kStalledFadeSpan_s of options().clock, a

@@ -23,6 +23,12 @@ struct DeviceSpecifications {
 /// not know: below the Phantom Omni's 0.88 N of 3.3 N (0.27), the lowest ratio we know.
 inline constexpr double kDefaultContinuousForceFraction = 0.25;
 
+/// Thermal time constant of a small DC motor of the class these devices use (maxon RE 25
+/// catalogue: 612 s, winding and housing together), over which the thermal load of the forces
+/// sent is averaged (GravityCompensatedDevice::thermalLoad, the calibration's drift check).
+/// Unit: [s]
+inline constexpr double kDefaultMotorTimeConstant_s = 612.0;
+
 /// The force a calibration may hold for long: max_continuous_force_n when the driver gives it;
 /// else the datasheet figure of a model we know by name (Phantom Omni and Touch: 0.88 N
 /// continuous, 3.3 N peak, SensAble's Phantom Omni datasheet); else

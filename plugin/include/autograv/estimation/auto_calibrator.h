@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "autograv/device/device_specifications.h"
 #include "autograv/device/servo_sample.h"
 #include "autograv/estimation/estimation_parameters.h"
 #include "autograv/map/gravity_map.h"
@@ -63,6 +64,9 @@ class AutoCalibrator {
     /// automatic dither keeps G_hat plus its peaks; 0 takes kDefaultContinuousForceFraction of
     /// the maximum force. Unit: [N]
     double continuous_force_n = 0.0;
+    /// Thermal time constant of the device's motors, over which thermalLoad() averages the heat
+    /// of the forces sent: as GravityCompensatedDevice counts it (CompensationOptions). Unit: [s]
+    double motor_time_constant_s = kDefaultMotorTimeConstant_s;
     /// Per vertex, the estimate to start its inner loop from (a prior map's value, when a unit is
     /// corrected from another's map); empty, or a non-finite entry, means the rule above.
     /// Unit: [N]
@@ -147,9 +151,11 @@ class AutoCalibrator {
   /// visits only the others.
   /// Throws autograv::Error when the count does not match the grid. Not real-time safe.
   void restore(const std::vector<VertexEstimate>& vertices);
-  /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order.
+  /// Visits only `indices` (e.g. the vertices that did not converge), in a short-move order, and
+  /// then `last` in the order given (the points measured again to see the motors' drift, as late
+  /// and as warm as the run gets), skipping those already in `indices`.
   /// Throws autograv::Error on an index out of range. Not real-time safe.
-  void visitOnly(const std::vector<int>& indices);
+  void visitOnly(const std::vector<int>& indices, const std::vector<int>& last = {});
   /// Visits only `indices`, in the order given (a tour planned by the caller). Throws
   /// autograv::Error on an index out of range. Not real-time safe.
   void visitInOrder(const std::vector<int>& indices);
@@ -211,6 +217,10 @@ class AutoCalibrator {
   double lipschitzEstimate_n_per_m() const noexcept;
   /// Largest commanded force so far, after clamping. Real-time safe. Unit: [N]
   double peakForce_n() const noexcept;
+  /// How hard the forces sent so far work the motors, as GravityCompensatedDevice::thermalLoad
+  /// counts it (from 0 at construction, over the continuous rating of Options): each finished
+  /// vertex records it (VertexEstimate::thermal_load). Real-time safe.
+  double thermalLoad() const noexcept;
 
   /// The map of everything estimated so far, unreachable vertices filled from the converged ones
   /// (fillUnreachableVertices). Not real-time safe.

@@ -10,6 +10,7 @@
 #include "autograv/map/explored_workspace.h"
 #include "autograv/map/field_fit.h"
 #include "autograv/map/measurement_review.h"
+#include "autograv/map/thermal_drift.h"
 #include "autograv/map/workspace_grid.h"
 #include "autograv/types/estimation_parameters.h"
 #include "autograv/types/vertex_estimate.h"
@@ -76,6 +77,9 @@ struct MapMetadata {
   /// The measurements that the others contradicted (judgeMeasurements), each measured again, and
   /// whether it was left out of the fit: empty when none stood out.
   std::vector<ReviewedMeasurement> reviewed_measurements;
+  /// What the calibration saw of its motors warming, and the correction the decorator applies
+  /// for it (thermalScale): all zero for a map made before schema 8, or without the check.
+  ThermalDrift thermal_drift;
 };
 
 /// The lookup refinement of the maps that calibrations make (at most: lookupRefinementFor): six

@@ -7,16 +7,17 @@
 
 namespace autograv {
 
-/// Map file schema version written by saveMap. Schema 7 adds the measurements the calibration
-/// measured again because the others contradicted them (reviewed_measurements), the vertices left
-/// out of the fit (outcome "left_out"); schema 6 adds, for a map corrected from another
-/// unit's map, where it came from and the correction (prior); schema 5 names the field model and
-/// the scores it was chosen by (field_model); schema 4 adds the lookup's interpolant
-/// (grid.lookup_interpolant: "thin_plate", the default, or "conservative"); schema 3 adds the
-/// explored workspace and the points measured off their vertices; schema 2 (box grids and where
-/// each vertex's value came from) and schema 1 (cubic grids) files still load. Other versions are
-/// refused.
-inline constexpr int kMapSchemaVersion = 7;
+/// Map file schema version written by saveMap. Schema 8 adds what the calibration saw of its
+/// motors warming and the correction the decorator applies for it (thermal_drift); schema 7 adds
+/// the measurements the calibration measured again because the others contradicted them
+/// (reviewed_measurements), the vertices left out of the fit (outcome "left_out"); schema 6 adds,
+/// for a map corrected from another unit's map, where it came from and the correction (prior);
+/// schema 5 names the field model and the scores it was chosen by (field_model); schema 4 adds the
+/// lookup's interpolant (grid.lookup_interpolant: "thin_plate", the default, or "conservative");
+/// schema 3 adds the explored workspace and the points measured off their vertices; schema 2 (box
+/// grids and where each vertex's value came from) and schema 1 (cubic grids) files still load.
+/// Other versions are refused.
+inline constexpr int kMapSchemaVersion = 8;
 /// Oldest schema version loadMap reads.
 inline constexpr int kOldestMapSchemaVersion = 1;
 
@@ -56,7 +57,7 @@ void checkWritable(const std::string& path, const std::string& what = "file");
 
 // --- In-memory form and checksum (additions for tools and tests) ---------------------------
 //
-// File format (schema version 7), one JSON object:
+// File format (schema version 8), one JSON object:
 //   format "autograv-gravity-map", schema_version, units {length m, force N, time s, mass kg},
 //   device {model, serial}, created_utc (ISO 8601, UTC, "Z"), grid {center_m[3], size_m[3],
 //   resolution[3]} (extents and vertex counts along x, y, z; from schema 3 lookup_refinement,
@@ -65,7 +66,9 @@ void checkWritable(const std::string& path, const std::string& what = "file");
 //   loo_median_rel, loo_p90_rel, loo_mean_rel} where the model was chosen}, from schema 7 and only
 //   where the calibration measured a point again reviewed_measurements[] of {vertex, point_m[3],
 //   value_n[3], residual_rel, local_rel, again_point_m[3], again_value_n[3], again_residual_rel,
-//   left_out}, from schema 6 and only for a map corrected from another unit's map prior {source,
+//   left_out}, from schema 8 and only where the calibration measured its first points again
+//   thermal_drift {gain_loss_per_load, gain_loss_standard_error, points, first_load, again_load,
+//   drift_rel}, from schema 6 and only for a map corrected from another unit's map prior {source,
 //   device_serial, created_utc (ISO 8601 or ""), correction_model (shift, affine, conservative,
 //   componentwise), gain (3 rows of 3), offset_n[3], points_m[] of [3], residuals_n[] of [3] (none,
 //   or one per point), check_points, check_mean_rel, check_max_rel, workspace_difference_m},

@@ -21,6 +21,9 @@ struct StandingOutMeasurement {
   double residual_rel = 0.0;                          ///< |leave-one-out residual| / |value|.
   /// The same figure of the measurements around it (StandingOut::local_rel).
   double local_rel = 0.0;
+  /// The motors' thermal load when it was measured (VertexEstimate::thermal_load; in memory
+  /// only), which a confirmed measurement takes back with its value.
+  double thermal_load = 0.0;
 };
 
 /// What a calibration's review made of a measurement that stood out, once it was measured again.

@@ -164,6 +164,9 @@ struct CalibrationRunResult {
   int redone_vertices = 0;             ///< Vertex visits made by those passes.
   /// The measurements that stood out, measured again, and what the review made of each.
   std::vector<ReviewedMeasurement> reviewed_measurements;
+  /// What the review's points measured again saw of the motors warming (concludeThermalDrift),
+  /// already taken out of `vertices`.
+  ThermalDrift thermal_drift;
   int stop_retreats = 0;  ///< Points moved back from a stop (AutoCalibrator::stopRetreats).
   ServoLoopStats::Summary servo_loop;  ///< What the servo loop did, initialization included.
 };

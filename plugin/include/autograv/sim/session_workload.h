@@ -35,21 +35,28 @@ struct SessionWorkloadOptions {
   ServoTiming servo_timing = ServoTiming::kExact;
   /// Nominal servo period. Unit: [s]
   double servo_period_s = 0.001;
+  /// Whether the decorator applies the map's thermal correction
+  /// (CompensationOptions::correct_thermal_drift): off shows what the correction gains.
+  bool thermal_correction = true;
 };
 
 /// One score of the map during the session.
 struct SessionSample {
   double minute = 0.0;  ///< Device time since the session started. Unit: [min]
-  /// The map against the device's field at this moment (its motors' temperatures included).
+  /// The map as the decorator uses it now (times thermal_scale) against the device's field at
+  /// this moment (its motors' temperatures included).
   FieldErrorReport field;
-  /// The one factor that brings the map closest to the device's field now (least squares over
-  /// the map's reachable vertices).
+  /// The factor the decorator scales the map by now: the map's thermal correction at the
+  /// thermal load (thermalScale; 1 for a map without one).
+  double thermal_scale = 1.0;
+  /// The one further factor that brings the map in use closest to the device's field now (least
+  /// squares over the map's reachable vertices).
   double best_scale = 1.0;
-  /// The map's field error once scaled by best_scale: what a correction of the motors' common
-  /// gain alone, known exactly, would leave.
+  /// The field error of the map in use once scaled by best_scale as well: what a correction of
+  /// the motors' common gain, known exactly, would leave.
   FieldErrorReport rescaled_field;
-  /// 90th percentile of |G_hat - G| / |G| at the stylus, every 10 ms since the last score:
-  /// what the hand felt along its path (0 at the start).
+  /// 90th percentile of |G_hat - G| / |G| at the stylus, G_hat as the decorator uses it, every
+  /// 10 ms since the last score: what the hand felt along its path (0 at the start).
   double path_p90_rel = 0.0;
   /// Hottest winding (22 C throughout when the motors do not warm). Unit: [degC]
   double hottest_winding_c = kReferenceAmbient_c;

@@ -63,6 +63,12 @@ struct VertexEstimate {
   /// Iterations the estimate took (0 for a vertex that was not measured).
   int iterations = 0;
   double seconds = 0.0;  ///< Servo time spent at the vertex, move excluded. Unit: [s]
+  /// The motors' thermal load when the estimate was made (ThermalLoadObserver: the square of the
+  /// force sent over the continuous rating, low-passed over the motors' time constant), which
+  /// concludeThermalDrift takes the warming out by. Kept in memory only: 0 in a map read from a
+  /// file, and for the vertices a resumed run restored (AutoCalibrator::restore), which are then
+  /// taken as measured cold and never chosen to see the drift by.
+  double thermal_load = 0.0;
   /// How the vertex ended.
   VertexOutcome outcome = VertexOutcome::kPending;
   /// Where the value comes from: measured, or filled from its neighbours.

@@ -215,15 +215,18 @@ struct WizardReview {
   /// again, further from the stops (again_point_m); one that still stands out is left out of the
   /// saved map (concludeReview), its value solved from the others.
   std::vector<ReviewedMeasurement> measure_again;
-  /// True once the redo took measure_again to the device.
+  /// True once the redo took measure_again (and the drift points) to the device.
   bool measured_again = false;
+  /// The first points the redo measures again to see what the motors' warming did during the
+  /// calibration (planThermalDriftCheck), which the saved map then corrects (thermal_drift).
+  int drift_points = 0;
 };
 
 /// True when a redo has something to do: vertices that failed or were never visited, or
-/// contradicted measurements not yet measured again. Real-time safe.
+/// contradicted measurements or drift points not yet measured again. Real-time safe.
 inline bool offersRedo(const WizardReview& review) noexcept {
   return !review.failed.empty() || review.pending > 0 ||
-         (!review.measure_again.empty() && !review.measured_again);
+         ((!review.measure_again.empty() || review.drift_points > 0) && !review.measured_again);
 }
 
 /// What the device was made to deliver so far: figures from the forces the wizard sent to the

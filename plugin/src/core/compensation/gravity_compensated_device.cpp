@@ -17,6 +17,7 @@
 #include "core/compensation/ramp.h"
 #include "core/compensation/servo_position_cache.h"
 #include "core/compensation/servo_tick_timer.h"
+#include "core/compensation/thermal_load_observer.h"
 
 namespace autograv {
 
@@ -42,22 +43,10 @@ struct GravityCompensatedDevice::Impl {
   FadeStallWatch stall_watch;
   ServoPositionCache reading;
   FrozenDriverDetector frozen;
-  /// 1 / (continuous force rating)^2, read at open() (0: unknown, no thermal load). Unit: [1/N^2]
-  double inverse_rating_n2 = 0.0;
-  /// The squared force sent at the last tick, which acts until this one. Unit: [N^2]
-  double last_force_n2 = 0.0;
-  double thermal_load = 0.0;
+  /// The motors' load from the forces sent; its rating is read at open() (none: no load).
+  ThermalLoadObserver thermal;
   // Shared status: the servo thread writes, anyone reads.
   CompensationStatus status;
-
-  /// Averages the last tick's squared force, over the rating's, across `time_constant_s`: a
-  /// first-order low-pass, as a motor's temperature follows its heat. Real-time safe.
-  void updateThermalLoad(double dt_s, double time_constant_s) noexcept {
-    if (!(inverse_rating_n2 > 0.0)) return;
-    const double share = std::min(1.0, dt_s / time_constant_s);
-    thermal_load += share * (last_force_n2 * inverse_rating_n2 - thermal_load);
-    status.thermal_load.store(thermal_load, std::memory_order_relaxed);
-  }
 };
 
 const char* toString(ServoFault fault) noexcept {
@@ -104,12 +93,9 @@ bool GravityCompensatedDevice::open() {
   const bool ok = inner().open();
   resetServoState();
   const double max_force_n = inner().specifications().max_linear_force_n;
-  if (ok && std::isfinite(max_force_n) && max_force_n > 0.0) {
-    const double rating_n = continuousForceRating_n(inner().specifications());
-    impl_->inverse_rating_n2 = rating_n > 0.0 ? 1.0 / (rating_n * rating_n) : 0.0;
-  } else {
-    impl_->inverse_rating_n2 = 0.0;
-  }
+  const bool rated = ok && std::isfinite(max_force_n) && max_force_n > 0.0;
+  impl_->thermal.configure(rated ? continuousForceRating_n(inner().specifications()) : 0.0,
+                           options_.motor_time_constant_s);
   return ok;
 }
 
@@ -132,7 +118,9 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   s.reading.claimForCallingThread();
   CompensationStatus::increment(s.status.tick_count);
   const double dt_s = s.timer.tick();
-  s.updateThermalLoad(dt_s, options_.motor_time_constant_s);
+  s.thermal.advance(dt_s);
+  const double load = s.thermal.load();
+  s.status.thermal_load.store(load, std::memory_order_relaxed);
   // Out of line only when there is something to do: a new publication or a fade in progress.
   if (s.maps.needsAdvance(s.handoff)) s.maps.advance(s.handoff, dt_s, options_.ramp_duration_s);
 
@@ -166,7 +154,8 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   // The map is looked up even while compensation is off: the frozen-driver check weighs the push
   // against the full gravity, and outsideMap() reports the position either way.
   bool inside = true;
-  const Eigen::Vector3d gravity_n = s.maps.gravityAt(position_m, options_.outside_margin_m, inside);
+  const Eigen::Vector3d gravity_n = s.maps.gravityAt(
+      position_m, options_.outside_margin_m, options_.correct_thermal_drift ? load : 0.0, inside);
   s.status.outside_map.store(!inside, std::memory_order_relaxed);
   if (!inside) CompensationStatus::increment(s.status.outside_map_ticks);
 
@@ -186,21 +175,21 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   }
   if (clamped) CompensationStatus::increment(s.status.clamp_count);
   if (!inner().setForce(commanded_n)) {
-    s.last_force_n2 = 0.0;
+    s.thermal.sentNothing();
     // The force did not reach the actuators: whatever they do now, restart the ramp so that the
     // compensation does not arrive as a step when writes work again.
     s.status.level.store(0.0, std::memory_order_relaxed);
     s.status.countTick(ServoFault::kWriteFailed);
     return false;
   }
-  s.last_force_n2 = commanded_n.squaredNorm();
+  s.thermal.sent(commanded_n);
   s.status.countTick(ServoFault::kNone);
   return true;
 }
 
 bool GravityCompensatedDevice::fault(ServoFault kind) noexcept {
   inner().setForce(Eigen::Vector3d::Zero());
-  impl_->last_force_n2 = 0.0;
+  impl_->thermal.sentNothing();
   impl_->status.level.store(0.0, std::memory_order_relaxed);
   // A frozen driver stays caught while its readings stay frozen; any other fault restarts the
   // tracking, since the readings in between were not usable.

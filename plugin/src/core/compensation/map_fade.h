@@ -29,19 +29,21 @@ class MapFade {
   void advance(MapHandoff& handoff, double dt_s, double ramp_s) noexcept;
 
   /// The maps' gravity at `position_m`, blended during a fade (from or to no map as well), zero
-  /// without a map; `inside` is false when the position is farther than `margin_m` outside the
+  /// without a map, each map's scaled for the motors' thermal load `load` by its own drift
+  /// (thermalScale); `inside` is false when the position is farther than `margin_m` outside the
   /// grid of a map in use (GravityMap::gravityAt). Units: [m] in, [N] out.
-  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m,
+  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m, double load,
                             bool& inside) const noexcept {
     inside = true;
-    if (blend_ < 1.0) return blended(position_m, margin_m, inside);
+    if (blend_ < 1.0) return blended(position_m, margin_m, load, inside);
     // The usual case inline: no fade in progress.
     if (current_ == nullptr) return Eigen::Vector3d::Zero();
-    return current_->gravityAt(position_m, margin_m, inside);
+    return thermalScale(current_->metadata().thermal_drift, load) *
+           current_->gravityAt(position_m, margin_m, inside);
   }
 
  private:
-  Eigen::Vector3d blended(const Eigen::Vector3d& position_m, double margin_m,
+  Eigen::Vector3d blended(const Eigen::Vector3d& position_m, double margin_m, double load,
                           bool& inside) const noexcept;
 
   const GravityMap* current_ = nullptr;

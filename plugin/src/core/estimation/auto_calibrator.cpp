@@ -10,6 +10,7 @@
 #include "autograv/error.h"
 #include "autograv/estimation/impedance_hold.h"
 #include "autograv/map/vertex_fill.h"
+#include "core/compensation/thermal_load_observer.h"
 #include "core/estimation/minimum_jerk_move.h"
 #include "core/estimation/vertex_estimator.h"
 
@@ -37,7 +38,7 @@ struct AutoCalibrator::Impl {
        const Options& options);
 
   void restore(const std::vector<VertexEstimate>& vertices);
-  void visitOnly(const std::vector<int>& indices);
+  void visitOnly(const std::vector<int>& indices, const std::vector<int>& last);
   void visitInOrder(const std::vector<int>& indices);
   void setPlan(const MeasurementPlan& plan);
   void start(const Eigen::Vector3d& position_m, const Eigen::Vector3d& initial_gravity_n) noexcept;
@@ -85,7 +86,8 @@ struct AutoCalibrator::Impl {
   double invalid_periods_ = 0.0;  // servo time of consecutive bad samples
   double lipschitz_n_per_m_ = 0.0;
   double peak_force_n_ = 0.0;
-  int stop_retreats_here_ = 0;  // the current vertex's retreats (kMaxStopRetreats)
+  ThermalLoadObserver thermal_;  // the motors' load from the forces sent (thermalLoad)
+  int stop_retreats_here_ = 0;   // the current vertex's retreats (kMaxStopRetreats)
   Eigen::Vector3d outward_ = Eigen::Vector3d::Zero();  // boundary's outward normal at the point
   bool watched_ = false;            // the point lies within kBoundaryWatchDepth_m of the boundary
   double iteration_periods_ = 0.0;  // servo time since the hold's last update (or its start)
@@ -155,6 +157,15 @@ AutoCalibrator::Impl::Impl(const WorkspaceGrid& grid, const EstimationParameters
                 std::to_string(options.initial_estimates_n.size()) + " entries for a grid of " +
                 std::to_string(vertices_.size()) + " vertices");
   }
+  if (!(options.motor_time_constant_s > 0.0) || !std::isfinite(options.motor_time_constant_s)) {
+    throw Error(
+        "auto-calibrator: AutoCalibrator::Options::motor_time_constant_s must be a "
+        "positive time in seconds");
+  }
+  thermal_.configure(options.continuous_force_n > 0.0
+                         ? options.continuous_force_n
+                         : kDefaultContinuousForceFraction * max_force_n,
+                     options.motor_time_constant_s);
   met_stop_.assign(vertices_.size(), false);
   targets_.reserve(vertices_.size());
   for (int i = 0; i < grid.vertexCount(); ++i) targets_.push_back(grid.vertexPosition(i));
@@ -174,6 +185,9 @@ void AutoCalibrator::Impl::restore(const std::vector<VertexEstimate>& vertices) 
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     vertices_[i] = vertices[i];
     vertices_[i].history.reserve(static_cast<std::size_t>(parameters_.max_iterations));
+    // Measured by another run, whose motors' load this one never saw: neither a drift reference
+    // nor corrected (VertexEstimate::thermal_load).
+    vertices_[i].thermal_load = 0.0;
   }
   std::vector<int> pending;
   for (int index : grid_.visitOrder(grid_.center_m())) {
@@ -196,13 +210,19 @@ void AutoCalibrator::Impl::visitInOrder(const std::vector<int>& indices) {
   next_in_order_ = 0;
 }
 
-void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices) {
-  visitInOrder(indices);  // checks every index
+void AutoCalibrator::Impl::visitOnly(const std::vector<int>& indices,
+                                     const std::vector<int>& last) {
+  visitInOrder(last);     // checks every index
+  visitInOrder(indices);  // likewise
   std::vector<bool> wanted(vertices_.size(), false);
   for (int index : indices) wanted[static_cast<std::size_t>(index)] = true;
   std::vector<int> order;
   for (int index : grid_.visitOrder(grid_.center_m())) {
     if (wanted[static_cast<std::size_t>(index)]) order.push_back(index);
+  }
+  for (int index : last) {
+    if (!wanted[static_cast<std::size_t>(index)]) order.push_back(index);
+    wanted[static_cast<std::size_t>(index)] = true;
   }
   order_ = std::move(order);
   next_in_order_ = 0;
@@ -384,6 +404,7 @@ void AutoCalibrator::Impl::recordFinished() noexcept {
   slot.gravity_n = result.gravity_n;
   slot.iterations = result.iterations;
   slot.seconds = result.seconds;
+  slot.thermal_load = thermal_.load();
   slot.outcome = result.outcome;
   const Eigen::Vector3d& point_m = targets_[static_cast<std::size_t>(index)];
   if ((point_m - grid_.vertexPosition(index)).norm() > 1e-9) {
@@ -603,7 +624,9 @@ void AutoCalibrator::restore(const std::vector<VertexEstimate>& vertices) {
   impl_->restore(vertices);
 }
 
-void AutoCalibrator::visitOnly(const std::vector<int>& indices) { impl_->visitOnly(indices); }
+void AutoCalibrator::visitOnly(const std::vector<int>& indices, const std::vector<int>& last) {
+  impl_->visitOnly(indices, last);
+}
 
 void AutoCalibrator::visitInOrder(const std::vector<int>& indices) { impl_->visitInOrder(indices); }
 
@@ -641,7 +664,12 @@ void AutoCalibrator::start(const Eigen::Vector3d& position_m,
 
 AutoCalibrator::Status AutoCalibrator::step(const ServoSample& sample,
                                             Eigen::Vector3d& force_n) noexcept {
-  return impl_->step(sample, force_n);
+  Impl& s = *impl_;
+  s.thermal_.advance(servoPeriodsOf(sample, s.parameters_.servo_period_s) *
+                     s.parameters_.servo_period_s);
+  const Status status = s.step(sample, force_n);
+  s.thermal_.sent(force_n);
+  return status;
 }
 
 void AutoCalibrator::pause() noexcept { impl_->pause(); }
@@ -687,6 +715,8 @@ double AutoCalibrator::lipschitzEstimate_n_per_m() const noexcept {
 }
 
 double AutoCalibrator::peakForce_n() const noexcept { return impl_->peak_force_n_; }
+
+double AutoCalibrator::thermalLoad() const noexcept { return impl_->thermal_.load(); }
 
 GravityMap AutoCalibrator::makeMap(const MapMetadata& metadata) const {
   return impl_->makeMap(metadata);

@@ -192,6 +192,16 @@ json mapToDocument(const GravityMap& map) {
     }
     document["reviewed_measurements"] = std::move(reviewed);
   }
+  // Only maps whose calibration measured its first points again to see its motors warm.
+  const ThermalDrift& drift = metadata.thermal_drift;
+  if (drift.points > 0) {
+    document["thermal_drift"] = json{{"gain_loss_per_load", drift.gain_loss_per_load},
+                                     {"gain_loss_standard_error", drift.gain_loss_standard_error},
+                                     {"points", drift.points},
+                                     {"first_load", drift.first_load},
+                                     {"again_load", drift.again_load},
+                                     {"drift_rel", drift.drift_rel}};
+  }
   stampChecksum(document);
   // Whatever is written must load again: validate with the reader itself, so that a bad value
   // (a NaN in a history record, a malformed timestamp) is refused here and not found later.

@@ -496,6 +496,29 @@ std::vector<ReviewedMeasurement> readReviewed(const DocumentReader& reader, cons
   return reviewed;
 }
 
+ThermalDrift readThermalDrift(const DocumentReader& reader, const json& value) {
+  const std::string p = "/thermal_drift";
+  reader.requireObject(value, p,
+                       {"gain_loss_per_load", "gain_loss_standard_error", "points", "first_load",
+                        "again_load", "drift_rel"});
+  ThermalDrift drift;
+  drift.gain_loss_per_load =
+      reader.number(value, p, "gain_loss_per_load", Range::kNonNegative, "1 per unit load");
+  if (drift.gain_loss_per_load > kMaxGainLossPerLoad) {
+    reader.expected(
+        p + "/gain_loss_per_load",
+        "a loss of torque per unit load in [0, " + std::to_string(kMaxGainLossPerLoad) + "]",
+        value.at("gain_loss_per_load"));
+  }
+  drift.gain_loss_standard_error =
+      reader.number(value, p, "gain_loss_standard_error", Range::kNonNegative, "1 per unit load");
+  drift.points = reader.integer(value, p, "points", 0, kThermalDriftPoints * 100);
+  drift.first_load = reader.number(value, p, "first_load", Range::kNonNegative, "1");
+  drift.again_load = reader.number(value, p, "again_load", Range::kNonNegative, "1");
+  drift.drift_rel = reader.number(value, p, "drift_rel", Range::kAny, "1");
+  return drift;
+}
+
 VertexEstimate readVertex(const DocumentReader& reader, const json& value,
                           const WorkspaceGrid& grid, int index) {
   const std::string p = "/vertices/" + std::to_string(index);
@@ -614,7 +637,12 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
     }
     reader.setSchemaVersion(static_cast<int>(version.get<std::int64_t>()));
   }
-  if (reader.schemaVersion() >= 7) {
+  if (reader.schemaVersion() >= 8) {
+    reader.requireObject(document, "",
+                         {"format", "schema_version", "units", "device", "created_utc", "grid",
+                          "field_model", "parameters", "vertices", "checksum"},
+                         {"workspace", "prior", "reviewed_measurements", "thermal_drift"});
+  } else if (reader.schemaVersion() >= 7) {
     reader.requireObject(document, "",
                          {"format", "schema_version", "units", "device", "created_utc", "grid",
                           "field_model", "parameters", "vertices", "checksum"},
@@ -691,6 +719,9 @@ GravityMap mapFromDocument(const json& document, const std::string& source,
   if (document.contains("reviewed_measurements")) {
     metadata.reviewed_measurements =
         readReviewed(reader, document.at("reviewed_measurements"), grid);
+  }
+  if (document.contains("thermal_drift")) {
+    metadata.thermal_drift = readThermalDrift(reader, document.at("thermal_drift"));
   }
 
   const json& vertices_json = document.at("vertices");

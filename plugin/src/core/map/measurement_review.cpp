@@ -44,6 +44,7 @@ MeasurementJudgement judgeMeasurements(const WorkspaceGrid& grid,
     measurement.value_n = values_n[k];
     measurement.residual_rel = found.residual_rel;
     measurement.local_rel = found.local_rel;
+    measurement.thermal_load = vertices[static_cast<std::size_t>(vertex_of[k])].thermal_load;
     judgement.standing_out.push_back(measurement);
   }
   return judgement;
@@ -128,6 +129,7 @@ void concludeReview(const WorkspaceGrid& grid, std::vector<VertexEstimate>& vert
       // The field, measured alike twice: the first measurement, nearer the stops, goes back.
       entry.verdict = ReviewVerdict::kConfirmed;
       vertex.gravity_n = entry.first.value_n;
+      vertex.thermal_load = entry.first.thermal_load;
       vertex.measured_at_m = VertexEstimate().measured_at_m;
       vertex.measured_gravity_n.setZero();
       if ((entry.first.point_m - vertex_m).norm() > 1e-9) {

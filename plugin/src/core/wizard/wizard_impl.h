@@ -365,6 +365,9 @@ struct CalibrationWizard::Impl {
   // The measurements the others contradicted (planReview, at the first review), where each is
   // measured again, and whether the redo has taken them to the calibrator.
   std::vector<ReviewedMeasurement> reviewed_;
+  // The first points, measured again with the contradicted ones to see the motors' warming
+  // (planThermalDriftCheck); kept in memory only: a resumed run looks for no drift.
+  std::vector<DriftReference> drift_references_;
   bool review_planned_ = false;
   bool remeasure_sent_ = false;
 };

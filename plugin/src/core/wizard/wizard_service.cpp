@@ -404,8 +404,14 @@ void CalibrationWizard::Impl::buildReview() {
     // Once, after the pass over the plan: the measurements the others contradict.
     review_planned_ = true;
     reviewed_ = planReview(grid_, vertices, config_.advanced.parameters.eps_g_n);
+    std::vector<int> measured_anyway;
+    for (const ReviewedMeasurement& entry : reviewed_)
+      measured_anyway.push_back(entry.first.vertex);
+    for (const ReviewRow& row : review.failed) measured_anyway.push_back(row.vertex);
+    drift_references_ = planThermalDriftCheck(grid_, vertices, measured_anyway);
   }
   review.measure_again = reviewed_;
+  review.drift_points = static_cast<int>(drift_references_.size());
   review.measured_again = remeasure_sent_;
   {
     wizard::ScopedLock lock(live_busy_);
@@ -419,20 +425,25 @@ void CalibrationWizard::Impl::buildReview() {
 void CalibrationWizard::Impl::prepareRedo() {
   // An unreachable vertex would hit the same stop again (needsAnotherVisit).
   std::vector<int> redo = summarizeVertices(mirrorCopy(nullptr)).to_visit_again;
+  std::vector<int> last;  // the drift points, measured after the others
   if (!remeasure_sent_) {
     for (const ReviewedMeasurement& entry : reviewed_) {
       calibrator_->remeasureAt(entry.first.vertex, entry.again_point_m);
       redo.push_back(entry.first.vertex);
     }
+    for (const DriftReference& reference : drift_references_) {
+      calibrator_->remeasureAt(reference.vertex, reference.point_m);
+      last.push_back(reference.vertex);
+    }
     remeasure_sent_ = true;
   }
-  if (redo.empty()) {
+  if (redo.empty() && last.empty()) {
     redo_message_ = "Nothing to redo: every reachable vertex converged.";
     replies_.fetch_or(wizard::kReplyNothingToRedo, std::memory_order_acq_rel);
     return;
   }
   // The servo side holds the device with its own PD during Review: the calibrator is ours now.
-  calibrator_->visitOnly(redo);
+  calibrator_->visitOnly(redo, last);
   redo_message_.clear();
   replies_.fetch_or(wizard::kReplyRedoReady, std::memory_order_acq_rel);
 }
@@ -485,9 +496,14 @@ void CalibrationWizard::Impl::saveAndPrepareVerify() {
     // Judged again: what still stands out is left out of the fit (measured again or not).
     std::vector<ReviewedMeasurement> reviewed = reviewed_;
     concludeReview(grid_, vertices, reviewed, config_.advanced.parameters.eps_g_n);
+    // The drift points read what they read first when the redo was not run: nothing to see.
+    const ThermalDrift drift = concludeThermalDrift(
+        grid_, vertices, remeasure_sent_ ? drift_references_ : std::vector<DriftReference>{},
+        config_.advanced.parameters.eps_g_n);
     fillUnreachableVertices(grid_, vertices);
     MapMetadata map_metadata = metadata();
     map_metadata.reviewed_measurements = std::move(reviewed);
+    map_metadata.thermal_drift = drift;
     map = std::make_shared<const GravityMap>(grid_, vertices, std::move(map_metadata));
     saveMap(*map, config_.map_path);
   } catch (const Error& error) {

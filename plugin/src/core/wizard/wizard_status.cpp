@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/wizard/wizard_impl.h"
 
@@ -338,14 +339,27 @@ WizardStatus CalibrationWizard::Impl::status() const {
         s.waiting_for_user = false;
       } else if (!offersRedo(r)) {
         s.prompt = "Press Enter to save the map.";
-      } else if (r.measure_again.empty() || r.measured_again) {
-        s.prompt = "Press r to redo the " + std::to_string(r.failed.size() + r.pending) +
-                   " vertices that did not converge, or Enter to save the map as it is.";
       } else {
-        s.prompt = "Press r to redo the " + std::to_string(r.failed.size() + r.pending) +
-                   " vertices that did not converge and measure the " +
-                   std::to_string(r.measure_again.size()) +
-                   " contradicted ones again, or Enter to save the map as it is.";
+        // What the redo does, in the order it says it.
+        std::vector<std::string> parts;
+        const std::size_t to_redo = r.failed.size() + static_cast<std::size_t>(r.pending);
+        if (to_redo > 0) {
+          parts.push_back("redo the " + std::to_string(to_redo) +
+                          " vertices that did not converge");
+        }
+        if (!r.measured_again && !r.measure_again.empty()) {
+          parts.push_back("measure the " + std::to_string(r.measure_again.size()) +
+                          " contradicted ones again");
+        }
+        if (!r.measured_again && r.drift_points > 0) {
+          parts.push_back("measure " + std::to_string(r.drift_points) +
+                          " of the first points again to see how much the motors warmed");
+        }
+        std::string what;
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+          what += (i == 0 ? "" : (i + 1 == parts.size() ? " and " : ", ")) + parts[i];
+        }
+        s.prompt = "Press r to " + what + ", or Enter to save the map as it is.";
       }
       break;
     }
