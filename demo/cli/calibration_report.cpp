@@ -81,6 +81,8 @@ void printCalibrationOutcome(const CalibrationOutcome& outcome,
   for (const std::string& line : describeReviewedMeasurements(reviewed)) {
     std::printf("  %s\n", line.c_str());
   }
+  std::printf("%-34s %s\n", "motors warming (thermal drift)",
+              describeThermalDrift(map.metadata().thermal_drift).c_str());
 }
 
 nlohmann::json calibrationReportJson(const CalibrationOutcome& outcome,

@@ -367,6 +367,27 @@ void addReviewedJson(nlohmann::json& report, const GravityMap& map) {
   report["measured_again"] = reviewed.size();
   report["left_out"] = left_out;
   report["reviewed_measurements"] = std::move(reviewed);
+  // What the first points measured again saw of the motors warming (thermal_drift).
+  const ThermalDrift& drift = map.metadata().thermal_drift;
+  report["thermal_drift_points"] = drift.points;
+  report["thermal_drift_rel"] = drift.drift_rel;
+  report["thermal_gain_loss_per_load"] = drift.gain_loss_per_load;
+  report["thermal_gain_loss_standard_error"] = drift.gain_loss_standard_error;
+  report["thermal_load_first"] = drift.first_load;
+  report["thermal_load_again"] = drift.again_load;
+}
+
+std::string describeThermalDrift(const ThermalDrift& drift) {
+  if (drift.points == 0) return "not looked for (the motors hardly warmed, or no redo)";
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%d points read %+.2f %% more command at load %.3f than at %.3f: "
+                "torque loss %.3f +- %.3f per unit load%s",
+                drift.points, 100.0 * drift.drift_rel, drift.again_load, drift.first_load,
+                drift.gain_loss_per_load, drift.gain_loss_standard_error,
+                drift.gain_loss_per_load > 0.0 ? ", corrected in the map and in use"
+                                               : ", nothing to correct");
+  return line;
 }
 
 AgreementText describeAgreement(const GravityMap& map, const MapAgreement& judged) {

@@ -153,8 +153,12 @@ void addFieldModelJson(nlohmann::json& report, const GravityMap& map);
 std::vector<std::string> describeReviewedMeasurements(
     const std::vector<ReviewedMeasurement>& reviewed);
 /// Adds measured_again, left_out and reviewed_measurements (each one's vertex, points and
-/// leave-one-out figures over |G_hat|) to a JSON report.
+/// leave-one-out figures over |G_hat|), and the thermal drift's thermal_drift_points,
+/// thermal_drift_rel, thermal_gain_loss_per_load (+ _standard_error), thermal_load_first and
+/// thermal_load_again, to a JSON report.
 void addReviewedJson(nlohmann::json& report, const GravityMap& map);
+/// One line on what a calibration saw of its motors warming (MapMetadata::thermal_drift).
+std::string describeThermalDrift(const ThermalDrift& drift);
 
 /// For a servo loop on hardware: raises the calling thread, which is about to run the loop, to
 /// real-time priority where the system permits (enterRealTimePriority) and says on stderr what to

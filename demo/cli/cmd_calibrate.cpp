@@ -167,6 +167,7 @@ void runCalibrateCommand(const CalibrateOptions& options, const AdvancedOptions&
   metadata.lookup_refinement =
       lookupRefinementFor(grid, kDefaultLookupRefinement, knobs.field_model);
   metadata.reviewed_measurements = result.reviewed_measurements;
+  metadata.thermal_drift = result.thermal_drift;
   const GravityMap map(grid, result.vertices, metadata);
   if (result.stopped || result.status == AutoCalibrator::Status::kDeviceFault) {
     save_checkpoint(map);

@@ -162,6 +162,7 @@ void runInspectCommand(const InspectOptions& options) {
                             : std::to_string(reviewed.size()) + " that the others contradicted, " +
                                   std::to_string(summary.left_out) + " left out of the fit");
   for (const std::string& line : reviewed) printRow("", line);
+  printRow("motors warming", describeThermalDrift(metadata.thermal_drift));
   if (!norms_n.empty()) {
     const auto [lowest, highest] = std::minmax_element(norms_n.begin(), norms_n.end());
     printRow("|G_hat|", format("%.4f .. %.4f N, median %.4f N (apparent mass %.1f", *lowest,

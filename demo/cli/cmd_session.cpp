@@ -40,15 +40,17 @@ sim::SessionWorkloadResult runOne(const SessionCommandOptions& options,
   std::printf("\n%s: %s, thermal %s (ambient %.1f C, motors from %.1f C), session %d\n", label,
               options.device.c_str(), unit.thermal.enabled ? "on" : "off", unit.thermal.ambient_c,
               unit.thermal.start_c, unit.session);
-  std::printf("%7s %7s %7s %7s %9s %7s %13s %9s %9s %6s %8s\n", "minute", "p50 %", "p90 %", "p99 %",
-              "path p90", "scale", "scaled p90/99", "winding C", "gain min", "load", "cont. s");
+  std::printf("%7s %7s %7s %7s %9s %7s %7s %13s %9s %9s %6s %8s\n", "minute", "p50 %", "p90 %",
+              "p99 %", "path p90", "correct", "scale", "scaled p90/99", "winding C", "gain min",
+              "load", "cont. s");
   std::fflush(stdout);
   return sim::runSessionWorkload(*device, map, workload, [](const sim::SessionSample& sample) {
-    std::printf("%7.1f %7.3f %7.3f %7.3f %9.3f %7.4f %6.3f/%6.3f %9.1f %9.4f %6.3f %8.1f\n",
+    std::printf("%7.1f %7.3f %7.3f %7.3f %9.3f %7.4f %7.4f %6.3f/%6.3f %9.1f %9.4f %6.3f %8.1f\n",
                 sample.minute, 100 * sample.field.p50_rel, 100 * sample.field.p90_rel,
-                100 * sample.field.p99_rel, 100 * sample.path_p90_rel, sample.best_scale,
-                100 * sample.rescaled_field.p90_rel, 100 * sample.rescaled_field.p99_rel,
-                sample.hottest_winding_c, sample.lowest_gain_factor, sample.thermal_load,
+                100 * sample.field.p99_rel, 100 * sample.path_p90_rel, sample.thermal_scale,
+                sample.best_scale, 100 * sample.rescaled_field.p90_rel,
+                100 * sample.rescaled_field.p99_rel, sample.hottest_winding_c,
+                sample.lowest_gain_factor, sample.thermal_load,
                 sample.seconds_above_continuous_force);
     std::fflush(stdout);
   });
@@ -109,6 +111,8 @@ void addSessionCommand(CLI::App& app, const Advanced& advanced) {
       ->capture_default_str();
   command->add_flag("!--no-baseline", options->baseline,
                     "Do not run the same unit without warming and re-homing beside it");
+  command->add_flag("!--no-thermal-correction", options->workload.thermal_correction,
+                    "Compensate with the map as measured, without its correction for warm motors");
   addReportOption(*command, options->report_path);
   command->add_option("--plot", options->plot_path, "Write the curves here (PNG; needs a display)");
   advanced->accept(*command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kServoTiming});

@@ -704,6 +704,10 @@ void runWizardCommand(const WizardOptions& options) {
   if (status.map_saved) {
     printResults(status, force_watch, specifications, field, accuracy,
                  agreement ? &*agreement : nullptr, servo_priority);
+    if (const std::shared_ptr<const GravityMap> saved = wizard.savedMap()) {
+      std::printf("%-34s %s\n", "motors warming (thermal drift)",
+                  describeThermalDrift(saved->metadata().thermal_drift).c_str());
+    }
   }
   if (left_at_once) {
     throw Error("interrupted twice: left at once; vertices finished before are in " +

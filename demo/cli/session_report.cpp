@@ -22,6 +22,7 @@ nlohmann::json sessionJson(const sim::SessionWorkloadResult& result,
     nlohmann::json row = {
         {"minute", sample.minute},
         {"path_p90_rel", sample.path_p90_rel},
+        {"thermal_scale", sample.thermal_scale},
         {"best_scale", sample.best_scale},
         {"rescaled_field_error_p90_rel", sample.rescaled_field.p90_rel},
         {"rescaled_field_error_p99_rel", sample.rescaled_field.p99_rel},

@@ -1,6 +1,7 @@
 #!/bin/sh
 # The study of docs/accuracy.md, "A map in use for an hour": what warming motors, a new session's
-# homing, another room and a handle change do to the default map, on the three simulated devices.
+# homing, another room and a handle change do to the default map, on the three simulated devices,
+# with the map's thermal correction (the default) and without it (--no-thermal-correction).
 #   docs/studies/session_drift.sh [autograv binary] [seed] [output folder] [exact|realtime]
 # Prints one table per device; the sessions' minute-by-minute JSON and curves stay in the folder
 # (the curves need a display: run under xvfb-run). About 5 minutes per device on one core.
@@ -15,6 +16,11 @@ field() {  # the map's field error now, from a report: p90 / p99 in %
   python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print('%.2f / %.2f' % (100*r['field_error_p90_rel'], 100*r['field_error_p99_rel']))" "$1"
 }
 housing() { python3 -c "import json,sys; print(round(json.load(open(sys.argv[1]))['hottest_housing_c'], 1))" "$1"; }
+drift() {  # what the calibration saw of its motors warming
+  python3 -c "
+import json,sys; r=json.load(open(sys.argv[1]))
+print('%d points %+.2f %% at load %.3f -> %.3f: loss %.3f +- %.3f per unit load, %.0f s' % (r['thermal_drift_points'], 100*r['thermal_drift_rel'], r['thermal_load_first'], r['thermal_load_again'], r['thermal_gain_loss_per_load'], r['thermal_gain_loss_standard_error'], r['simulated_seconds']))" "$1"
+}
 minutes() {  # p90 / p99 at minutes 0, 5, 10, 30 and 60 of a session report's first session
   python3 -c "
 import json,sys
@@ -34,6 +40,8 @@ for device in ${DEVICES:-omni omega falcon}; do
   after_cold=$(housing "$OUT/$device-cold-calibrate.json")
   run session --map "$OUT/$device-cold.json" --thermal on --motor-start-c "$after_cold" --no-baseline \
     --sample-s 60 --report "$OUT/$device-cold-session.json" $(plot "$device-cold-session")
+  run session --map "$OUT/$device-cold.json" --thermal on --motor-start-c "$after_cold" --no-baseline \
+    --sample-s 300 --no-thermal-correction --report "$OUT/$device-uncorrected-session.json"
   run session --map "$OUT/$device-cold.json" --thermal on --no-baseline \
     --sample-s 300 --report "$OUT/$device-nextday-session.json"
   run session --map "$OUT/$device-warm.json" --thermal on --motor-start-c 45 --no-baseline \
@@ -44,7 +52,9 @@ for device in ${DEVICES:-omni omega falcon}; do
     --sample-s 300 --report "$OUT/$device-session3-17C.json"
   echo "$d, seed $SEED, $TIMING timing: field p90 / p99 (%) at minutes 0, 5, 10, 30, 60 of an hour's session"
   echo "  never warming (today's default map and device):       $(field "$OUT/$device-off-calibrate.json") throughout"
+  echo "  calibration with warming motors:                      $(drift "$OUT/$device-cold-calibrate.json")"
   echo "  calibrated cold, used at once (motors from $after_cold C):  $(minutes "$OUT/$device-cold-session.json")"
+  echo "  the same without the thermal correction:              $(minutes "$OUT/$device-uncorrected-session.json")"
   echo "  the same map the next day, cold start at 22 C:        $(minutes "$OUT/$device-nextday-session.json")"
   echo "  calibrated warm (45 C), used at once:                 $(minutes "$OUT/$device-warm-session.json")"
   echo "  the cold map, session 2 (homed again), room 27 C:     $(minutes "$OUT/$device-session2-27C.json")"
