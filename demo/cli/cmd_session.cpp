@@ -113,6 +113,12 @@ void addSessionCommand(CLI::App& app, const Advanced& advanced) {
                     "Do not run the same unit without warming and re-homing beside it");
   command->add_flag("!--no-thermal-correction", options->workload.thermal_correction,
                     "Compensate with the map as measured, without its correction for warm motors");
+  command
+      ->add_option("--initial-thermal-load", options->workload.initial_thermal_load,
+                   "The motors' thermal load the decorator starts from (0: at room temperature; "
+                   "right after a calibration, its report's thermal_load_again)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
   addReportOption(*command, options->report_path);
   command->add_option("--plot", options->plot_path, "Write the curves here (PNG; needs a display)");
   advanced->accept(*command, {knob::kSimulatedDevice, knob::kSimulatedLoad, knob::kServoTiming});

@@ -38,13 +38,16 @@ for device in ${DEVICES:-omni omega falcon}; do
   run calibrate --thermal on --motor-start-c 45 --out "$OUT/$device-warm.json" \
     --report "$OUT/$device-warm-calibrate.json"
   after_cold=$(housing "$OUT/$device-cold-calibrate.json")
+  # Used at once: the decorator starts from the load the calibration left the motors at.
+  load_after=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['thermal_load_again'])" "$OUT/$device-cold-calibrate.json")
   run session --map "$OUT/$device-cold.json" --thermal on --motor-start-c "$after_cold" --no-baseline \
-    --sample-s 60 --report "$OUT/$device-cold-session.json" $(plot "$device-cold-session")
+    --initial-thermal-load "$load_after" --sample-s 60 --report "$OUT/$device-cold-session.json" $(plot "$device-cold-session")
   run session --map "$OUT/$device-cold.json" --thermal on --motor-start-c "$after_cold" --no-baseline \
     --sample-s 300 --no-thermal-correction --report "$OUT/$device-uncorrected-session.json"
   run session --map "$OUT/$device-cold.json" --thermal on --no-baseline \
     --sample-s 300 --report "$OUT/$device-nextday-session.json"
   run session --map "$OUT/$device-warm.json" --thermal on --motor-start-c 45 --no-baseline \
+    --initial-thermal-load "$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['thermal_load_again'])" "$OUT/$device-warm-calibrate.json")" \
     --sample-s 300 --report "$OUT/$device-warm-session.json"
   run session --map "$OUT/$device-cold.json" --thermal on --session 2 --ambient-c 27 --no-baseline \
     --sample-s 300 --report "$OUT/$device-session2-27C.json"

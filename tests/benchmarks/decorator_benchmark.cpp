@@ -9,7 +9,8 @@
 //   overhead_ns   decorated_ns - raw_ns
 //   ratio         decorated_ns / raw_ns
 // Inner devices: a trivial driver (the decorator's own cost stands out) and sim:omni (a realistic
-// driver call cost).
+// driver call cost); and the trivial driver again, opened (so that the motors' load is counted)
+// with a map that carries a thermal correction (the decorator then scales the map every tick).
 
 #include <time.h>
 
@@ -71,7 +72,8 @@ class TableDevice final : public autograv::HapticDevice {
 /// A 5x5x5 map of `field` over a 6 cm cube at the origin, tagged with `model`.
 template <typename Field>
 std::shared_ptr<const GravityMap> makeMap(const std::string& model, Field field,
-                                          int lookup_refinement = 1) {
+                                          int lookup_refinement = 1,
+                                          double gain_loss_per_load = 0.0) {
   const autograv::WorkspaceGrid grid(Eigen::Vector3d::Zero(), 0.06, 5);
   std::vector<autograv::VertexEstimate> vertices(static_cast<std::size_t>(grid.vertexCount()));
   for (int i = 0; i < grid.vertexCount(); ++i) {
@@ -81,6 +83,8 @@ std::shared_ptr<const GravityMap> makeMap(const std::string& model, Field field,
   autograv::MapMetadata metadata;
   metadata.device_model = model;
   metadata.lookup_refinement = lookup_refinement;
+  metadata.thermal_drift.gain_loss_per_load = gain_loss_per_load;
+  metadata.thermal_drift.points = gain_loss_per_load > 0.0 ? 3 : 0;
   if (lookup_refinement > 1) metadata.field_model = autograv::kDefaultFieldModel;
   return std::make_shared<const GravityMap>(grid, std::move(vertices), metadata);
 }
@@ -99,7 +103,7 @@ struct Setup {
   std::unique_ptr<GravityCompensatedDevice> decorated;
 };
 
-Setup makeSetup(bool simulated) {
+Setup makeSetup(bool simulated, bool thermal_correction = false) {
   Setup setup;
   std::shared_ptr<const GravityMap> map;
   if (simulated) {
@@ -114,13 +118,17 @@ Setup makeSetup(bool simulated) {
     setup.raw = device;
   } else {
     setup.raw = std::make_shared<TableDevice>(randomPositions(4096));
-    map = makeMap("bench:table", [](const Eigen::Vector3d& x) {
-      return Eigen::Vector3d(0.1 * x.y(), -0.2 * x.x(), -0.5 + 3.0 * x.z());
-    });
+    map = makeMap(
+        "bench:table",
+        [](const Eigen::Vector3d& x) {
+          return Eigen::Vector3d(0.1 * x.y(), -0.2 * x.x(), -0.5 + 3.0 * x.z());
+        },
+        1, thermal_correction ? 0.1 : 0.0);
   }
   autograv::CompensationOptions options;
   options.ramp_duration_s = 0.0;
   setup.decorated = std::make_unique<GravityCompensatedDevice>(setup.raw, options);
+  if (thermal_correction) setup.decorated->open();  // the motors' load is counted from open()
   setup.decorated->publishMap(map);
   return setup;
 }
@@ -139,9 +147,11 @@ inline void tick(autograv::HapticDevice& device, const Eigen::Vector3d& force_n)
 }
 
 void BM_DecoratedVsRaw(benchmark::State& state) {
-  const bool simulated = state.range(0) != 0;
-  state.SetLabel(simulated ? "inner=sim:omni" : "inner=table");
-  Setup setup = makeSetup(simulated);
+  const bool simulated = state.range(0) == 1;
+  const bool thermal = state.range(0) == 2;
+  state.SetLabel(simulated ? "inner=sim:omni"
+                           : (thermal ? "inner=table, thermal correction" : "inner=table"));
+  Setup setup = makeSetup(simulated, thermal);
   const Eigen::Vector3d force_n(0.1, -0.05, 0.2);
   constexpr int kBatch = 512;
   std::int64_t raw_time_ns = 0;
@@ -167,7 +177,7 @@ void BM_DecoratedVsRaw(benchmark::State& state) {
   state.counters["faults"] = static_cast<double>(setup.decorated->faultCount());
   state.SetItemsProcessed(2 * ticks);
 }
-BENCHMARK(BM_DecoratedVsRaw)->Arg(0)->Arg(1)->ArgName("simulated");
+BENCHMARK(BM_DecoratedVsRaw)->Arg(0)->Arg(1)->Arg(2)->ArgName("inner");
 
 // The same two loops as separate benchmarks, for the usual per-iteration view.
 void BM_RawTick(benchmark::State& state) {

@@ -174,6 +174,7 @@ SessionWorkloadResult runSessionWorkload(
   CompensationOptions compensation;
   compensation.clock = std::make_shared<ServoTimingClock>(ticks.timingModel());
   compensation.correct_thermal_drift = options.thermal_correction;
+  compensation.initial_thermal_load = options.initial_thermal_load;
   // The decorator drives the device it is given; this one is owned by the caller.
   GravityCompensatedDevice decorated(std::shared_ptr<HapticDevice>(&device, [](HapticDevice*) {}),
                                      compensation);

@@ -115,6 +115,8 @@ TEST(GravityCompensatedDeviceTest, RefusesANullDeviceAndBadOptions) {
       [](CompensationOptions& o) { o.frozen_window_s = -0.1; },
       [](CompensationOptions& o) { o.frozen_hand_stiffness_n_per_m = INFINITY; },
       [](CompensationOptions& o) { o.motor_time_constant_s = 0.0; },
+      [](CompensationOptions& o) { o.initial_thermal_load = -0.1; },
+      [](CompensationOptions& o) { o.initial_thermal_load = NAN; },
   };
   for (const auto& spoil : spoilers) {
     CompensationOptions options;
@@ -169,6 +171,17 @@ TEST(GravityCompensatedDeviceTest, AMapsThermalCorrectionGivesBackWhatWarmMotors
   EXPECT_NEAR(load * std::pow(1.0 - 0.3 * load, 2), 0.25, 1e-3);
   EXPECT_NEAR(f.fake->last_force.z(), gravity.z() / (1.0 - 0.3 * load), 1e-9);
   EXPECT_GT(f.fake->last_force.norm(), 1.09 * gravity.norm()) << "9 % less torque at 0.3 load";
+}
+
+TEST(GravityCompensatedDeviceTest, MotorsWarmFromACalibrationStartAtItsLoadAndCool) {
+  CompensationOptions options = optionsWithRamp(0);
+  options.motor_time_constant_s = 1.0;
+  options.initial_thermal_load = 0.2;
+  Fixture f(options);
+  EXPECT_EQ(f.device.thermalLoad(), 0.2);
+  ASSERT_TRUE(f.device.open());
+  for (int tick = 0; tick < 1001; ++tick) f.device.setForce(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(f.device.thermalLoad(), 0.2 * std::exp(-1.0), 0.002) << "no force: they cool";
 }
 
 TEST(GravityCompensatedDeviceTest, AMapWithoutAThermalCorrectionSendsItsValuesWhateverTheLoad) {

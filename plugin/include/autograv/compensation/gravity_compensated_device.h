@@ -69,6 +69,11 @@ struct CompensationOptions {
   /// Whether the compensation follows the motors' warming by the map's thermal correction
   /// (MapMetadata::thermal_drift at thermalLoad()). Off sends the map as measured, cold.
   bool correct_thermal_drift = true;
+  /// The motors' thermal load when the decorator is made (thermalLoad() starts there): 0, motors
+  /// at room temperature, unless the application knows better, as right after a calibration on
+  /// the same motors (AutoCalibrator::thermalLoad at its end, or the map's
+  /// thermal_drift.again_load). In [0, 10].
+  double initial_thermal_load = 0.0;
 };
 
 /// The drop-in wrapper: a HapticDevice that forwards every call to an inner device and, in
@@ -220,8 +225,9 @@ class GravityCompensatedDevice final : public ForwardingDevice {
   /// temperature: near 1 for minutes, the motors run near that temperature; above 1, hotter
   /// than rated. A warm motor holds less torque per command: the map's thermal correction
   /// (MapMetadata::thermal_drift) scales the compensation by this load. Forces the device never
-  /// delivered (a failed write, a fault's zero) count as zero. Starts at 0, motors at room
-  /// temperature, and is kept across close() and open(), as the motors keep their heat.
+  /// delivered (a failed write, a fault's zero) count as zero. Starts at
+  /// CompensationOptions::initial_thermal_load (0: motors at room temperature), and is kept
+  /// across close() and open(), as the motors keep their heat.
   /// Any thread; real-time safe.
   double thermalLoad() const noexcept;
   /// True once a fade (a map fading in or out, compensation ramping) made no real progress:

@@ -38,6 +38,9 @@ struct SessionWorkloadOptions {
   /// Whether the decorator applies the map's thermal correction
   /// (CompensationOptions::correct_thermal_drift): off shows what the correction gains.
   bool thermal_correction = true;
+  /// The decorator's thermal load at the start (CompensationOptions::initial_thermal_load): a
+  /// session that starts right after the calibration on motors it warmed.
+  double initial_thermal_load = 0.0;
 };
 
 /// One score of the map during the session.

@@ -33,7 +33,10 @@ struct GravityCompensatedDevice::Impl {
   explicit Impl(const CompensationOptions& options)
       : timer(options.clock, options.max_tick_interval_s),
         frozen(options),
-        status(options.enabled, frozen.resolution_m()) {}
+        status(options.enabled, frozen.resolution_m()) {
+    thermal.reset(options.initial_thermal_load);
+    status.thermal_load.store(options.initial_thermal_load, std::memory_order_relaxed);
+  }
 
   // Publication: written by publishers, read by the servo thread.
   MapHandoff handoff;
@@ -81,6 +84,9 @@ GravityCompensatedDevice::GravityCompensatedDevice(std::shared_ptr<HapticDevice>
         options.frozen_filter_time_constant_s, "a time >= 0 in seconds");
   check(std::isfinite(options.motor_time_constant_s) && options.motor_time_constant_s > 0.0,
         "motor_time_constant_s", options.motor_time_constant_s, "a positive time in seconds");
+  check(nonNegative(options.initial_thermal_load) && options.initial_thermal_load <= 10.0,
+        "initial_thermal_load", options.initial_thermal_load,
+        "a load in [0, 10] (1: the motors at their rated temperature rise)");
   if (!options_.clock) options_.clock = std::make_shared<SteadyServoClock>();
   impl_ = std::make_unique<Impl>(options_);
 }
