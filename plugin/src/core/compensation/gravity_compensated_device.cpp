@@ -129,6 +129,7 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   s.status.thermal_load.store(load, std::memory_order_relaxed);
   // Out of line only when there is something to do: a new publication or a fade in progress.
   if (s.maps.needsAdvance(s.handoff)) s.maps.advance(s.handoff, dt_s, options_.ramp_duration_s);
+  s.maps.setThermalLoad(options_.correct_thermal_drift ? load : 0.0);
 
   Eigen::Vector3d position_m;
   const bool read_ok = s.reading.take(inner(), position_m);
@@ -160,8 +161,7 @@ bool GravityCompensatedDevice::setForce(const Eigen::Vector3d& force_n) {
   // The map is looked up even while compensation is off: the frozen-driver check weighs the push
   // against the full gravity, and outsideMap() reports the position either way.
   bool inside = true;
-  const Eigen::Vector3d gravity_n = s.maps.gravityAt(
-      position_m, options_.outside_margin_m, options_.correct_thermal_drift ? load : 0.0, inside);
+  const Eigen::Vector3d gravity_n = s.maps.gravityAt(position_m, options_.outside_margin_m, inside);
   s.status.outside_map.store(!inside, std::memory_order_relaxed);
   if (!inside) CompensationStatus::increment(s.status.outside_map_ticks);
 

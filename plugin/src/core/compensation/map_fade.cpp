@@ -10,6 +10,9 @@ void MapFade::advance(MapHandoff& handoff, double dt_s, double ramp_s) noexcept 
     previous_ = current_;
     current_ = map;
     blend_ = 0.0;
+    previous_scale_ = current_scale_;
+    scaled_load_ = -1.0;  // the new map's scale at the next setThermalLoad
+    current_scale_ = 1.0;
   }
   if (blend_ < 1.0) blend_ = rampUp(blend_, dt_s, ramp_s);
   if (blend_ >= 1.0) {
@@ -18,17 +21,17 @@ void MapFade::advance(MapHandoff& handoff, double dt_s, double ramp_s) noexcept 
   }
 }
 
-Eigen::Vector3d MapFade::blended(const Eigen::Vector3d& position_m, double margin_m, double load,
+Eigen::Vector3d MapFade::blended(const Eigen::Vector3d& position_m, double margin_m,
                                  bool& inside) const noexcept {
   Eigen::Vector3d gravity_n = Eigen::Vector3d::Zero();
   if (previous_ != nullptr) {
-    gravity_n = (1.0 - blend_) * thermalScale(previous_->metadata().thermal_drift, load) *
-                previous_->gravityAt(position_m, margin_m, inside);
+    gravity_n =
+        (1.0 - blend_) * previous_scale_ * previous_->gravityAt(position_m, margin_m, inside);
   }
   if (current_ != nullptr) {
     bool inside_current = true;
-    gravity_n += blend_ * thermalScale(current_->metadata().thermal_drift, load) *
-                 current_->gravityAt(position_m, margin_m, inside_current);
+    gravity_n +=
+        blend_ * current_scale_ * current_->gravityAt(position_m, margin_m, inside_current);
     inside = inside && inside_current;
   }
   return gravity_n;

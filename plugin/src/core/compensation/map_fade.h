@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "autograv/map/gravity_map.h"
@@ -28,27 +30,42 @@ class MapFade {
   /// by one tick of `dt_s` over a fade of `ramp_s`. Units: [s]
   void advance(MapHandoff& handoff, double dt_s, double ramp_s) noexcept;
 
+  /// Sets the motors' thermal load the maps are scaled for, each by its own drift
+  /// (thermalScale). The scales are worked out again only when the load has moved by
+  /// kThermalLoadStep or the maps changed: the load moves by about 1e-6 a tick, and a division
+  /// every tick would be a tenth of the decorator's cost.
+  void setThermalLoad(double load) noexcept {
+    if (std::abs(load - scaled_load_) < kThermalLoadStep) return;
+    scaled_load_ = load;
+    current_scale_ = current_ ? thermalScale(current_->metadata().thermal_drift, load) : 1.0;
+    previous_scale_ = previous_ ? thermalScale(previous_->metadata().thermal_drift, load) : 1.0;
+  }
+  /// The load change after which setThermalLoad works the scales out again: 1e-4 of load is at
+  /// most 1e-5 of a map's value at the largest loss per load (kMaxGainLossPerLoad).
+  static constexpr double kThermalLoadStep = 1e-4;
   /// The maps' gravity at `position_m`, blended during a fade (from or to no map as well), zero
-  /// without a map, each map's scaled for the motors' thermal load `load` by its own drift
-  /// (thermalScale); `inside` is false when the position is farther than `margin_m` outside the
-  /// grid of a map in use (GravityMap::gravityAt). Units: [m] in, [N] out.
-  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m, double load,
+  /// without a map, each map's scaled for the thermal load last set (setThermalLoad); `inside` is
+  /// false when the position is farther than `margin_m` outside the grid of a map in use
+  /// (GravityMap::gravityAt). Units: [m] in, [N] out.
+  Eigen::Vector3d gravityAt(const Eigen::Vector3d& position_m, double margin_m,
                             bool& inside) const noexcept {
     inside = true;
-    if (blend_ < 1.0) return blended(position_m, margin_m, load, inside);
+    if (blend_ < 1.0) return blended(position_m, margin_m, inside);
     // The usual case inline: no fade in progress.
     if (current_ == nullptr) return Eigen::Vector3d::Zero();
-    return thermalScale(current_->metadata().thermal_drift, load) *
-           current_->gravityAt(position_m, margin_m, inside);
+    return current_scale_ * current_->gravityAt(position_m, margin_m, inside);
   }
 
  private:
-  Eigen::Vector3d blended(const Eigen::Vector3d& position_m, double margin_m, double load,
+  Eigen::Vector3d blended(const Eigen::Vector3d& position_m, double margin_m,
                           bool& inside) const noexcept;
 
   const GravityMap* current_ = nullptr;
   const GravityMap* previous_ = nullptr;
-  double blend_ = 1.0;  ///< Weight of current_ against previous_ in a fade, in [0, 1].
+  double blend_ = 1.0;           ///< Weight of current_ against previous_ in a fade, in [0, 1].
+  double scaled_load_ = -1.0;    ///< The load the scales are for (-1: to be worked out).
+  double current_scale_ = 1.0;   ///< current_'s thermal scale at scaled_load_.
+  double previous_scale_ = 1.0;  ///< previous_'s thermal scale at scaled_load_.
 };
 
 }  // namespace autograv

@@ -18,7 +18,7 @@ class ThermalLoadObserver {
   /// must be positive. Units: [N], [s]
   void configure(double rating_n, double time_constant_s) noexcept {
     inverse_rating_n2_ = rating_n > 0.0 ? 1.0 / (rating_n * rating_n) : 0.0;
-    time_constant_s_ = time_constant_s;
+    inverse_time_constant_per_s_ = 1.0 / time_constant_s;
   }
   /// Starts again from `load` (motors at room temperature: 0).
   void reset(double load = 0.0) noexcept {
@@ -28,7 +28,7 @@ class ThermalLoadObserver {
   /// Moves the load on by `dt_s`, over which the force last sent acted. Unit: [s]
   void advance(double dt_s) noexcept {
     if (inverse_rating_n2_ > 0.0 && dt_s > 0.0) {
-      const double share = std::min(1.0, dt_s / time_constant_s_);
+      const double share = std::min(1.0, dt_s * inverse_time_constant_per_s_);
       load_ += share * (last_force_n2_ * inverse_rating_n2_ - load_);
     }
   }
@@ -41,9 +41,9 @@ class ThermalLoadObserver {
   double load() const noexcept { return load_; }
 
  private:
-  double inverse_rating_n2_ = 0.0;  ///< 1 / rating^2; 0: unknown. Unit: [1/N^2]
-  double time_constant_s_ = 1.0;    ///< Unit: [s]
-  double last_force_n2_ = 0.0;      ///< Squared force acting since the last tick. Unit: [N^2]
+  double inverse_rating_n2_ = 0.0;            ///< 1 / rating^2; 0: unknown. Unit: [1/N^2]
+  double inverse_time_constant_per_s_ = 1.0;  ///< 1 / the time constant. Unit: [1/s]
+  double last_force_n2_ = 0.0;  ///< Squared force acting since the last tick. Unit: [N^2]
   double load_ = 0.0;
 };
 
