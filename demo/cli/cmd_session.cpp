@@ -37,6 +37,12 @@ sim::SessionWorkloadResult runOne(const SessionCommandOptions& options,
   device->resetState(device->workspaceCenter_m());
   sim::SessionWorkloadOptions workload = options.workload;
   workload.servo_timing = simulation.servo_timing;
+  if (!unit.thermal.enabled) {
+    // Motors that never warm: the map as measured is the reference, not a correction for a
+    // warming that does not happen there.
+    workload.thermal_correction = false;
+    workload.initial_thermal_load = 0.0;
+  }
   std::printf("\n%s: %s, thermal %s (ambient %.1f C, motors from %.1f C), session %d\n", label,
               options.device.c_str(), unit.thermal.enabled ? "on" : "off", unit.thermal.ambient_c,
               unit.thermal.start_c, unit.session);

@@ -19,7 +19,7 @@ using testing::runCommand;
 
 const std::string kBinary = AUTOGRAV_BINARY_DIR "/demo/autograv";
 
-TEST(SessionCommandTest, OnMotorsThatWarmTheErrorGrowsBesideTheUnitThatNeverWarmsWithin0Point02) {
+TEST(SessionCommandTest, OnMotorsThatWarmTheErrorGrowsBesideTheUnitThatNeverWarms) {
   if (!fs::exists(kBinary)) GTEST_SKIP() << kBinary << " is not built (AUTOGRAV_BUILD_DEMO=OFF?)";
   testing::ScratchFolder folder("session-command");
   const std::string map = folder.file("omega.json");
@@ -49,11 +49,10 @@ TEST(SessionCommandTest, OnMotorsThatWarmTheErrorGrowsBesideTheUnitThatNeverWarm
   const nlohmann::json& last = warming["samples"][3];
   EXPECT_GT(last.at("field_error_p90_rel").get<double>(),
             first.at("field_error_p90_rel").get<double>());
-  // The unit that never warms stays where the map left it, but for the thermal correction of a
-  // drift its calibration fitted to its measurements' scatter (a loss per unit load of a few
-  // thousandths): 0.193 % -> 0.198 % measured, within 0.02 points.
-  EXPECT_NEAR(never["samples"][3].at("field_error_p90_rel").get<double>(),
-              never["samples"][0].at("field_error_p90_rel").get<double>(), 2e-4);
+  // The unit that never warms stays where the map left it: no thermal correction runs there.
+  EXPECT_EQ(never["samples"][3].at("field_error_p90_rel"),
+            never["samples"][0].at("field_error_p90_rel"));
+  EXPECT_EQ(never["samples"][3].at("thermal_scale"), 1.0);
   // The warmer motors deliver less: the map needs a factor above 1, and the decorator saw load.
   EXPECT_GT(last.at("best_scale").get<double>(), 1.0);
   EXPECT_GT(last.at("thermal_load").get<double>(), 0.0);
