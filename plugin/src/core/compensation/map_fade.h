@@ -33,7 +33,7 @@ class MapFade {
   /// Sets the motors' thermal load the maps are scaled for, each by its own drift
   /// (thermalScale). The scales are worked out again only when the load has moved by
   /// kThermalLoadStep or the maps changed: the load moves by about 1e-6 a tick, and a division
-  /// every tick would be a tenth of the decorator's cost.
+  /// per map every tick would cost more than the rest of the correction.
   void setThermalLoad(double load) noexcept {
     if (std::abs(load - scaled_load_) < kThermalLoadStep) return;
     scaled_load_ = load;
