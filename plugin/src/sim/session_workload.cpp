@@ -3,7 +3,7 @@
 #include "autograv/sim/session_workload.h"
 
 #include <algorithm>
-#include <cmath>
+#include <optional>
 #include <string>
 
 #include "autograv/compensation/gravity_compensated_device.h"
@@ -195,7 +195,10 @@ SessionWorkloadResult runSessionWorkload(
     SessionSample sample;
     sample.minute = elapsed_s / 60.0;
     sample.thermal_scale = correction(decorated.thermalLoad());
-    const GravityMap in_use = scaledMap(*map, sample.thermal_scale);
+    // The map is copied only when the correction scales it.
+    std::optional<GravityMap> scaled;
+    if (sample.thermal_scale != 1.0) scaled.emplace(scaledMap(*map, sample.thermal_scale));
+    const GravityMap& in_use = scaled ? *scaled : *map;
     sample.field = measureFieldError(in_use, device, options.field_samples, options.seed);
     sample.best_scale = bestScale(in_use, device);
     sample.rescaled_field = measureFieldError(scaledMap(in_use, sample.best_scale), device,

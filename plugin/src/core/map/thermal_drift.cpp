@@ -62,7 +62,7 @@ ThermalDrift concludeThermalDrift(const WorkspaceGrid& grid, std::vector<VertexE
   ThermalDrift drift;
   // Each point: f1 (1 - k L1) = f2 (1 - k L2), f the command along the first reading, so
   // f2 - f1 = k (f2 L2 - f1 L1): a line through the origin, fitted by least squares.
-  double sum_ab = 0.0, sum_bb = 0.0, sum_drift = 0.0;
+  double sum_drift = 0.0;
   std::vector<double> a, b;
   for (const DriftReference& reference : references) {
     if (reference.vertex < 0 || reference.vertex >= grid.vertexCount()) continue;
@@ -72,8 +72,6 @@ ThermalDrift concludeThermalDrift(const WorkspaceGrid& grid, std::vector<VertexE
     const double f2 = vertex.measuredGravity_n().dot(reference.first_value_n) / f1;
     a.push_back(f2 - f1);
     b.push_back(f2 * vertex.thermal_load - f1 * reference.first_load);
-    sum_ab += a.back() * b.back();
-    sum_bb += b.back() * b.back();
     sum_drift += (f2 - f1) / f1;
     drift.first_load += reference.first_load;
     drift.again_load += vertex.thermal_load;
@@ -83,6 +81,11 @@ ThermalDrift concludeThermalDrift(const WorkspaceGrid& grid, std::vector<VertexE
   drift.first_load /= drift.points;
   drift.again_load /= drift.points;
   drift.drift_rel = sum_drift / drift.points;
+  double sum_ab = 0.0, sum_bb = 0.0;
+  for (std::size_t j = 0; j < a.size(); ++j) {
+    sum_ab += a[j] * b[j];
+    sum_bb += b[j] * b[j];
+  }
   if (!(sum_bb > 0.0)) return drift;
   const double k = sum_ab / sum_bb;
   // The scatter about the line, and at least two measurements' repeatability (eps_G each).
